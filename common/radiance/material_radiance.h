@@ -1,0 +1,40 @@
+// Radiance data made from an analytic material: at every vertex the outgoing radiance of the
+// material under the given lights (analytic_material.h) is projected onto the chosen basis
+// (radiance_projection.h). It makes samples, tests and benchmarks possible without photographs;
+// paper 000 (sec. 7) fitted its synthetic scenes (Fig. 6, Fig. 8) from such materials too.
+#pragma once
+
+#include "radiance/analytic_material.h"
+#include "radiance/radiance_field.h"
+
+#include <cstddef>
+#include <functional>
+#include <string>
+
+namespace rad {
+
+struct MaterialRadianceOptions {
+    BasisSpec basis;
+    bool reflected = false;  // store L~ (paper 000 sec. 3.1) instead of L
+};
+
+// Called with a percentage 0..100 from the calling thread.
+using ProgressCallback = std::function<void(int percent)>;
+
+// positions / normals: 3 floats per vertex; normals need not be unit but must be non-zero and finite
+// (checkMaterialRadianceInput says so). Parallel over vertices (OpenMP).
+RadianceField makeMaterialRadiance(const float* positions, const float* normals, std::size_t vertexCount,
+                                   const AnalyticMaterial& material, const AnalyticLighting& lighting,
+                                   const MaterialRadianceOptions& options, const ProgressCallback& progress = {});
+
+// Empty when makeMaterialRadiance can run; otherwise a sentence saying what is wrong with the input.
+std::string checkMaterialRadianceInput(const float* positions, const float* normals, std::size_t vertexCount,
+                                       const MaterialRadianceOptions& options);
+
+// Average of L over the hemisphere of every vertex, (1/2pi) integral of L dw: the RF's "diffuse"
+// colour that colour-based tools (vertex colour, extended QEM) see. rgbOut: 3 floats per vertex.
+// Exact for PB (the integrand is a polynomial even in z, see lebedev_quadrature.h); for SH a
+// hemisphere rule of precision >= 2d + 10. Parallel (OpenMP).
+void meanHemisphereColors(const RadianceField& field, float* rgbOut);
+
+}  // namespace rad

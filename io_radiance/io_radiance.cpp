@@ -1,0 +1,86 @@
+#include "io_radiance.h"
+
+#include "mesh_conversion.h"
+#include "radiance_attribute.h"
+
+#include <wrap/io_trimesh/io_mask.h>
+
+namespace {
+const char* kExtension = "RPLY";
+const char* kDescription = "Radiance PLY (per-vertex radiance functions)";
+}  // namespace
+
+QList<MeshIOInterface::Format> RadianceIOPlugin::importFormats() const {
+    return {Format(kDescription, kExtension)};
+}
+
+QList<MeshIOInterface::Format> RadianceIOPlugin::exportFormats() const {
+    return {Format(kDescription, kExtension)};
+}
+
+void RadianceIOPlugin::GetExportMaskCapability(QString& format, int& capability, int& defaultBits) const {
+    capability = defaultBits = 0;
+    if (format.toUpper() != kExtension) return;
+    using vcg::tri::io::Mask;
+    capability = Mask::IOM_VERTCOORD | Mask::IOM_FACEINDEX | Mask::IOM_VERTNORMAL | Mask::IOM_VERTCOLOR |
+                 Mask::IOM_VERTQUALITY;
+    defaultBits = capability;
+}
+
+bool RadianceIOPlugin::open(const QString& format, const QString& fileName, MeshModel& m, int& mask,
+                            const RichParameterList&, vcg::CallBackPos* cb, QWidget*) {
+    if (format.toUpper() != kExtension) {
+        errorMessage = "The radiance IO plugin only reads ." + QString(kExtension).toLower() + " files.";
+        return false;
+    }
+    try {
+        if (cb) cb(5, "Reading radiance PLY");
+        const rad::RadianceMesh plain = rad::readRadiancePly(fileName.toStdString());
+        if (cb) cb(60, "Building the mesh");
+        mask = radml::importPlainMesh(plain, m.cm);
+        m.Enable(mask);
+        if (plain.radiance)
+            Log("Loaded %zu vertices with %s radiance functions%s", plain.vertexCount(),
+                plain.radiance->basis.name().c_str(), plain.radiance->reflected ? " (reflected)" : "");
+        if (cb) cb(100, "Done");
+        return true;
+    } catch (const std::exception& e) {
+        // MeshLab discards the half-built layer of a failed open; the user's other layers are untouched.
+        m.cm.Clear();
+        errorMessage = QString("Cannot open %1: %2").arg(fileName, e.what());
+        return false;
+    }
+}
+
+bool RadianceIOPlugin::save(const QString& format, const QString& fileName, MeshModel& m, const int mask,
+                            const RichParameterList&, vcg::CallBackPos* cb, QWidget*) {
+    if (format.toUpper() != kExtension) {
+        errorMessage = "The radiance IO plugin only writes ." + QString(kExtension).toLower() + " files.";
+        return false;
+    }
+    using vcg::tri::io::Mask;
+    radml::ExportChoice choice;
+    choice.normals = (mask & Mask::IOM_VERTNORMAL) != 0;
+    choice.colors = (mask & Mask::IOM_VERTCOLOR) != 0;
+    choice.quality = (mask & Mask::IOM_VERTQUALITY) != 0;
+    try {
+        if (cb) cb(5, "Collecting mesh data");
+        rad::RadianceMesh plain;
+        std::string why;
+        if (!radml::exportPlainMesh(m.cm, choice, plain, why)) {
+            errorMessage = QString("Cannot save %1: %2").arg(fileName, QString::fromStdString(why));
+            return false;
+        }
+        if (cb) cb(40, "Writing radiance PLY");
+        rad::writeRadiancePly(fileName.toStdString(), plain);
+        if (!plain.radiance)
+            Log("Saved %s without radiance data (the mesh has none)", qUtf8Printable(fileName));
+        if (cb) cb(100, "Done");
+        return true;
+    } catch (const std::exception& e) {
+        errorMessage = QString("Cannot save %1: %2").arg(fileName, e.what());
+        return false;
+    }
+}
+
+MESHLAB_PLUGIN_NAME_EXPORTER(RadianceIOPlugin)

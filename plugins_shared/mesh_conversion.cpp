@@ -1,0 +1,76 @@
+#include "mesh_conversion.h"
+
+#include "radiance_attribute.h"
+
+#include <vcg/complex/allocate.h>
+#include <wrap/io_trimesh/io_mask.h>
+
+#include <vector>
+
+namespace radml {
+
+bool exportPlainMesh(CMeshO& mesh, const ExportChoice& choice, rad::RadianceMesh& out, std::string& why) {
+    out = rad::RadianceMesh{};
+    std::vector<std::uint32_t> compactIndex(mesh.vert.size(), 0);
+    const std::size_t n = static_cast<std::size_t>(mesh.vn);
+    out.positions.reserve(3 * n);
+    if (choice.normals) out.normals.reserve(3 * n);
+    if (choice.colors) out.colors.reserve(4 * n);
+    if (choice.quality) out.quality.reserve(n);
+    std::uint32_t next = 0;
+    for (std::size_t i = 0; i < mesh.vert.size(); ++i) {
+        const CVertexO& v = mesh.vert[i];
+        if (v.IsD()) continue;
+        compactIndex[i] = next++;
+        for (int k = 0; k < 3; ++k) out.positions.push_back(v.cP()[k]);
+        if (choice.normals)
+            for (int k = 0; k < 3; ++k) out.normals.push_back(v.cN()[k]);
+        if (choice.colors)
+            for (int k = 0; k < 4; ++k) out.colors.push_back(v.cC()[k]);
+        if (choice.quality) out.quality.push_back(v.cQ());
+    }
+    out.faces.reserve(3 * static_cast<std::size_t>(mesh.fn));
+    for (const CFaceO& f : mesh.face) {
+        if (f.IsD()) continue;
+        for (int k = 0; k < 3; ++k)
+            out.faces.push_back(compactIndex[vcg::tri::Index(mesh, f.cV(k))]);
+    }
+    if (choice.radiance && hasRadiance(mesh)) {
+        rad::RadianceField field;
+        if (!gatherRadiance(mesh, field, why)) return false;
+        // The file stores the radiance frame normal as the vertex normal (docs/radiance-ply-format.md).
+        out.normals.resize(3 * n);
+        for (std::size_t v = 0; v < n; ++v)
+            for (int k = 0; k < 3; ++k) out.normals[3 * v + k] = field.frame(v)[3 + k];
+        out.radiance = std::move(field);
+    }
+    return true;
+}
+
+int importPlainMesh(const rad::RadianceMesh& in, CMeshO& mesh) {
+    mesh.Clear();
+    const std::size_t n = in.vertexCount();
+    int mask = vcg::tri::io::Mask::IOM_VERTCOORD | vcg::tri::io::Mask::IOM_FACEINDEX;
+    auto vi = vcg::tri::Allocator<CMeshO>::AddVertices(mesh, n);
+    for (std::size_t v = 0; v < n; ++v, ++vi) {
+        vi->P() = CMeshO::CoordType(in.positions[3 * v], in.positions[3 * v + 1], in.positions[3 * v + 2]);
+        if (!in.normals.empty())
+            vi->N() = CMeshO::CoordType(in.normals[3 * v], in.normals[3 * v + 1], in.normals[3 * v + 2]);
+        if (!in.colors.empty())
+            vi->C() = vcg::Color4b(in.colors[4 * v], in.colors[4 * v + 1], in.colors[4 * v + 2], in.colors[4 * v + 3]);
+        else
+            vi->C() = vcg::Color4b::White;
+        vi->Q() = in.quality.empty() ? 0.0f : in.quality[v];
+    }
+    if (!in.normals.empty()) mask |= vcg::tri::io::Mask::IOM_VERTNORMAL;
+    if (!in.colors.empty()) mask |= vcg::tri::io::Mask::IOM_VERTCOLOR;
+    if (!in.quality.empty()) mask |= vcg::tri::io::Mask::IOM_VERTQUALITY;
+    const std::size_t faceCount = in.faces.size() / 3;
+    auto fi = vcg::tri::Allocator<CMeshO>::AddFaces(mesh, faceCount);
+    for (std::size_t f = 0; f < faceCount; ++f, ++fi)
+        for (int k = 0; k < 3; ++k) fi->V(k) = &mesh.vert[in.faces[3 * f + k]];
+    if (in.radiance) attachRadiance(mesh, *in.radiance);
+    return mask;
+}
+
+}  // namespace radml

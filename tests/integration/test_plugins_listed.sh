@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# `meshlabserver -d` on the private prefix lists our filters with their help text, and Debian's
+# own filters are still there (the prefix links the system plugins too).
+source "$(dirname "$0")/lib.sh"
+
+run_meshlabserver "$WORK/server.log" -d "$WORK/dump.txt" || true
+[ -s "$WORK/dump.txt" ] || { cat "$WORK/server.log" >&2; fail "meshlabserver -d wrote no dump"; }
+
+for name in "Radiance: Create Radiance Data from Analytic Material" \
+            "Radiance: Evaluate Radiance toward a Viewpoint as Vertex Color"; do
+    grep -qF "$name" "$WORK/dump.txt" || fail "filter '$name' missing from meshlabserver -d"
+done
+# Help text, with the paper it implements.
+grep -qF "Simplification of meshes with digitized radiance" "$WORK/dump.txt" || fail "help text does not cite paper 000"
+grep -qF "hemispherical polynomials" "$WORK/dump.txt" || fail "help text of the create filter missing"
+# Parameters are listed with their descriptions.
+grep -qF "Store reflected functions" "$WORK/dump.txt" || fail "parameter descriptions missing"
+# The system plugins are loaded too.
+grep -qF "Simplification: Quadric Edge Collapse Decimation" "$WORK/dump.txt" || fail "Debian's filters missing: prefix broken"
+# No loading problem reported for our plugins.
+if grep -iE "(io_radiance|filter_radiance).*(fail|error|undefined)" "$WORK/server.log"; then
+    fail "meshlabserver reported a problem loading our plugins"
+fi
+note "ok"
