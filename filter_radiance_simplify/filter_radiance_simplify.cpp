@@ -220,18 +220,22 @@ bool RadianceFilterPlugin::applyFilter(QAction* action, MeshDocument& md, const 
         errorMessage = "There is no current mesh.";
         return false;
     }
+    bool ok = false;
+    errorMessage.clear();
     try {
         switch (ID(action)) {
-            case FP_CREATE_ANALYTIC_RADIANCE: return createAnalyticRadiance(*m, par, cb);
-            case FP_RADIANCE_TO_VERTEX_COLOR: return radianceToVertexColor(*m, par, cb);
-            default: break;
+            case FP_CREATE_ANALYTIC_RADIANCE: ok = createAnalyticRadiance(*m, par, cb); break;
+            case FP_RADIANCE_TO_VERTEX_COLOR: ok = radianceToVertexColor(*m, par, cb); break;
+            default: errorMessage = "Unknown filter."; break;
         }
     } catch (const std::bad_alloc&) {
         errorMessage = "Out of memory: the radiance data of this mesh does not fit; choose a lower degree.";
     } catch (const std::exception& e) {
         errorMessage = QString("Internal error: %1").arg(e.what());
     }
-    return false;
+    // The GUI shows errorMessage in a dialog; meshlabserver only prints the log, so log it too.
+    if (!ok) Log(GLLogStream::WARNING, qUtf8Printable(filterName(ID(action)) + ": " + errorMessage));
+    return ok;
 }
 
 bool RadianceFilterPlugin::createAnalyticRadiance(MeshModel& m, const RichParameterList& par, vcg::CallBackPos* cb) {

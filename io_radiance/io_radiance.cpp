@@ -5,9 +5,16 @@
 
 #include <wrap/io_trimesh/io_mask.h>
 
+#include <cstdio>
+
 namespace {
 const char* kExtension = "RPLY";
 const char* kDescription = "Radiance PLY (per-vertex radiance functions)";
+// The GUI shows errorMessage in a dialog, but meshlabserver's -i/-o paths drop it: say it on
+// stderr too, so batch users learn what is wrong with their file.
+void reportError(const QString& message) {
+    std::fprintf(stderr, "%s\n", qUtf8Printable(message));
+}
 }  // namespace
 
 QList<MeshIOInterface::Format> RadianceIOPlugin::importFormats() const {
@@ -48,6 +55,7 @@ bool RadianceIOPlugin::open(const QString& format, const QString& fileName, Mesh
         // MeshLab discards the half-built layer of a failed open; the user's other layers are untouched.
         m.cm.Clear();
         errorMessage = QString("Cannot open %1: %2").arg(fileName, e.what());
+        reportError(errorMessage);
         return false;
     }
 }
@@ -69,6 +77,7 @@ bool RadianceIOPlugin::save(const QString& format, const QString& fileName, Mesh
         std::string why;
         if (!radml::exportPlainMesh(m.cm, choice, plain, why)) {
             errorMessage = QString("Cannot save %1: %2").arg(fileName, QString::fromStdString(why));
+            reportError(errorMessage);
             return false;
         }
         if (cb) cb(40, "Writing radiance PLY");
@@ -79,6 +88,7 @@ bool RadianceIOPlugin::save(const QString& format, const QString& fileName, Mesh
         return true;
     } catch (const std::exception& e) {
         errorMessage = QString("Cannot save %1: %2").arg(fileName, e.what());
+        reportError(errorMessage);
         return false;
     }
 }

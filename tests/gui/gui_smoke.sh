@@ -8,13 +8,9 @@
 source "$(dirname "$0")/../integration/lib.sh"
 input="$1"; er="$2"; eg="$3"; eb="$4"
 
-display=""
-for n in $(seq 90 140); do
-    if [ ! -e "/tmp/.X${n}-lock" ] && [ ! -e "/tmp/.X11-unix/X${n}" ]; then display=":$n"; break; fi
-done
-[ -n "$display" ] || fail "no free X display number"
-
-Xvfb "$display" -screen 0 1280x1024x24 -nolisten tcp >"$WORK/xvfb.log" 2>&1 &
+# Xvfb picks a free display itself (-displayfd) and writes its number once it accepts clients:
+# no race with other X servers started by parallel tests.
+Xvfb -displayfd 3 -screen 0 1280x1024x24 -nolisten tcp 3>"$WORK/display" >"$WORK/xvfb.log" 2>&1 &
 xvfb_pid=$!
 meshlab_pid=""
 cleanup() {
@@ -23,8 +19,10 @@ cleanup() {
     wait 2>/dev/null || true
 }
 trap cleanup EXIT
+for _ in $(seq 1 100); do [ -s "$WORK/display" ] && break; sleep 0.1; done
+[ -s "$WORK/display" ] || { cat "$WORK/xvfb.log" >&2; fail "Xvfb did not start"; }
+display=":$(head -n 1 "$WORK/display")"
 export DISPLAY="$display"
-for _ in $(seq 1 50); do xdpyinfo >/dev/null 2>&1 && break; sleep 0.2; done 2>/dev/null || true
 
 "$MESHLAB_PREFIX/bin/meshlab" "$input" >"$WORK/meshlab.log" 2>&1 &
 meshlab_pid=$!

@@ -27,7 +27,8 @@ run_meshlabserver() {
     local status=0
     timeout 600 xvfb-run -a -s "-screen 0 1280x1024x24" \
         "$MESHLAB_PREFIX/bin/meshlabserver" "$@" >"$log" 2>&1 || status=$?
-    if [ "$status" -ge 124 ]; then
+    # 255 is meshlabserver's own "failed" (exit -1); 124 is timeout's; 129..254 are signals (crashes).
+    if [ "$status" -eq 124 ] || { [ "$status" -gt 128 ] && [ "$status" -lt 255 ]; }; then
         tail -n 30 "$log" >&2
         fail "meshlabserver crashed or timed out (status $status) with: $*"
     fi
@@ -45,4 +46,28 @@ write_mlx() {
         echo ' </filter>'
         echo '</FilterScript>'
     } >"$file"
+}
+
+# create_radiance_mlx FILE BASIS(0=PB,1=SH) DEGREE REFLECTED(true|false) SPECULAR STRIPES [LIGHT_X LIGHT_Y LIGHT_Z]
+# A script running "Create Radiance Data from Analytic Material" with every parameter listed
+# (meshlabserver 2020.09 aborts when one is missing). Albedo (230, 60, 40) sRGB, directional light
+# of irradiance 3, ambient 0.05, shininess 40.
+create_radiance_mlx() {
+    local file="$1" basis="$2" degree="$3" reflected="$4" specular="$5" stripes="$6"
+    local lx="${7:-0.5}" ly="${8:-1}" lz="${9:-1}"
+    write_mlx "$file" "Radiance: Create Radiance Data from Analytic Material" \
+        "<Param type=\"RichEnum\" name=\"basis\" value=\"$basis\" enum_cardinality=\"2\" enum_val0=\"PB\" enum_val1=\"SH\"/>" \
+        "<Param type=\"RichInt\" name=\"degree\" value=\"$degree\"/>" \
+        "<Param type=\"RichBool\" name=\"reflected\" value=\"$reflected\"/>" \
+        '<Param type="RichColor" name="albedo" r="230" g="60" b="40" a="255"/>' \
+        '<Param type="RichColor" name="specularColor" r="255" g="255" b="255" a="255"/>' \
+        "<Param type=\"RichFloat\" name=\"specular\" value=\"$specular\"/>" \
+        '<Param type="RichFloat" name="shininess" value="40"/>' \
+        "<Param type=\"RichInt\" name=\"stripes\" value=\"$stripes\"/>" \
+        '<Param type="RichEnum" name="stripeAxis" value="1" enum_cardinality="3" enum_val0="X" enum_val1="Y" enum_val2="Z"/>' \
+        '<Param type="RichEnum" name="lightType" value="0" enum_cardinality="2" enum_val0="Directional" enum_val1="Point"/>' \
+        "<Param type=\"RichPoint3f\" name=\"light\" x=\"$lx\" y=\"$ly\" z=\"$lz\"/>" \
+        '<Param type="RichFloat" name="lightIntensity" value="3"/>' \
+        '<Param type="RichFloat" name="ambient" value="0.05"/>' \
+        '<Param type="RichBool" name="setColor" value="true"/>'
 }

@@ -1,0 +1,1149 @@
+#include "io/radiance_ply.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <new>
+#include <sstream>
+#include <unordered_map>
+#include <unordered_set>
+
+#ifdef _WIN32
+#include <io.h>
+#include <process.h>
+#include <windows.h>
+#else
+#include <unistd.h>
+#endif
+
+// The file is little endian and values are copied bytewise.
+#if defined(__BYTE_ORDER__) && defined(__ORDER_LITTLE_ENDIAN__)
+static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "radiance_ply.cpp assumes a little-endian host");
+#endif
+static_assert(sizeof(float) == 4 && std::numeric_limits<float>::is_iec559, "float must be IEEE 754 binary32");
+
+namespace rad {
+namespace {
+
+// Limits (documented in docs/radiance-ply-format.md).
+constexpr std::size_t kMaxHeaderBytes = std::size_t(1) << 20;  // 1 MiB
+constexpr int kMaxBlockWidth = 65536;
+constexpr std::uint64_t kMaxElementCount = 0xFFFFFFFFull;       // vertex and face counts (uint32 indices)
+constexpr std::uint64_t kMaxWrittenVertexCount = 0x80000000ull;  // indices are written as int
+
+[[noreturn]] void fail(const std::string& message) { throw RadianceFileError(message); }
+
+template <typename... Args>
+std::string cat(const Args&... args) {
+    std::ostringstream s;
+    (s << ... << args);
+    return s.str();
+}
+
+// A header token as it may appear in a message: quoted, non-printable bytes escaped, length bounded.
+std::string shown(const std::string& text) {
+    std::string out = "'";
+    const std::size_t limit = 48;
+    for (std::size_t i = 0; i < text.size() && i < limit; ++i) {
+        const unsigned char c = static_cast<unsigned char>(text[i]);
+        if (c >= 0x20 && c < 0x7f) {
+            out += static_cast<char>(c);
+        } else {
+            static const char* hex = "0123456789abcdef";
+            out += "\\x";
+            out += hex[c >> 4];
+            out += hex[c & 15];
+        }
+    }
+    if (text.size() > limit) out += "...";
+    return out + "'";
+}
+
+bool allDigits(const std::string& s) {
+    return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+// Decimal digits only (no sign, no spaces); nullopt on anything else or overflow.
+std::optional<std::uint64_t> parseUnsigned(const std::string& s) {
+    if (!allDigits(s) || s.size() > 20) return std::nullopt;
+    std::uint64_t value = 0;
+    for (char c : s) {
+        const std::uint64_t d = static_cast<std::uint64_t>(c - '0');
+        if (value > (std::numeric_limits<std::uint64_t>::max() - d) / 10) return std::nullopt;
+        value = value * 10 + d;
+    }
+    return value;
+}
+
+// a * b, saturating at the maximum (sizes compared against the file size, never allocated).
+std::uint64_t mulSat(std::uint64_t a, std::uint64_t b) {
+    if (a != 0 && b > std::numeric_limits<std::uint64_t>::max() / a) return std::numeric_limits<std::uint64_t>::max();
+    return a * b;
+}
+std::uint64_t addSat(std::uint64_t a, std::uint64_t b) {
+    return a > std::numeric_limits<std::uint64_t>::max() - b ? std::numeric_limits<std::uint64_t>::max() : a + b;
+}
+
+bool isIdentifier(const std::string& s) {
+    if (s.empty() || s.size() > 64) return false;
+    auto alpha = [](char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; };
+    if (!alpha(s[0])) return false;
+    return std::all_of(s.begin(), s.end(), [&](char c) { return alpha(c) || (c >= '0' && c <= '9'); });
+}
+bool isReservedPrefix(const std::string& s) { return s == "rf" || s.rfind("rf_", 0) == 0; }
+
+// Metadata keys: visible ASCII or UTF-8 bytes, no whitespace. Values: no control characters.
+bool isMetadataKey(const std::string& s) {
+    return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) {
+        const unsigned char u = static_cast<unsigned char>(c);
+        return u > 0x20 && u != 0x7f;
+    });
+}
+bool isMetadataValue(const std::string& s) {
+    return std::all_of(s.begin(), s.end(), [](char c) {
+        const unsigned char u = static_cast<unsigned char>(c);
+        return u >= 0x20 && u != 0x7f;
+    });
+}
+
+// ---------------------------------------------------------------------------------------------------
+// PLY types and header
+
+enum class PlyType : std::uint8_t { Int8, UInt8, Int16, UInt16, Int32, UInt32, Float32, Float64 };
+
+std::optional<PlyType> parseType(const std::string& s) {
+    static const std::pair<const char*, PlyType> names[] = {
+        {"char", PlyType::Int8},     {"int8", PlyType::Int8},       {"uchar", PlyType::UInt8},
+        {"uint8", PlyType::UInt8},   {"short", PlyType::Int16},     {"int16", PlyType::Int16},
+        {"ushort", PlyType::UInt16}, {"uint16", PlyType::UInt16},   {"int", PlyType::Int32},
+        {"int32", PlyType::Int32},   {"uint", PlyType::UInt32},     {"uint32", PlyType::UInt32},
+        {"float", PlyType::Float32}, {"float32", PlyType::Float32}, {"double", PlyType::Float64},
+        {"float64", PlyType::Float64}};
+    for (const auto& n : names)
+        if (s == n.first) return n.second;
+    return std::nullopt;
+}
+
+std::size_t typeSize(PlyType t) {
+    switch (t) {
+        case PlyType::Int8:
+        case PlyType::UInt8: return 1;
+        case PlyType::Int16:
+        case PlyType::UInt16: return 2;
+        case PlyType::Int32:
+        case PlyType::UInt32:
+        case PlyType::Float32: return 4;
+        case PlyType::Float64: return 8;
+    }
+    return 0;
+}
+
+const char* typeName(PlyType t) {
+    switch (t) {
+        case PlyType::Int8: return "char";
+        case PlyType::UInt8: return "uchar";
+        case PlyType::Int16: return "short";
+        case PlyType::UInt16: return "ushort";
+        case PlyType::Int32: return "int";
+        case PlyType::UInt32: return "uint";
+        case PlyType::Float32: return "float";
+        case PlyType::Float64: return "double";
+    }
+    return "?";
+}
+
+bool isIntegerType(PlyType t) { return t != PlyType::Float32 && t != PlyType::Float64; }
+
+// Reads an integer of type t at p (little endian, unaligned).
+std::int64_t readInteger(const unsigned char* p, PlyType t) {
+    switch (t) {
+        case PlyType::Int8: return static_cast<std::int8_t>(p[0]);
+        case PlyType::UInt8: return p[0];
+        case PlyType::Int16: { std::int16_t v; std::memcpy(&v, p, 2); return v; }
+        case PlyType::UInt16: { std::uint16_t v; std::memcpy(&v, p, 2); return v; }
+        case PlyType::Int32: { std::int32_t v; std::memcpy(&v, p, 4); return v; }
+        case PlyType::UInt32: { std::uint32_t v; std::memcpy(&v, p, 4); return v; }
+        default: return 0;
+    }
+}
+
+struct PlyProperty {
+    std::string name;
+    bool isList = false;
+    PlyType type = PlyType::Float32;      // scalar type, or list item type
+    PlyType countType = PlyType::UInt8;   // list length type
+    std::size_t offset = 0;               // byte offset in the record (elements without lists)
+};
+
+struct PlyElement {
+    std::string name;
+    std::uint64_t count = 0;
+    std::vector<PlyProperty> properties;
+    std::unordered_map<std::string, std::size_t> byName;
+    bool hasList = false;
+    std::size_t scalarBytes = 0;  // record size when !hasList
+
+    const PlyProperty* find(const std::string& n) const {
+        const auto it = byName.find(n);
+        return it == byName.end() ? nullptr : &properties[it->second];
+    }
+};
+
+struct HeaderComment {
+    std::vector<std::string> tokens;  // tokens[0] == "comment"
+    std::string line;
+    std::size_t lineNumber = 0;
+};
+
+struct PlyHeader {
+    std::vector<PlyElement> elements;
+    std::vector<HeaderComment> comments;
+    std::size_t dataOffset = 0;
+
+    const PlyElement* find(const std::string& n) const {
+        for (const auto& e : elements)
+            if (e.name == n) return &e;
+        return nullptr;
+    }
+};
+
+bool isBlank(char c) { return c == ' ' || c == '\t'; }
+
+// Next blank-separated token of line from pos (pos is advanced past it); empty at end of line.
+std::string nextToken(const std::string& line, std::size_t& pos) {
+    while (pos < line.size() && isBlank(line[pos])) ++pos;
+    const std::size_t start = pos;
+    while (pos < line.size() && !isBlank(line[pos])) ++pos;
+    return line.substr(start, pos - start);
+}
+
+std::vector<std::string> tokenize(const std::string& line) {
+    std::vector<std::string> tokens;
+    std::size_t pos = 0;
+    for (std::string t = nextToken(line, pos); !t.empty(); t = nextToken(line, pos)) tokens.push_back(std::move(t));
+    return tokens;
+}
+
+const char* kConvertHint =
+    "our writer produces binary little endian PLY; convert the file, e.g. open it in MeshLab and export it "
+    "again as PLY with the 'Binary encoding' box checked";
+
+// `data` holds the first `size` bytes of the file; `wholeFile` when that is all of it.
+PlyHeader parseHeader(const char* data, std::size_t size, bool wholeFile) {
+    if (size == 0) fail("not a PLY file: the file is empty");
+    const bool plyLine = size >= 4 && std::memcmp(data, "ply", 3) == 0 &&
+                         (data[3] == '\n' || (data[3] == '\r' && size >= 5 && data[4] == '\n'));
+    if (!plyLine) fail("not a PLY file: it does not start with the line 'ply'");
+
+    PlyHeader header;
+    bool formatSeen = false, ended = false;
+    std::size_t pos = 0, lineNumber = 0;
+    while (pos < size) {
+        const void* nl = std::memchr(data + pos, '\n', size - pos);
+        if (!nl) break;
+        const std::size_t end = static_cast<std::size_t>(static_cast<const char*>(nl) - data);
+        std::string line(data + pos, end - pos);
+        pos = end + 1;
+        ++lineNumber;
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        if (lineNumber == 1) continue;  // "ply"
+        std::vector<std::string> t = tokenize(line);
+        if (t.empty()) continue;
+        const std::string& keyword = t[0];
+        if (keyword == "end_header") {
+            if (t.size() != 1) fail(cat("header line ", lineNumber, ": malformed end_header line"));
+            ended = true;
+            break;
+        }
+        if (keyword == "comment") {
+            header.comments.push_back({std::move(t), std::move(line), lineNumber});
+            continue;
+        }
+        if (keyword == "obj_info") continue;
+        if (keyword == "format") {
+            if (formatSeen) fail(cat("header line ", lineNumber, ": second format line"));
+            if (!header.elements.empty())
+                fail(cat("header line ", lineNumber, ": the format line must come before the elements"));
+            if (t.size() != 3) fail(cat("header line ", lineNumber, ": malformed format line"));
+            if (t[1] == "ascii")
+                fail(cat("the PLY file is in ASCII format, which is not supported: ", kConvertHint));
+            if (t[1] == "binary_big_endian")
+                fail(cat("the PLY file is binary big endian, which is not supported: ", kConvertHint));
+            if (t[1] != "binary_little_endian")
+                fail(cat("header line ", lineNumber, ": unknown PLY format ", shown(t[1]), "; ", kConvertHint));
+            if (t[2] != "1.0")
+                fail(cat("header line ", lineNumber, ": unsupported PLY version ", shown(t[2]), " (expected 1.0)"));
+            formatSeen = true;
+            continue;
+        }
+        if (keyword == "element") {
+            if (!formatSeen) fail(cat("header line ", lineNumber, ": element before the format line"));
+            if (t.size() != 3) fail(cat("header line ", lineNumber, ": malformed element line"));
+            const auto count = parseUnsigned(t[2]);
+            if (!count)
+                fail(cat("header line ", lineNumber, ": element ", shown(t[1]), " has an invalid count ", shown(t[2])));
+            for (const auto& e : header.elements)
+                if (e.name == t[1]) fail(cat("header line ", lineNumber, ": element ", shown(t[1]), " declared twice"));
+            PlyElement element;
+            element.name = t[1];
+            element.count = *count;
+            header.elements.push_back(std::move(element));
+            continue;
+        }
+        if (keyword == "property") {
+            if (header.elements.empty()) fail(cat("header line ", lineNumber, ": property before any element"));
+            PlyElement& element = header.elements.back();
+            PlyProperty p;
+            if (t.size() == 5 && t[1] == "list") {
+                const auto countType = parseType(t[2]);
+                const auto itemType = parseType(t[3]);
+                if (!countType || !itemType)
+                    fail(cat("header line ", lineNumber, ": unknown type in list property ", shown(t[4])));
+                if (!isIntegerType(*countType))
+                    fail(cat("header line ", lineNumber, ": list property ", shown(t[4]),
+                             " has a non-integer length type"));
+                p.isList = true;
+                p.countType = *countType;
+                p.type = *itemType;
+                p.name = t[4];
+            } else if (t.size() == 3 && t[1] != "list") {
+                const auto type = parseType(t[1]);
+                if (!type) fail(cat("header line ", lineNumber, ": unknown property type ", shown(t[1])));
+                p.type = *type;
+                p.name = t[2];
+            } else {
+                fail(cat("header line ", lineNumber, ": malformed property line"));
+            }
+            if (element.byName.count(p.name))
+                fail(cat("header line ", lineNumber, ": property ", shown(p.name), " of element ", shown(element.name),
+                         " declared twice"));
+            element.byName.emplace(p.name, element.properties.size());
+            if (p.isList) {
+                element.hasList = true;
+            } else {
+                p.offset = element.scalarBytes;
+                element.scalarBytes += typeSize(p.type);
+            }
+            element.properties.push_back(std::move(p));
+            continue;
+        }
+        fail(cat("header line ", lineNumber, ": unknown header keyword ", shown(keyword), "; not a valid PLY header"));
+    }
+    if (!ended) {
+        if (wholeFile)
+            fail("file truncated inside its header (no end_header line); the file was probably not completely written");
+        fail("no end_header line in the first 1 MiB: not a PLY header this reader accepts");
+    }
+    if (!formatSeen) fail("the PLY header has no format line");
+    header.dataOffset = pos;
+    return header;
+}
+
+// ---------------------------------------------------------------------------------------------------
+// The radiance comments
+
+struct BlockDeclaration {
+    std::string prefix;
+    int width = 0;
+    std::map<std::string, std::string> metadata;
+};
+
+struct RadianceHeader {
+    bool ourFormat = false;  // radiance_format_version present
+    std::optional<BasisSpec> basis;
+    bool reflected = false;
+    std::vector<BlockDeclaration> blocks;
+};
+
+BasisSpec parseBasisOrFail(const std::string& text) {
+    if (const auto basis = BasisSpec::parse(text)) return *basis;
+    std::string prefix = text.substr(0, 2);
+    for (char& c : prefix) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    if ((prefix == "PB" || prefix == "SH") && allDigits(text.substr(std::min<std::size_t>(2, text.size()))))
+        fail(cat("radiance basis ", shown(text), " has a degree out of range (PB degrees 0..", kMaxPolynomialDegree,
+                 ", SH degrees 0..", kMaxHarmonicDegree, ")"));
+    fail(cat("unknown radiance basis ", shown(text), " in comment radiance_basis (supported: PB0..PB",
+             kMaxPolynomialDegree, ", SH0..SH", kMaxHarmonicDegree, ")"));
+}
+
+RadianceHeader parseRadianceComments(const PlyHeader& header) {
+    RadianceHeader r;
+    // Version first, so that a newer file gets the "newer version" message whatever else it contains.
+    for (const auto& c : header.comments) {
+        if (c.tokens.size() < 2 || c.tokens[1] != "radiance_format_version") continue;
+        if (r.ourFormat) fail("comment radiance_format_version appears twice");
+        const auto version = c.tokens.size() == 3 ? parseUnsigned(c.tokens[2]) : std::nullopt;
+        if (!version || *version == 0) fail(cat("header line ", c.lineNumber, ": malformed radiance_format_version comment"));
+        if (*version > static_cast<std::uint64_t>(kRadiancePlyFormatVersion))
+            fail(cat("the file was written by a newer version of the radiance PLY format (version ", c.tokens[2],
+                     "); this reader supports version ", kRadiancePlyFormatVersion, ": update the plugin"));
+        r.ourFormat = true;
+    }
+
+    std::unordered_set<std::string> seen;
+    std::string firstRadianceKey;
+    for (const auto& c : header.comments) {
+        if (c.tokens.size() < 2) continue;
+        const std::string& key = c.tokens[1];
+        const bool known = key == "radiance_basis" || key == "radiance_reflected" || key == "radiance_channels" ||
+                           key == "radiance_color_space" || key == "radiance_frame";
+        if (!known) continue;  // unknown comments (including block ones, handled below) are ignored here
+        if (!seen.insert(key).second) fail(cat("comment ", key, " appears twice"));
+        if (firstRadianceKey.empty()) firstRadianceKey = key;
+        if (c.tokens.size() != 3) fail(cat("header line ", c.lineNumber, ": malformed ", key, " comment"));
+        const std::string& value = c.tokens[2];
+        if (key == "radiance_basis") {
+            r.basis = parseBasisOrFail(value);
+        } else if (key == "radiance_reflected") {
+            if (value != "0" && value != "1") fail(cat("comment radiance_reflected must be 0 or 1, not ", shown(value)));
+            r.reflected = value == "1";
+        } else if (key == "radiance_channels") {
+            if (value != "rgb") fail(cat("unsupported radiance_channels ", shown(value), " (only rgb)"));
+        } else if (key == "radiance_color_space") {
+            if (value != "linear") fail(cat("unsupported radiance_color_space ", shown(value), " (only linear)"));
+        } else if (key == "radiance_frame") {
+            if (value != "tangent_normal") fail(cat("unsupported radiance_frame ", shown(value), " (only tangent_normal)"));
+        }
+    }
+    if (!firstRadianceKey.empty() && !r.ourFormat)
+        fail(cat("comment ", firstRadianceKey, " without comment radiance_format_version; add the line "
+                 "'comment radiance_format_version 1' to the header"));
+    if (r.basis && !seen.count("radiance_reflected"))
+        fail("comment radiance_basis without comment radiance_reflected; add 'comment radiance_reflected 0' "
+             "(or 1 when the coefficients encode the reflected function)");
+    if (!r.basis && !seen.empty())
+        fail(cat("comment ", firstRadianceKey, " without comment radiance_basis"));
+    if (!r.ourFormat) return r;  // "block" comments of foreign files are just comments
+
+    for (const auto& c : header.comments) {
+        if (c.tokens.size() < 2 || c.tokens[1] != "block") continue;
+        const auto& t = c.tokens;
+        if (t.size() != 5 || t[3] != "width")
+            fail(cat("header line ", c.lineNumber, ": malformed block comment (expected 'comment block <prefix> width <n>')"));
+        if (!isIdentifier(t[2]) || isReservedPrefix(t[2]))
+            fail(cat("header line ", c.lineNumber, ": invalid block prefix ", shown(t[2])));
+        const auto width = parseUnsigned(t[4]);
+        if (!width || *width == 0 || *width > static_cast<std::uint64_t>(kMaxBlockWidth))
+            fail(cat("header line ", c.lineNumber, ": block ", shown(t[2]), " has an invalid width ", shown(t[4]),
+                     " (1..", kMaxBlockWidth, ")"));
+        for (const auto& b : r.blocks)
+            if (b.prefix == t[2]) fail(cat("block ", shown(t[2]), " declared twice"));
+        r.blocks.push_back({t[2], static_cast<int>(*width), {}});
+    }
+    for (const auto& c : header.comments) {
+        if (c.tokens.size() < 2 || c.tokens[1] != "block_meta") continue;
+        std::size_t pos = 0;
+        nextToken(c.line, pos);  // comment
+        nextToken(c.line, pos);  // block_meta
+        const std::string prefix = nextToken(c.line, pos);
+        const std::string key = nextToken(c.line, pos);
+        if (key.empty())
+            fail(cat("header line ", c.lineNumber, ": malformed block_meta comment (expected 'comment block_meta <prefix> <key> <value>')"));
+        // The value is everything after the one blank that follows the key.
+        const std::string value = pos < c.line.size() ? c.line.substr(pos + 1) : std::string();
+        auto block = std::find_if(r.blocks.begin(), r.blocks.end(), [&](const BlockDeclaration& b) { return b.prefix == prefix; });
+        if (block == r.blocks.end())
+            fail(cat("header line ", c.lineNumber, ": block_meta for undeclared block ", shown(prefix),
+                     " (add 'comment block ", prefix, " width <n>')"));
+        if (!block->metadata.emplace(key, value).second)
+            fail(cat("block_meta ", shown(key), " of block ", shown(prefix), " appears twice"));
+    }
+    return r;
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Copying between file records and per-vertex arrays
+
+// One contiguous run of bytes per vertex: record[recordOffset, +bytes) <-> array[v * arrayStride, +bytes).
+template <typename Byte>
+struct CopyRun {
+    std::size_t recordOffset;
+    Byte* array;
+    std::size_t arrayStride;
+    std::size_t bytes;
+};
+
+// Sorts by record offset and merges runs adjacent both in the record and in the same array
+// (e.g. x y z, or the 3K coefficients written in order), so the per-vertex loop is a few memcpy.
+template <typename Byte>
+std::vector<CopyRun<Byte>> mergeRuns(std::vector<CopyRun<Byte>> runs) {
+    std::sort(runs.begin(), runs.end(), [](const auto& a, const auto& b) { return a.recordOffset < b.recordOffset; });
+    std::vector<CopyRun<Byte>> merged;
+    for (const auto& r : runs) {
+        if (!merged.empty()) {
+            auto& last = merged.back();
+            if (last.recordOffset + last.bytes == r.recordOffset && last.arrayStride == r.arrayStride &&
+                last.array + last.bytes == r.array) {
+                last.bytes += r.bytes;
+                continue;
+            }
+        }
+        merged.push_back(r);
+    }
+    return merged;
+}
+
+// Vertex properties understood by the reader, by name.
+enum class Slot : std::uint8_t { Position, Normal, Color, Quality, Tangent, Coefficient, Block };
+struct SlotRef {
+    Slot slot;
+    int index;  // component / coefficient index (c * K + k) / property index within the block
+    int block = 0;
+};
+
+const char* kChannelNames[kColorChannels] = {"r", "g", "b"};
+
+std::string coefficientName(int c, int k) { return cat("rf_", kChannelNames[c], "_", k); }
+
+// Whether name is "<prefix>_<digits>" for one of the declared blocks (a misnumbered block property).
+const BlockDeclaration* looksLikeBlockProperty(const std::string& name, const std::vector<BlockDeclaration>& blocks) {
+    const std::size_t us = name.rfind('_');
+    if (us == std::string::npos || !allDigits(name.substr(us + 1))) return nullptr;
+    const std::string prefix = name.substr(0, us);
+    for (const auto& b : blocks)
+        if (b.prefix == prefix) return &b;
+    return nullptr;
+}
+
+std::string nonFinite(const char* what, std::size_t v) {
+    return cat("vertex ", v, " has a ", what, " that is not a finite number (NaN or infinity); fix or remove "
+               "that vertex before saving");
+}
+
+// Which file offsets hold what, for the vertex element.
+struct VertexLayout {
+    std::size_t recordBytes = 0;
+    long position[3] = {-1, -1, -1};
+    long normal[3] = {-1, -1, -1};
+    long color[4] = {-1, -1, -1, -1};
+    long quality = -1;
+    long tangent[3] = {-1, -1, -1};
+    std::vector<long> coefficients;            // c * K + k
+    std::vector<std::vector<long>> blocks;     // per declared block, per index
+};
+
+VertexLayout planVertices(const PlyElement& vertex, const RadianceHeader& rh) {
+    VertexLayout layout;
+    layout.recordBytes = vertex.scalarBytes;
+    const int K = rh.basis ? rh.basis->coefficientCount() : 0;
+
+    std::uint64_t blockTotal = 0;
+    for (const auto& b : rh.blocks) blockTotal += static_cast<std::uint64_t>(b.width);
+    if (blockTotal > vertex.properties.size())
+        fail(cat("the block comments declare ", blockTotal, " vertex properties but the vertex element has only ",
+                 vertex.properties.size(), " properties; block properties are missing"));
+
+    std::unordered_map<std::string, SlotRef> expected;
+    expected.emplace("x", SlotRef{Slot::Position, 0});
+    expected.emplace("y", SlotRef{Slot::Position, 1});
+    expected.emplace("z", SlotRef{Slot::Position, 2});
+    expected.emplace("nx", SlotRef{Slot::Normal, 0});
+    expected.emplace("ny", SlotRef{Slot::Normal, 1});
+    expected.emplace("nz", SlotRef{Slot::Normal, 2});
+    expected.emplace("red", SlotRef{Slot::Color, 0});
+    expected.emplace("green", SlotRef{Slot::Color, 1});
+    expected.emplace("blue", SlotRef{Slot::Color, 2});
+    expected.emplace("alpha", SlotRef{Slot::Color, 3});
+    expected.emplace("quality", SlotRef{Slot::Quality, 0});
+    if (rh.basis) {
+        expected.emplace("rf_tx", SlotRef{Slot::Tangent, 0});
+        expected.emplace("rf_ty", SlotRef{Slot::Tangent, 1});
+        expected.emplace("rf_tz", SlotRef{Slot::Tangent, 2});
+        for (int c = 0; c < kColorChannels; ++c)
+            for (int k = 0; k < K; ++k) expected.emplace(coefficientName(c, k), SlotRef{Slot::Coefficient, c * K + k});
+        layout.coefficients.assign(static_cast<std::size_t>(kColorChannels * K), -1);
+    }
+    layout.blocks.resize(rh.blocks.size());
+    for (std::size_t b = 0; b < rh.blocks.size(); ++b) {
+        layout.blocks[b].assign(static_cast<std::size_t>(rh.blocks[b].width), -1);
+        for (int i = 0; i < rh.blocks[b].width; ++i)
+            expected.emplace(cat(rh.blocks[b].prefix, "_", i), SlotRef{Slot::Block, i, static_cast<int>(b)});
+    }
+
+    for (const auto& p : vertex.properties) {
+        if (p.isList)
+            fail(cat("vertex property ", shown(p.name), " is a list: variable-size vertex records are not supported; "
+                     "remove that property (or re-save the mesh from MeshLab)"));
+        const auto it = expected.find(p.name);
+        if (it == expected.end()) {
+            if (p.name.rfind("rf_", 0) == 0) {
+                if (!rh.basis)
+                    fail(cat("vertex property ", shown(p.name), " looks like radiance data but the header has no "
+                             "radiance_basis comment; the comments were probably removed by another tool: add "
+                             "'comment radiance_format_version 1', 'comment radiance_basis <basis>' and "
+                             "'comment radiance_reflected 0|1'"));
+                fail(cat("vertex property ", shown(p.name), " does not belong to basis ", rh.basis->name(),
+                         " (expected rf_tx rf_ty rf_tz and rf_r_0..rf_r_", K - 1, ", rf_g_0..rf_g_", K - 1,
+                         ", rf_b_0..rf_b_", K - 1, "); the radiance_basis comment does not match the properties"));
+            }
+            if (const BlockDeclaration* b = looksLikeBlockProperty(p.name, rh.blocks))
+                fail(cat("vertex property ", shown(p.name), " does not belong to block ", shown(b->prefix),
+                         " of width ", b->width, " (expected ", b->prefix, "_0..", b->prefix, "_", b->width - 1, ")"));
+            continue;  // unknown property: skipped
+        }
+        const SlotRef& ref = it->second;
+        const PlyType want = ref.slot == Slot::Color ? PlyType::UInt8 : PlyType::Float32;
+        if (p.type != want)
+            fail(cat("vertex property ", shown(p.name), " is ", typeName(p.type), " but must be ", typeName(want)));
+        const long offset = static_cast<long>(p.offset);
+        switch (ref.slot) {
+            case Slot::Position: layout.position[ref.index] = offset; break;
+            case Slot::Normal: layout.normal[ref.index] = offset; break;
+            case Slot::Color: layout.color[ref.index] = offset; break;
+            case Slot::Quality: layout.quality = offset; break;
+            case Slot::Tangent: layout.tangent[ref.index] = offset; break;
+            case Slot::Coefficient: layout.coefficients[static_cast<std::size_t>(ref.index)] = offset; break;
+            case Slot::Block:
+                layout.blocks[static_cast<std::size_t>(ref.block)][static_cast<std::size_t>(ref.index)] = offset;
+                break;
+        }
+    }
+
+    static const char* xyz[3] = {"x", "y", "z"};
+    static const char* nxyz[3] = {"nx", "ny", "nz"};
+    static const char* rgba[4] = {"red", "green", "blue", "alpha"};
+    static const char* txyz[3] = {"rf_tx", "rf_ty", "rf_tz"};
+    for (int i = 0; i < 3; ++i)
+        if (layout.position[i] < 0)
+            fail(cat("missing vertex property '", xyz[i], "'; every vertex needs float x, y, z"));
+    const int normals = (layout.normal[0] >= 0) + (layout.normal[1] >= 0) + (layout.normal[2] >= 0);
+    if (normals != 0 && normals != 3)
+        for (int i = 0; i < 3; ++i)
+            if (layout.normal[i] < 0) fail(cat("missing vertex property '", nxyz[i], "'; normals need nx, ny and nz"));
+    const int colors = (layout.color[0] >= 0) + (layout.color[1] >= 0) + (layout.color[2] >= 0);
+    if ((colors != 0 && colors != 3) || (colors == 0 && layout.color[3] >= 0))
+        for (int i = 0; i < 3; ++i)
+            if (layout.color[i] < 0)
+                fail(cat("missing vertex property '", rgba[i], "'; colors need red, green, blue (and optionally alpha)"));
+    if (rh.basis) {
+        if (normals == 0)
+            fail("missing vertex property 'nx': radiance data needs the per-vertex normals (the frame normal nx ny nz)");
+        for (int i = 0; i < 3; ++i)
+            if (layout.tangent[i] < 0) fail(cat("missing radiance frame tangent property '", txyz[i], "'"));
+        for (int c = 0; c < kColorChannels; ++c)
+            for (int k = 0; k < K; ++k)
+                if (layout.coefficients[static_cast<std::size_t>(c * K + k)] < 0)
+                    fail(cat("missing radiance coefficient property '", coefficientName(c, k), "' (basis ", rh.basis->name(),
+                             " needs rf_r_0..rf_r_", K - 1, ", rf_g_0..rf_g_", K - 1, ", rf_b_0..rf_b_", K - 1, ")"));
+    }
+    for (std::size_t b = 0; b < rh.blocks.size(); ++b)
+        for (int i = 0; i < rh.blocks[b].width; ++i)
+            if (layout.blocks[b][static_cast<std::size_t>(i)] < 0)
+                fail(cat("missing vertex property '", rh.blocks[b].prefix, "_", i, "' of block ", shown(rh.blocks[b].prefix),
+                         " (width ", rh.blocks[b].width, ")"));
+    return layout;
+}
+
+struct FaceLayout {
+    std::size_t indexProperty = 0;
+    std::uint64_t minRecordBytes = 0;
+};
+
+FaceLayout planFaces(const PlyElement& face) {
+    FaceLayout layout;
+    const PlyProperty* indices = face.find("vertex_indices");
+    if (!indices) indices = face.find("vertex_index");
+    if (!indices || !indices->isList)
+        fail("the face element has no 'vertex_indices' list property");
+    if (indices->type != PlyType::Int32 && indices->type != PlyType::UInt32)
+        fail(cat("face property ", shown(indices->name), " has items of type ", typeName(indices->type),
+                 " but they must be int or uint"));
+    layout.indexProperty = static_cast<std::size_t>(indices - face.properties.data());
+    for (const auto& p : face.properties) {
+        if (!p.isList) layout.minRecordBytes += typeSize(p.type);
+        else layout.minRecordBytes += typeSize(p.countType) + (&p == indices ? 3 * typeSize(p.type) : 0);
+    }
+    return layout;
+}
+
+std::string truncated(const std::string& what, std::uint64_t expected, std::uint64_t found, const char* extra) {
+    return cat("file truncated: expected ", what, expected, " bytes of ", extra, ", found ",
+               found, "; the file was probably not completely written");
+}
+
+std::string trailing(std::uint64_t bytes) {
+    return cat(bytes, bytes == 1 ? " byte" : " bytes", " of unexpected data after the last element: the header does not "
+               "describe the data (wrong element count or property type?); this reader refuses trailing data");
+}
+
+struct FileCloser {
+    void operator()(std::FILE* f) const {
+        if (f) std::fclose(f);
+    }
+};
+using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
+
+bool seekTo(std::FILE* f, std::uint64_t offset) {
+#ifdef _WIN32
+    return _fseeki64(f, static_cast<__int64>(offset), SEEK_SET) == 0;
+#else
+    return fseeko(f, static_cast<off_t>(offset), SEEK_SET) == 0;
+#endif
+}
+
+RadianceMesh readImpl(const std::string& path) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) fail("it is a folder, not a file");
+    FilePtr file(std::fopen(path.c_str(), "rb"));
+    if (!file) fail(cat("cannot open the file: ", std::strerror(errno)));
+    const std::uintmax_t fileSizeRaw = std::filesystem::file_size(path, ec);
+    if (ec) fail(cat("cannot get the file size: ", ec.message()));
+    const std::uint64_t fileSize = static_cast<std::uint64_t>(fileSizeRaw);
+
+    // Header.
+    const std::size_t headBytes = static_cast<std::size_t>(std::min<std::uint64_t>(fileSize, kMaxHeaderBytes));
+    std::string head(headBytes, '\0');
+    if (headBytes && std::fread(head.data(), 1, headBytes, file.get()) != headBytes)
+        fail("read error in the header (the file changed or the disk failed)");
+    const PlyHeader header = parseHeader(head.data(), head.size(), headBytes == fileSize);
+    head.clear();
+    head.shrink_to_fit();
+    const RadianceHeader rh = parseRadianceComments(header);
+
+    // Layout of every element, checked before reading any data.
+    const PlyElement* vertexElement = header.find("vertex");
+    if (!vertexElement) fail("the PLY file has no vertex element");
+    const PlyElement* faceElement = header.find("face");
+    if (vertexElement->count > kMaxElementCount)
+        fail(cat("the header declares ", vertexElement->count, " vertices, more than this format supports (",
+                 kMaxElementCount, "); the header is probably damaged"));
+    if (faceElement && faceElement->count > kMaxElementCount)
+        fail(cat("the header declares ", faceElement->count, " faces, more than this format supports (",
+                 kMaxElementCount, "); the header is probably damaged"));
+    const VertexLayout vertexLayout = planVertices(*vertexElement, rh);
+    FaceLayout faceLayout;
+    if (faceElement) faceLayout = planFaces(*faceElement);
+    for (const auto& e : header.elements)
+        if (&e != vertexElement && &e != faceElement && e.hasList && e.count > 0)
+            fail(cat("element ", shown(e.name), " has list properties (variable-size records) and is not a face element; "
+                     "it cannot be skipped safely: remove it (e.g. re-save the mesh from MeshLab)"));
+
+    // Sizes against the file size, before allocating anything. Face records have a known size when the
+    // only list is vertex_indices (and every face is a triangle, which the decoder checks).
+    const std::uint64_t dataBytes = fileSize - header.dataOffset;
+    const bool faceSizeKnown = !faceElement || faceElement->properties.size() == 1 ||
+                               std::count_if(faceElement->properties.begin(), faceElement->properties.end(),
+                                             [](const PlyProperty& p) { return p.isList; }) == 1;
+    std::uint64_t needed = 0;
+    for (const auto& e : header.elements) {
+        const std::uint64_t record = &e == faceElement ? faceLayout.minRecordBytes : e.scalarBytes;
+        const std::uint64_t bytes = mulSat(e.count, record);
+        if (addSat(needed, bytes) > dataBytes) {
+            const std::uint64_t found = dataBytes - std::min(needed, dataBytes);
+            if (&e == vertexElement)
+                fail(truncated("", bytes, found, "vertex data") + " (or its header declares a wrong vertex count)");
+            if (&e == faceElement)
+                fail(truncated(faceSizeKnown ? "" : "at least ", bytes, found, "face data") +
+                     " (or its header declares a wrong face count)");
+            fail(truncated("", bytes, found, ("data for element '" + e.name + "'").c_str()));
+        }
+        needed += bytes;
+    }
+    // With triangles only, the data size is exact; a quad mesh is larger, so leave the trailing-data
+    // verdict to the face decoder then (it says "triangulate").
+    if (faceSizeKnown && dataBytes > needed && (!faceElement || faceElement->count == 0))
+        fail(trailing(dataBytes - needed));
+
+    RadianceMesh mesh;
+    const std::size_t n = static_cast<std::size_t>(vertexElement->count);
+    std::uint64_t position = header.dataOffset;  // file offset of the next element
+    if (!seekTo(file.get(), position)) fail("cannot seek in the file");
+    // Reads `bytes` bytes at the current position, in one fread.
+    const auto readBlock = [&](std::uint64_t bytes) {
+        std::unique_ptr<unsigned char[]> block(new unsigned char[bytes ? static_cast<std::size_t>(bytes) : 1]);
+        if (bytes && std::fread(block.get(), 1, static_cast<std::size_t>(bytes), file.get()) != bytes)
+            fail("read error (the file changed while it was read, or the disk failed)");
+        return block;
+    };
+    for (const auto& e : header.elements) {
+        if (&e == vertexElement) {
+            const std::uint64_t bytes = static_cast<std::uint64_t>(n) * vertexLayout.recordBytes;
+            const std::unique_ptr<unsigned char[]> data = readBlock(bytes);
+            position += bytes;
+            mesh.positions.resize(n * 3);
+            const bool hasNormals = vertexLayout.normal[0] >= 0;
+            const bool hasColors = vertexLayout.color[0] >= 0;
+            if (hasNormals) mesh.normals.resize(n * 3);
+            if (hasColors) mesh.colors.assign(n * 4, 255);
+            if (vertexLayout.quality >= 0) mesh.quality.resize(n);
+            if (rh.basis) mesh.radiance.emplace(*rh.basis, n, rh.reflected);
+            for (const auto& b : rh.blocks) {
+                NamedVertexBlock block;
+                block.prefix = b.prefix;
+                block.width = b.width;
+                block.metadata = b.metadata;
+                block.values.resize(n * static_cast<std::size_t>(b.width));
+                mesh.extraBlocks.push_back(std::move(block));
+            }
+            if (n == 0) continue;
+            using Run = CopyRun<unsigned char>;
+            std::vector<Run> runs;
+            auto add = [&](long offset, void* array, std::size_t stride, std::size_t size) {
+                runs.push_back({static_cast<std::size_t>(offset), static_cast<unsigned char*>(array), stride, size});
+            };
+            for (int i = 0; i < 3; ++i) add(vertexLayout.position[i], mesh.positions.data() + i, 12, 4);
+            if (hasNormals)
+                for (int i = 0; i < 3; ++i) add(vertexLayout.normal[i], mesh.normals.data() + i, 12, 4);
+            for (int i = 0; i < 4; ++i)
+                if (vertexLayout.color[i] >= 0) add(vertexLayout.color[i], mesh.colors.data() + i, 4, 1);
+            if (vertexLayout.quality >= 0) add(vertexLayout.quality, mesh.quality.data(), 4, 4);
+            if (rh.basis) {
+                RadianceField& rf = *mesh.radiance;
+                for (int i = 0; i < 3; ++i) add(vertexLayout.tangent[i], rf.frames.data() + i, 24, 4);
+                const std::size_t perVertex = static_cast<std::size_t>(rf.coefficientsPerVertex());
+                for (std::size_t j = 0; j < perVertex; ++j)
+                    add(vertexLayout.coefficients[j], rf.coefficients.data() + j, perVertex * 4, 4);
+            }
+            for (std::size_t b = 0; b < mesh.extraBlocks.size(); ++b) {
+                auto& block = mesh.extraBlocks[b];
+                const std::size_t w = static_cast<std::size_t>(block.width);
+                for (std::size_t i = 0; i < w; ++i) add(vertexLayout.blocks[b][i], block.values.data() + i, w * 4, 4);
+            }
+            runs = mergeRuns(std::move(runs));
+            const std::size_t rec = vertexLayout.recordBytes;
+            const unsigned char* records = data.get();
+            for (std::size_t v = 0; v < n; ++v) {
+                const unsigned char* record = records + v * rec;
+                for (const Run& r : runs) std::memcpy(r.array + v * r.arrayStride, record + r.recordOffset, r.bytes);
+            }
+        } else if (&e == faceElement) {
+            const std::size_t faceCount = static_cast<std::size_t>(e.count);
+            // Exact size for triangles; otherwise everything left (bounded by the file size).
+            const std::uint64_t bytes = faceSizeKnown ? faceCount * faceLayout.minRecordBytes : fileSize - position;
+            const std::unique_ptr<unsigned char[]> data = readBlock(bytes);
+            const unsigned char* cursor = data.get();
+            const unsigned char* const end = data.get() + bytes;
+            mesh.faces.resize(faceCount * 3);
+            const PlyProperty& indices = e.properties[faceLayout.indexProperty];
+            const bool signedIndex = indices.type == PlyType::Int32;
+            const auto truncatedFace = [&](std::size_t f) {
+                fail(cat("file truncated: the face data ends inside face ", f, " of ", faceCount,
+                         "; the file was probably not completely written"));
+            };
+            for (std::size_t f = 0; f < faceCount; ++f) {
+                for (std::size_t pi = 0; pi < e.properties.size(); ++pi) {
+                    const PlyProperty& p = e.properties[pi];
+                    if (!p.isList) {
+                        const std::size_t s = typeSize(p.type);
+                        if (static_cast<std::size_t>(end - cursor) < s) truncatedFace(f);
+                        cursor += s;
+                        continue;
+                    }
+                    const std::size_t cs = typeSize(p.countType);
+                    if (static_cast<std::size_t>(end - cursor) < cs) truncatedFace(f);
+                    const std::int64_t count = readInteger(cursor, p.countType);
+                    cursor += cs;
+                    if (pi == faceLayout.indexProperty) {
+                        if (count != 3)
+                            fail(cat("face ", f, " has ", count, " vertices but only triangle meshes are supported: "
+                                     "triangulate the mesh first (e.g. in MeshLab: Filters > Polygonal and Quad Mesh > "
+                                     "Turn into a Pure-Triangular mesh) and save it again"));
+                        if (static_cast<std::size_t>(end - cursor) < 12) truncatedFace(f);
+                        for (std::size_t k = 0; k < 3; ++k) {
+                            std::uint32_t raw;
+                            std::memcpy(&raw, cursor + 4 * k, 4);
+                            if (signedIndex && raw > 0x7fffffffu)
+                                fail(cat("face ", f, " has a negative vertex index ", static_cast<std::int32_t>(raw)));
+                            if (raw >= n)
+                                fail(cat("face ", f, " references vertex ", raw, " but the file has only ", n,
+                                         " vertices: vertex index out of range"));
+                            mesh.faces[f * 3 + k] = raw;
+                        }
+                        cursor += 12;
+                    } else {
+                        if (count < 0) fail(cat("face ", f, " has a negative length in list property ", shown(p.name)));
+                        const std::uint64_t listBytes = static_cast<std::uint64_t>(count) * typeSize(p.type);
+                        if (static_cast<std::uint64_t>(end - cursor) < listBytes) truncatedFace(f);
+                        cursor += listBytes;
+                    }
+                }
+            }
+            position += static_cast<std::uint64_t>(cursor - data.get());
+            if (!faceSizeKnown && !seekTo(file.get(), position)) fail("cannot seek in the file");
+        } else {
+            position += e.count * e.scalarBytes;  // fixed size, within the file (checked above)
+            if (!seekTo(file.get(), position)) fail("cannot seek in the file");
+        }
+    }
+    if (position != fileSize)
+        fail(trailing(fileSize - position));
+    file.reset();
+
+    // Values.
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i)
+        if (!std::isfinite(mesh.positions[i])) fail(nonFinite("position", i / 3));
+    for (std::size_t i = 0; i < mesh.normals.size(); ++i)
+        if (!std::isfinite(mesh.normals[i])) fail(nonFinite("normal", i / 3));
+    if (mesh.radiance) {
+        RadianceField& rf = *mesh.radiance;
+        for (std::size_t v = 0; v < n; ++v) {
+            float* frame = rf.frame(v);
+            std::memcpy(frame + 3, mesh.normals.data() + v * 3, 12);
+            for (int i = 0; i < 3; ++i)
+                if (!std::isfinite(frame[i])) fail(nonFinite("radiance frame tangent", v));
+        }
+        const std::size_t perVertex = static_cast<std::size_t>(rf.coefficientsPerVertex());
+        for (std::size_t i = 0; i < rf.coefficients.size(); ++i)
+            if (!std::isfinite(rf.coefficients[i])) fail(nonFinite("radiance coefficient", i / perVertex));
+        const std::string problem = rf.validate();
+        if (!problem.empty()) fail("invalid radiance data: " + problem);
+    }
+    return mesh;
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Writing
+
+bool sameBits(const float* a, const float* b, std::size_t count) { return std::memcmp(a, b, count * sizeof(float)) == 0; }
+
+std::string makeHeader(const RadianceMesh& mesh) {
+    std::string h;
+    auto line = [&](const std::string& s) { h += s; h += '\n'; };
+    line("ply");
+    line("format binary_little_endian 1.0");
+    line(cat("comment radiance_format_version ", kRadiancePlyFormatVersion));
+    if (mesh.radiance) {
+        line("comment radiance_basis " + mesh.radiance->basis.name());
+        line(cat("comment radiance_reflected ", mesh.radiance->reflected ? 1 : 0));
+        line("comment radiance_channels rgb");
+        line("comment radiance_color_space linear");
+        line("comment radiance_frame tangent_normal");
+    }
+    for (const auto& b : mesh.extraBlocks) {
+        line(cat("comment block ", b.prefix, " width ", b.width));
+        for (const auto& kv : b.metadata)
+            line("comment block_meta " + b.prefix + " " + kv.first + (kv.second.empty() ? "" : " " + kv.second));
+    }
+    line(cat("element vertex ", mesh.vertexCount()));
+    line("property float x");
+    line("property float y");
+    line("property float z");
+    if (!mesh.normals.empty() || mesh.radiance) {
+        line("property float nx");
+        line("property float ny");
+        line("property float nz");
+    }
+    if (!mesh.colors.empty()) {
+        line("property uchar red");
+        line("property uchar green");
+        line("property uchar blue");
+        line("property uchar alpha");
+    }
+    if (!mesh.quality.empty()) line("property float quality");
+    if (mesh.radiance) {
+        line("property float rf_tx");
+        line("property float rf_ty");
+        line("property float rf_tz");
+        const int K = mesh.radiance->coefficientsPerChannel();
+        for (int c = 0; c < kColorChannels; ++c)
+            for (int k = 0; k < K; ++k) line("property float " + coefficientName(c, k));
+    }
+    for (const auto& b : mesh.extraBlocks)
+        for (int i = 0; i < b.width; ++i) line(cat("property float ", b.prefix, "_", i));
+    line(cat("element face ", mesh.faceCount()));
+    line("property list uchar int vertex_indices");
+    line("end_header");
+    return h;
+}
+
+std::string temporaryPath(const std::string& path) {
+    static std::atomic<unsigned> counter{0};
+#ifdef _WIN32
+    const long pid = static_cast<long>(_getpid());
+#else
+    const long pid = static_cast<long>(getpid());
+#endif
+    const auto ticks = std::chrono::steady_clock::now().time_since_epoch().count();
+    return cat(path, ".part-", pid, "-", counter++, "-", ticks % 1000000);
+}
+
+bool replaceFile(const std::string& from, const std::string& to) {
+#ifdef _WIN32
+    return MoveFileExA(from.c_str(), to.c_str(), MOVEFILE_REPLACE_EXISTING | MOVEFILE_WRITE_THROUGH) != 0;
+#else
+    return std::rename(from.c_str(), to.c_str()) == 0;
+#endif
+}
+
+}  // namespace
+
+std::string validateRadianceMesh(const RadianceMesh& mesh) {
+    if (mesh.positions.size() % 3 != 0) return cat("positions has ", mesh.positions.size(), " floats, not a multiple of 3");
+    const std::size_t n = mesh.vertexCount();
+    if (n > kMaxWrittenVertexCount) return cat("the mesh has ", n, " vertices; the format supports at most 2^31");
+    if (!mesh.normals.empty() && mesh.normals.size() != 3 * n)
+        return cat("normals has ", mesh.normals.size(), " floats, expected ", 3 * n, " (3 per vertex) or none");
+    if (!mesh.colors.empty() && mesh.colors.size() != 4 * n)
+        return cat("colors has ", mesh.colors.size(), " bytes, expected ", 4 * n, " (RGBA per vertex) or none");
+    if (!mesh.quality.empty() && mesh.quality.size() != n)
+        return cat("quality has ", mesh.quality.size(), " values, expected ", n, " (1 per vertex) or none");
+    if (mesh.faces.size() % 3 != 0) return cat("faces has ", mesh.faces.size(), " indices, not a multiple of 3");
+    if (mesh.faceCount() > kMaxElementCount) return "too many faces (at most 2^32-1)";
+    for (std::size_t i = 0; i < mesh.faces.size(); ++i)
+        if (mesh.faces[i] >= n)
+            return cat("face ", i / 3, " references vertex ", mesh.faces[i], " but the mesh has ", n, " vertices");
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i)
+        if (!std::isfinite(mesh.positions[i])) return cat("vertex ", i / 3, " has a position that is not a finite number");
+    for (std::size_t i = 0; i < mesh.normals.size(); ++i)
+        if (!std::isfinite(mesh.normals[i])) return cat("vertex ", i / 3, " has a normal that is not a finite number");
+    if (mesh.radiance) {
+        const RadianceField& rf = *mesh.radiance;
+        const std::string problem = rf.validate();
+        if (!problem.empty()) return "invalid radiance field: " + problem;
+        if (rf.vertexCount() != n)
+            return cat("the radiance field has ", rf.vertexCount(), " vertices but the mesh has ", n);
+        if (!mesh.normals.empty())
+            for (std::size_t v = 0; v < n; ++v)
+                if (!sameBits(mesh.normals.data() + 3 * v, rf.frame(v) + 3, 3))
+                    return cat("the normal of vertex ", v, " differs from its radiance frame normal; the file stores one "
+                               "normal per vertex (the frame normal): copy the frame normals into the mesh normals or "
+                               "leave the mesh normals empty");
+    }
+    std::unordered_set<std::string> prefixes;
+    for (const auto& b : mesh.extraBlocks) {
+        if (!isIdentifier(b.prefix))
+            return cat("extra block prefix ", shown(b.prefix), " is not an identifier ([A-Za-z_][A-Za-z0-9_]*, at most 64 characters)");
+        if (isReservedPrefix(b.prefix)) return cat("extra block prefix ", shown(b.prefix), " is reserved (rf, rf_*)");
+        if (!prefixes.insert(b.prefix).second) return cat("two extra blocks have the prefix ", shown(b.prefix));
+        if (b.width < 1 || b.width > kMaxBlockWidth)
+            return cat("extra block ", shown(b.prefix), " has width ", b.width, " (1..", kMaxBlockWidth, ")");
+        if (b.values.size() != n * static_cast<std::size_t>(b.width))
+            return cat("extra block ", shown(b.prefix), " has ", b.values.size(), " values, expected ",
+                       n * static_cast<std::size_t>(b.width), " (width x vertices)");
+        for (const auto& kv : b.metadata) {
+            if (!isMetadataKey(kv.first))
+                return cat("metadata key ", shown(kv.first), " of block ", shown(b.prefix), " is empty or contains whitespace");
+            if (!isMetadataValue(kv.second))
+                return cat("metadata value of key ", shown(kv.first), " of block ", shown(b.prefix),
+                           " contains a control character (e.g. a line break)");
+        }
+    }
+    return {};
+}
+
+void writeRadiancePly(const std::string& path, const RadianceMesh& mesh) {
+    const std::string problem = validateRadianceMesh(mesh);
+    if (!problem.empty()) throw RadianceFileError("cannot save '" + path + "': " + problem);
+
+    const std::size_t n = mesh.vertexCount();
+    const std::string header = makeHeader(mesh);
+
+    // Vertex records.
+    std::size_t rec = 12;
+    using Run = CopyRun<const unsigned char>;
+    std::vector<Run> runs;
+    auto add = [&](const void* array, std::size_t stride, std::size_t bytes) {
+        runs.push_back({rec, static_cast<const unsigned char*>(array), stride, bytes});
+        rec += bytes;
+    };
+    std::unique_ptr<unsigned char[]> vertexData;
+    std::unique_ptr<unsigned char[]> faceData;
+    try {
+        if (n > 0) {
+            rec = 0;
+            add(mesh.positions.data(), 12, 12);
+            if (mesh.radiance) {
+                add(mesh.radiance->frames.data() + 3, 24, 12);
+            } else if (!mesh.normals.empty()) {
+                add(mesh.normals.data(), 12, 12);
+            }
+            if (!mesh.colors.empty()) add(mesh.colors.data(), 4, 4);
+            if (!mesh.quality.empty()) add(mesh.quality.data(), 4, 4);
+            if (mesh.radiance) {
+                const RadianceField& rf = *mesh.radiance;
+                const std::size_t perVertex = static_cast<std::size_t>(rf.coefficientsPerVertex());
+                add(rf.frames.data(), 24, 12);
+                add(rf.coefficients.data(), perVertex * 4, perVertex * 4);
+            }
+            for (const auto& b : mesh.extraBlocks) {
+                const std::size_t w = static_cast<std::size_t>(b.width);
+                add(b.values.data(), w * 4, w * 4);
+            }
+            vertexData.reset(new unsigned char[n * rec]);
+            for (std::size_t v = 0; v < n; ++v) {
+                unsigned char* record = vertexData.get() + v * rec;
+                for (const Run& r : runs) std::memcpy(record + r.recordOffset, r.array + v * r.arrayStride, r.bytes);
+            }
+        }
+        const std::size_t faceCount = mesh.faceCount();
+        if (faceCount > 0) {
+            faceData.reset(new unsigned char[faceCount * 13]);
+            for (std::size_t f = 0; f < faceCount; ++f) {
+                unsigned char* record = faceData.get() + f * 13;
+                record[0] = 3;
+                std::memcpy(record + 1, mesh.faces.data() + 3 * f, 12);  // < 2^31: same bytes as int
+            }
+        }
+    } catch (const std::bad_alloc&) {
+        throw RadianceFileError("cannot save '" + path + "': not enough memory");
+    }
+
+    // Temporary file, then rename.
+    std::string temp;
+    FilePtr file;
+    for (int attempt = 0; attempt < 16 && !file; ++attempt) {
+        temp = temporaryPath(path);
+        file.reset(std::fopen(temp.c_str(), "wbx"));
+        if (!file && errno != EEXIST) break;
+    }
+    if (!file)
+        throw RadianceFileError(cat("cannot save '", path, "': cannot create the temporary file '", temp, "': ",
+                                    std::strerror(errno), "; check that the folder exists and is writable"));
+    const auto abandon = [&](const std::string& why) {
+        const int err = errno;
+        file.reset();
+        std::remove(temp.c_str());
+        throw RadianceFileError(cat("cannot save '", path, "': ", why, ": ", std::strerror(err),
+                                    " (the disk may be full); nothing was written"));
+    };
+    const std::size_t vertexBytes = n * rec;
+    const std::size_t faceBytes = mesh.faceCount() * 13;
+    if (std::fwrite(header.data(), 1, header.size(), file.get()) != header.size()) abandon("write error");
+    if (vertexBytes && std::fwrite(vertexData.get(), 1, vertexBytes, file.get()) != vertexBytes) abandon("write error");
+    vertexData.reset();
+    if (faceBytes && std::fwrite(faceData.get(), 1, faceBytes, file.get()) != faceBytes) abandon("write error");
+    faceData.reset();
+    if (std::fflush(file.get()) != 0) abandon("write error");
+#ifdef _WIN32
+    if (_commit(_fileno(file.get())) != 0) abandon("cannot flush the file to disk");
+#else
+    if (fsync(fileno(file.get())) != 0) abandon("cannot flush the file to disk");
+#endif
+    {
+        std::FILE* raw = file.release();
+        if (std::fclose(raw) != 0) {
+            const int err = errno;
+            std::remove(temp.c_str());
+            throw RadianceFileError(cat("cannot save '", path, "': write error: ", std::strerror(err), "; nothing was written"));
+        }
+    }
+    if (!replaceFile(temp, path)) {
+        const int err = errno;
+        std::remove(temp.c_str());
+        throw RadianceFileError(cat("cannot save '", path, "': cannot replace the file: ", std::strerror(err)));
+    }
+}
+
+RadianceMesh readRadiancePly(const std::string& path) {
+    try {
+        return readImpl(path);
+    } catch (const RadianceFileError& e) {
+        throw RadianceFileError("cannot load '" + path + "': " + e.what());
+    } catch (const std::bad_alloc&) {
+        throw RadianceFileError("cannot load '" + path + "': not enough memory");
+    } catch (const std::length_error&) {
+        throw RadianceFileError("cannot load '" + path + "': the mesh is too large for this computer");
+    } catch (const std::filesystem::filesystem_error& e) {
+        throw RadianceFileError("cannot load '" + path + "': " + e.what());
+    }
+}
+
+}  // namespace rad
