@@ -54,7 +54,7 @@ bool RadianceIOPlugin::open(const QString& format, const QString& fileName, Mesh
     } catch (const std::exception& e) {
         // MeshLab discards the half-built layer of a failed open; the user's other layers are untouched.
         m.cm.Clear();
-        errorMessage = QString("Cannot open %1: %2").arg(fileName, e.what());
+        errorMessage = QString::fromUtf8(e.what());  // names the file and says what is wrong
         reportError(errorMessage);
         return false;
     }

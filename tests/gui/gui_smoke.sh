@@ -46,6 +46,10 @@ if grep -iE "(radiance).*(fail|error|cannot|undefined symbol)|(fail|error|cannot
     fail "MeshLab reported a problem with our plugins (see $WORK/meshlab.log)"
 fi
 
+# Our IO plugin read the file: its log line reaches MeshLab's log (echoed on stdout as "LOG: ...").
+grep -qE "Loaded [0-9]+ vertices with [A-Z]+[0-9]+ radiance functions" "$WORK/meshlab.log" \
+    || { cat "$WORK/meshlab.log" >&2; fail "our IO plugin's log line is missing: the radiance data was not loaded"; }
+
 python3 "$(dirname "$0")/count_colour_pixels.py" "$WORK/screenshot.png" "$er" "$eg" "$eb" 2000 \
     || fail "the mesh's colour is not on screen: the file was not loaded or not drawn"
 note "ok"

@@ -40,7 +40,7 @@ for case in "truncated:truncat" "truncated_header:truncat|header" "empty:empty|n
     [ ! -e "$WORK/$bad.out.rply" ] || fail "$bad: a file was written from a bad input"
     # Our IO plugin's own message (meshlabserver prints it as "Opening Failure: ...").
     cat "$WORK/$bad.openlog" >>"$WORK/$bad.log" 2>/dev/null || true
-    grep -qF "Cannot open" "$WORK/$bad.log" || { cat "$WORK/$bad.log" >&2; fail "$bad: our error message is missing"; }
+    grep -qF "cannot load" "$WORK/$bad.log" || { cat "$WORK/$bad.log" >&2; fail "$bad: our error message is missing"; }
     grep -qiE "$expected_phrase" "$WORK/$bad.log" || { cat "$WORK/$bad.log" >&2; fail "$bad: message does not say '$expected_phrase'"; }
     note "$bad refused (status $status)"
 done
