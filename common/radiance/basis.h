@@ -46,7 +46,7 @@ struct BasisSpec {
 
 // Writes the value of every basis function at the unit direction (x, y, z) into out[0..count).
 // For PB the direction is in the local frame; only (x, y) are used (the function is the same for
-// z and -z, which is what makes the border extension of radiance_operations.h necessary).
+// z and -z, which is what makes the border extension of radiance_evaluation.h necessary).
 // For SH the direction is in the global frame.
 void evaluateBasis(const BasisSpec& basis, float x, float y, float z, float* out);
 void evaluateBasis(const BasisSpec& basis, double x, double y, double z, double* out);

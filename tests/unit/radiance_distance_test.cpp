@@ -3,6 +3,7 @@
 
 #include "radiance/radiance_evaluation.h"
 #include "radiance/radiance_frame.h"
+#include "radiance/radiance_interpolation.h"
 
 #include <gtest/gtest.h>
 
@@ -246,6 +247,41 @@ TEST(RadianceDistance, AverageMinimisesSumOfSquaredDistances) {
     EXPECT_LT(cost(0.5), cost(0.45));
     EXPECT_LT(cost(0.5), cost(0.55));
     EXPECT_NEAR(cost(0.5), 0.5 * rad::squaredRadianceDistance(a, b, n0), 1e-12);
+}
+
+TEST(RadianceDistance, CombinationMatchesExtrapolationDistance) {
+    // Eq. (7) for one triangle: d^2 between L~(p0) and the eq. (4) extrapolation of the triangle's
+    // r-RF at p0, three ways: the combination with extrapolation weights, callables through
+    // extrapolateReflectedRadiance, and brute force.
+    std::mt19937 rng(9);
+    for (const BasisSpec& basis : {BasisSpec{BasisKind::HemisphericalPolynomial, 4},
+                                   BasisSpec{BasisKind::SphericalHarmonics, 4}}) {
+        SCOPED_TRACE(basis.name());
+        RadianceField f(basis, 4);
+        std::uniform_real_distribution<float> u(-1, 1);
+        for (float& c : f.coefficients) c = u(rng);
+        const Vector3d mean = randomUnit(rng);
+        for (std::size_t v = 0; v < 4; ++v)
+            rad::storeFrame(rad::frameFromNormalAndTangent((mean + 0.3 * randomUnit(rng)).normalized(), randomUnit(rng)),
+                            f.frame(v));
+        const rad::Frame mf = rad::frameFromNormal(mean);
+        const Vector3d p1 = mf.toWorld(Vector3d(0, 0, 0)), p2 = mf.toWorld(Vector3d(1, 0, 0.1)),
+                       p3 = mf.toWorld(Vector3d(0.2, 0.9, -0.1)), p0 = mf.toWorld(Vector3d(0.5, 0.6, 0.3));
+        const rad::TriangleRadiance tri = rad::triangleRadiance(f, 1, 2, 3, p1, p2, p3);
+        const auto op = rad::TriangleGradient::create(p1, p2, p3);
+        ASSERT_TRUE(op.has_value());
+        const Vector3d beta = op->extrapolationWeights(p0);
+        const rad::VertexRadiance target = rad::vertexRadiance(f, 0);
+        const Vector3d n0 = target.frame.n;
+        const double combination = rad::squaredDistanceToCombination(target, tri.vertices.data(), beta.data(), 3, n0);
+        const auto original = [&](const Vector3d& w) { return rad::evaluateReflectedRadiance(f, 0, w); };
+        const auto extrapolated = [&](const Vector3d& w) { return *rad::extrapolateReflectedRadiance(tri, p0, w); };
+        EXPECT_NEAR(combination, rad::squaredRadianceDistance(original, extrapolated, n0), 1e-12 * (1 + combination));
+        const double brute = bruteHemisphere(n0, 600, 1200, [&](const Vector3d& w) {
+            return (original(w) - extrapolated(w)).squaredNorm();
+        });
+        EXPECT_NEAR(combination, brute, 2e-3 * brute);
+    }
 }
 
 }  // namespace

@@ -1,0 +1,101 @@
+// Evaluation of per-vertex radiance functions (RF) at world directions, with the border extension
+// of paper 000 (Vanhoey et al. 2015) sec. 7, and conversion between plain and reflected storage
+// (sec. 3.1).
+//
+// Definitions (w: unit world direction, n: vertex normal, R_n(w) = 2 (n.w) n - w):
+//  - L(w):  the RF of the vertex, meaningful on the hemisphere n.w >= 0;
+//  - L~(w) = L(R_n w): the reflected RF (r-RF, sec. 3.1). R_n preserves n.w, so L~ lives on the
+//    same hemisphere and L(w) = L~(R_n w).
+//  - Border extension ("Exceeding hemispheres", sec. 7): for n.w < 0 the RF takes the value of the
+//    hemisphere's border with the same azimuth,
+//        L(w) := L(border(w)),  border(w) = normalize(w - (n.w) n).
+//    At the exact opposite pole (w = -n, where the azimuth is undefined: |w - (n.w) n| < 1e-12)
+//    the border direction is the frame's tangent t. This is the only discontinuity of the
+//    extended RF (the paper notes the opposite pole "is never visible in practice").
+//    Since R_n commutes with border(), extending L and then reflecting equals reflecting and then
+//    extending: L~(w) = L~(border(w)) for n.w < 0 as well.
+//
+// Storage: RadianceField (radiance_field.h) holds, per vertex, kColorChannels blocks of K floats
+// (channel-major) and the frame (t, n). `reflected` says whether the coefficients encode L or L~.
+// PB coefficients are in the local frame (x = t, y = b = n x t, z = n); SH in the global frame.
+#pragma once
+
+#include "radiance/basis.h"
+#include "radiance/radiance_field.h"
+#include "radiance/radiance_frame.h"
+
+#include <Eigen/Core>
+
+#include <cstddef>
+
+namespace rad {
+
+// Largest coefficientCount() over every supported basis (SH10: 121; PB8: 45). Scratch buffers of
+// this size work for any basis.
+inline constexpr int kMaxCoefficientsPerChannel = (kMaxHarmonicDegree + 1) * (kMaxHarmonicDegree + 1);
+
+// One vertex's RF as a function of world directions: a view on kColorChannels * K coefficients
+// (channel c at coefficients + c * K, the layout of one vertex in radiance_field.h) and its frame.
+// Scalar is float (coefficients inside a RadianceField) or double (computed coefficients, e.g. the
+// coefficient-level SH interpolation of radiance_interpolation.h).
+template <typename Scalar>
+struct VertexRadianceT {
+    BasisSpec basis;
+    const Scalar* coefficients = nullptr;
+    Frame frame;
+    bool reflected = false;  // true: `coefficients` encode L~ (sec. 3.1), false: L
+};
+using VertexRadiance = VertexRadianceT<float>;
+using VertexRadianceD = VertexRadianceT<double>;
+
+// View on vertex v of the field (frame re-orthonormalised in double, see frameFromStored).
+VertexRadiance vertexRadiance(const RadianceField& field, std::size_t v);
+
+// border(w) of sec. 7 for a direction below the frame's tangent plane: normalize(w - (n.w) n),
+// or the tangent t at the opposite pole. Directions with n.w >= 0 are returned unchanged.
+Eigen::Vector3d borderExtendedDirection(const Frame& frame, const Eigen::Vector3d& w);
+
+// The unit direction, in the basis's own frame (local for PB, global for SH), at which coefficients
+// stored for (basis, frame, reflectedStorage) must be evaluated to give L(w): border-extended
+// below the tangent plane (sec. 7), then reflected about n for reflected storage
+// (L(w) = L~(R_n w), sec. 3.1). Evaluating plain storage here with reflectedStorage = true gives
+// L~(w) instead.
+Eigen::Vector3d basisDirection(const BasisSpec& basis, const Frame& frame, const Eigen::Vector3d& w,
+                               bool reflectedStorage);
+
+// sum_k c[c*K + k] B_k(d) for every channel c, where d is a unit direction in the basis's own frame
+// (local for PB, global for SH), without any border extension. scratch: >= K doubles.
+template <typename Scalar>
+Eigen::Vector3d evaluateCoefficients(const BasisSpec& basis, const Scalar* coefficients,
+                                     const Eigen::Vector3d& basisDirection, double* scratch);
+
+// L(w) for a unit world direction w, border-extended below the tangent plane, whatever the
+// storage. scratch: >= basis.coefficientCount() doubles (reuse it over many directions).
+template <typename Scalar>
+Eigen::Vector3d evaluateRadiance(const VertexRadianceT<Scalar>& rf, const Eigen::Vector3d& w, double* scratch);
+// L~(w) = L(R_n w), border-extended, whatever the storage.
+template <typename Scalar>
+Eigen::Vector3d evaluateReflectedRadiance(const VertexRadianceT<Scalar>& rf, const Eigen::Vector3d& w,
+                                          double* scratch);
+
+// Conveniences with an internal stack scratch buffer.
+Eigen::Vector3d evaluateRadiance(const RadianceField& field, std::size_t v, const Eigen::Vector3d& w);
+Eigen::Vector3d evaluateReflectedRadiance(const RadianceField& field, std::size_t v, const Eigen::Vector3d& w);
+
+// Coefficients of the reflected function g(w) = f(R_n w) from those of f, for one vertex (all
+// channels, kColorChannels * K values). The map is an involution, so it converts plain -> reflected
+// and reflected -> plain alike. PB (local frame): R_n maps local (u, v, z) to (-u, -v, z), so the
+// monomial u^i v^j gets the sign (-1)^(i+j). SH (global frame): rotation of the coefficient vector
+// by pi about n (sh_rotation.h). `in` and `out` may be the same array.
+template <typename Scalar>
+void reflectCoefficients(const BasisSpec& basis, const Frame& frame, const Scalar* in, Scalar* out);
+
+// Coefficients (double, kColorChannels * K) of L~ (reflected = true) or L (reflected = false) of
+// vertex v, whatever the field's storage.
+void vertexCoefficients(const RadianceField& field, std::size_t v, bool reflected, double* out);
+
+// Converts the whole field to reflected (true) or plain (false) storage; no-op when it already is.
+// Parallel over vertices (OpenMP). The coefficients are rounded to float once (PB: exact).
+void setReflectedStorage(RadianceField& field, bool reflected);
+
+}  // namespace rad
