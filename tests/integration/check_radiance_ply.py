@@ -9,6 +9,10 @@ stand-alone pure-Python PLY reader (ply_reader.py), not the C++ code under test.
       from the file's normals. For PB the constant is coefficient 0 (u^0 v^0 = 1); for SH it is
       coefficient 0 divided by Y_0^0 = 1 / (2 sqrt(pi)). Every other coefficient must vanish, and
       the vertex colour must be the sRGB encoding of the constant.
+  check_radiance_ply.py lambert_sphere FILE BASIS DEGREE LX LY LZ E AMBIENT R G B
+      As `lambert`, for a sphere centred on the origin: the normal is taken from the vertex POSITION
+      (normalised), not from the file's normals, so a radiance row attached to the wrong vertex is
+      caught even though coefficients and frames travel together.
   check_radiance_ply.py same FILE_A FILE_B
       Both files hold the same vertices, faces and properties, bit for bit.
   check_radiance_ply.py directional FILE
@@ -56,7 +60,7 @@ def coefficient_count(basis, degree):
     return (degree + 1) * (degree + 2) // 2 if basis == "PB" else (degree + 1) ** 2
 
 
-def check_lambert(path, basis, degree, light, irradiance, ambient, albedo_srgb):
+def check_lambert(path, basis, degree, light, irradiance, ambient, albedo_srgb, normal_from_position=False):
     ply = load(path)
     meta = comments(ply)
     if meta.get("radiance_basis") != f"{basis}{degree}":
@@ -79,6 +83,13 @@ def check_lambert(path, basis, degree, light, irradiance, ambient, albedo_srgb):
     worst = 0.0
     for v in range(count):
         n = [vertex["nx"][v], vertex["ny"][v], vertex["nz"][v]]
+        if normal_from_position:
+            p = [vertex["x"][v], vertex["y"][v], vertex["z"][v]]
+            length = math.sqrt(sum(x * x for x in p))
+            p = [x / length for x in p]
+            if max(abs(a - b) for a, b in zip(n, p)) > 1e-4:
+                fail(f"vertex {v}: radiance frame normal {n} is not the sphere normal {p}: rows mixed up")
+            n = p
         cos = max(0.0, sum(a * b for a, b in zip(n, l)))
         for ci, c in enumerate("rgb"):
             expected = albedo[ci] / math.pi * irradiance * cos + albedo[ci] * ambient
@@ -132,12 +143,12 @@ def check_directional(path):
 
 def main():
     mode = sys.argv[1]
-    if mode == "lambert":
+    if mode in ("lambert", "lambert_sphere"):
         path, basis, degree = sys.argv[2], sys.argv[3], int(sys.argv[4])
         light = [float(x) for x in sys.argv[5:8]]
         irradiance, ambient = float(sys.argv[8]), float(sys.argv[9])
         albedo = [int(x) for x in sys.argv[10:13]]
-        check_lambert(path, basis, degree, light, irradiance, ambient, albedo)
+        check_lambert(path, basis, degree, light, irradiance, ambient, albedo, mode == "lambert_sphere")
     elif mode == "same":
         check_same(sys.argv[2], sys.argv[3])
     elif mode == "directional":

@@ -16,7 +16,7 @@ run_case() {  # name basis(0/1) basisName degree reflected specular
         -s "$WORK/$name.mlx" || { cat "$WORK/$name.create.log" >&2; fail "$name: create + save failed"; }
     [ -s "$WORK/$name.rply" ] || fail "$name: no file written"
     if [ "$specular" = "0" ]; then
-        $CHECK lambert "$WORK/$name.rply" "$basis_name" "$degree" 0.5 1 1 3 0.05 230 60 40 || fail "$name: wrong radiance"
+        $CHECK lambert_sphere "$WORK/$name.rply" "$basis_name" "$degree" 0.5 1 1 3 0.05 230 60 40 || fail "$name: wrong radiance"
     else
         $CHECK directional "$WORK/$name.rply" || fail "$name: no directional variation"
     fi
