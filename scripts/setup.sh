@@ -21,7 +21,7 @@ if [ "$(id -u)" != "0" ]; then SUDO="sudo"; fi
 
 APT_PACKAGES=(
   meshlab                      # the real meshlab / meshlabserver and libmeshlab-common.so we link to
-  qtbase5-dev libqt5opengl5-dev libqt5xmlpatterns5-dev  # Qt5 headers for the plugin adapters
+  qtbase5-dev libqt5opengl5-dev  # Qt5 headers for the plugin adapters
   libglew-dev                  # MeshLab's GL headers include GLEW
   libeigen3-dev                # Debian removed MeshLab's bundled Eigen; vcglib and our cores use it
   libembree-dev                # ray casting (visibility, PRT transfer, baking)
