@@ -28,6 +28,7 @@ APT_PACKAGES=(
   libgtest-dev                 # unit tests
   cmake g++ make dpkg-dev      # build, and apt-get source
   xvfb xauth                   # meshlabserver needs an X display, even for batch work
+  libgl1-mesa-dri              # Mesa llvmpipe: software OpenGL under Xvfb (no GPU here)
   imagemagick xdotool          # GUI test: screenshots and key presses
   python3                      # small test helpers (image comparison, PLY checks)
 )
