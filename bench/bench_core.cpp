@@ -10,6 +10,7 @@
 #include "radiance/material_radiance.h"
 #include "radiance/radiance_distance.h"
 #include "radiance/radiance_evaluation.h"
+#include "radiance/radiance_frame.h"
 
 #include <chrono>
 #include <cmath>
@@ -106,10 +107,7 @@ void benchIo(std::size_t n) {
     std::uniform_real_distribution<float> u(-1.0f, 1.0f);
     for (auto& x : mesh.positions) x = u(rng);
     for (auto& c : mesh.radiance->coefficients) c = u(rng);
-    for (std::size_t v = 0; v < n; ++v) {
-        float* f = mesh.radiance->frame(v);
-        f[0] = 1; f[1] = 0; f[2] = 0; f[3] = 0; f[4] = 0; f[5] = 1;
-    }
+    for (std::size_t v = 0; v < n; ++v) rad::storeFrame(rad::Frame{}, mesh.radiance->frame(v));
     for (std::size_t i = 0; i + 2 < n; i += 3)
         mesh.faces.insert(mesh.faces.end(), {std::uint32_t(i), std::uint32_t(i + 1), std::uint32_t(i + 2)});
     const std::string path = "bench_core_io.rply";

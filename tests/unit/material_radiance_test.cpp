@@ -1,7 +1,10 @@
 #include "radiance/material_radiance.h"
 
 #include "radiance/basis.h"
+#include "radiance/radiance_frame.h"
 #include "radiance/radiance_evaluation.h"
+
+#include "test_support.h"
 
 #include <gtest/gtest.h>
 
@@ -18,11 +21,9 @@ struct Points {
 
 Points randomPoints(std::size_t n, unsigned seed) {
     std::mt19937 rng(seed);
-    std::normal_distribution<double> g;
     Points p;
     for (std::size_t v = 0; v < n; ++v) {
-        Eigen::Vector3d d(g(rng), g(rng), g(rng));
-        d.normalize();
+        const Eigen::Vector3d d = radtest::randomUnit(rng);
         for (int k = 0; k < 3; ++k) {
             p.positions.push_back(static_cast<float>(d[k]));
             p.normals.push_back(static_cast<float>(d[k]));
@@ -118,8 +119,7 @@ TEST(MaterialRadiance, GlossyApproximationImprovesWithDegreeAndStorageDoesNotMat
 TEST(MaterialRadiance, MeanOfAKnownPolynomial) {
     // PB(2) with the single monomial u^2: (1/2pi) integral over the hemisphere of x^2 = 1/3.
     rad::RadianceField field(rad::BasisSpec{rad::BasisKind::HemisphericalPolynomial, 2}, 1);
-    float* f = field.frame(0);
-    f[0] = 1; f[1] = 0; f[2] = 0; f[3] = 0; f[4] = 0; f[5] = 1;
+    rad::storeFrame(rad::Frame{}, field.frame(0));  // tangent x, normal z
     field.channelCoefficients(0, 1)[rad::polynomialIndex(2, 0)] = 1.0f;
     field.channelCoefficients(0, 2)[rad::polynomialIndex(0, 0)] = 0.25f;
     float mean[3];

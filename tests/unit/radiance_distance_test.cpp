@@ -5,6 +5,8 @@
 #include "radiance/radiance_frame.h"
 #include "radiance/radiance_interpolation.h"
 
+#include "test_support.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -22,33 +24,9 @@ using rad::RadianceField;
 
 constexpr double kPi = 3.14159265358979323846;
 
-Vector3d randomUnit(std::mt19937& rng) {
-    std::normal_distribution<double> g;
-    Vector3d v;
-    do v = Vector3d(g(rng), g(rng), g(rng));
-    while (v.norm() < 1e-3);
-    return v.normalized();
-}
+using radtest::randomUnit;
 
-// Brute-force (1/2pi) int over the hemisphere of n, midpoint rule in (theta, phi) with sin(theta)
-// weight, in a frame built here (independent of radiance_frame).
-template <typename G>
-double bruteHemisphere(const Vector3d& n, int thetaSteps, int phiSteps, G g) {
-    const Vector3d helper = std::fabs(n.x()) < 0.9 ? Vector3d(1, 0, 0) : Vector3d(0, 1, 0);
-    const Vector3d a = n.cross(helper).normalized(), b = n.cross(a);
-    const double dt = 0.5 * kPi / thetaSteps, dp = 2 * kPi / phiSteps;
-    double sum = 0;
-    for (int i = 0; i < thetaSteps; ++i) {
-        const double t = (i + 0.5) * dt, st = std::sin(t), ct = std::cos(t);
-        double ring = 0;
-        for (int j = 0; j < phiSteps; ++j) {
-            const double p = (j + 0.5) * dp;
-            ring += g(Vector3d(st * std::cos(p) * a + st * std::sin(p) * b + ct * n));
-        }
-        sum += ring * st;
-    }
-    return sum * dt * dp / (2 * kPi);
-}
+using radtest::bruteHemisphere;
 
 // Two vertices, random coefficients, normals tilted by `tiltDegrees` from n0 about random axes.
 RadianceField pairField(BasisSpec basis, const Vector3d& n0, double tiltDegrees, std::mt19937& rng,

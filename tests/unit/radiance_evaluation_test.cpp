@@ -5,6 +5,8 @@
 #include "radiance/basis.h"
 #include "radiance/radiance_frame.h"
 
+#include "test_support.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -20,13 +22,7 @@ using rad::BasisKind;
 using rad::BasisSpec;
 using rad::RadianceField;
 
-Vector3d randomUnit(std::mt19937& rng) {
-    std::normal_distribution<double> g;
-    Vector3d v;
-    do v = Vector3d(g(rng), g(rng), g(rng));
-    while (v.norm() < 1e-3);
-    return v.normalized();
-}
+using radtest::randomUnit;
 
 // A field of `count` vertices with random frames (random tangents) and random coefficients.
 RadianceField randomField(BasisSpec basis, std::size_t count, unsigned seed, bool reflected = false) {

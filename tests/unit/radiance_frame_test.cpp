@@ -1,6 +1,8 @@
 // Tests of radiance_frame.h: per-vertex frames and the reflection R_n of paper 000 sec. 3.1.
 #include "radiance/radiance_frame.h"
 
+#include "test_support.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -15,13 +17,7 @@ namespace {
 using rad::Frame;
 using Eigen::Vector3d;
 
-Vector3d randomUnit(std::mt19937& rng) {
-    std::normal_distribution<double> g;
-    Vector3d v;
-    do v = Vector3d(g(rng), g(rng), g(rng));
-    while (v.norm() < 1e-3);
-    return v.normalized();
-}
+using radtest::randomUnit;
 
 void expectOrthonormalRightHanded(const Frame& f, const Vector3d& expectedNormal, double tol = 1e-14) {
     EXPECT_NEAR(f.t.norm(), 1.0, tol);

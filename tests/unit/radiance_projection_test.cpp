@@ -5,6 +5,8 @@
 #include "radiance/radiance_evaluation.h"
 #include "radiance/radiance_frame.h"
 
+#include "test_support.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -23,13 +25,7 @@ using rad::BasisSpec;
 
 constexpr double kPi = 3.14159265358979323846;
 
-Vector3d randomUnit(std::mt19937& rng) {
-    std::normal_distribution<double> g;
-    Vector3d v;
-    do v = Vector3d(g(rng), g(rng), g(rng));
-    while (v.norm() < 1e-3);
-    return v.normalized();
-}
+using radtest::randomUnit;
 
 Vector3d randomUpper(std::mt19937& rng, const Vector3d& n) {
     Vector3d w = randomUnit(rng);
@@ -65,22 +61,7 @@ Vector3d harmonicValue(const BasisSpec& basis, const std::vector<double>& c, con
     return out;
 }
 
-// Brute-force (1/2pi) int_{hemisphere of n} g, midpoint rule in (theta, phi), frame built here.
-template <typename G>
-double bruteHemisphere(const Vector3d& n, int thetaSteps, int phiSteps, G g) {
-    const Vector3d helper = std::fabs(n.x()) < 0.9 ? Vector3d(1, 0, 0) : Vector3d(0, 1, 0);
-    const Vector3d a = n.cross(helper).normalized(), b = n.cross(a);
-    const double dt = 0.5 * kPi / thetaSteps, dp = 2 * kPi / phiSteps;
-    double sum = 0;
-    for (int i = 0; i < thetaSteps; ++i) {
-        const double t = (i + 0.5) * dt, st = std::sin(t), ct = std::cos(t);
-        for (int j = 0; j < phiSteps; ++j) {
-            const double p = (j + 0.5) * dp;
-            sum += g(Vector3d(st * std::cos(p) * a + st * std::sin(p) * b + ct * n)) * st;
-        }
-    }
-    return sum * dt * dp / (2 * kPi);
-}
+using radtest::bruteHemisphere;
 
 // A Phong-like RF: diffuse + specular lobe around the mirror direction of a light.
 Vector3d phong(const Vector3d& n, const Vector3d& w, double shininess) {

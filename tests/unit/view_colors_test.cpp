@@ -1,6 +1,7 @@
 #include "radiance/view_colors.h"
 
 #include "radiance/basis.h"
+#include "radiance/radiance_frame.h"
 
 #include <gtest/gtest.h>
 
@@ -24,8 +25,7 @@ TEST(ViewColors, SrgbEncodingKnownValues) {
 TEST(ViewColors, TowardViewpointEvaluatesTheFunctionWithBorderExtension) {
     // PB(1), red = u (the tangent coordinate), green = 0.25, at the origin with normal z, tangent x.
     rad::RadianceField field(rad::BasisSpec{rad::BasisKind::HemisphericalPolynomial, 1}, 1);
-    float* f = field.frame(0);
-    f[0] = 1; f[1] = 0; f[2] = 0; f[3] = 0; f[4] = 0; f[5] = 1;
+    rad::storeFrame(rad::Frame{}, field.frame(0));  // tangent x, normal z
     field.channelCoefficients(0, 0)[rad::polynomialIndex(1, 0)] = 1.0f;
     field.channelCoefficients(0, 1)[rad::polynomialIndex(0, 0)] = 0.25f;
     const float position[3] = {0, 0, 0};
