@@ -25,6 +25,8 @@ APT_PACKAGES=(
   libglew-dev                  # MeshLab's GL headers include GLEW
   libeigen3-dev                # Debian removed MeshLab's bundled Eigen; vcglib and our cores use it
   libembree-dev                # ray casting (visibility, PRT transfer, baking)
+  libstb-dev                   # stb_image / stb_image_write: JPEG and PNG photographs, PNG output, Radiance .hdr maps
+  libopenexr-dev               # OpenEXR: the HDR environment maps (.exr) used for lighting
   libgtest-dev                 # unit tests
   cmake g++ make dpkg-dev      # build, and apt-get source
   xvfb xauth                   # meshlabserver needs an X display, even for batch work

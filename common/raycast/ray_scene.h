@@ -1,0 +1,48 @@
+// Ray casting against a triangle mesh with Embree (Debian's libembree-dev, Embree 3): the one
+// place that talks to Embree, used for visibility in the fitting, shadows and primary rays in the
+// virtual acquisition and the CPU renderers, and later PRT transfer and normal-map baking.
+//
+// Every query is const and thread-safe (Embree allows concurrent rtcIntersect1/rtcOccluded1 on a
+// committed scene); the scene holds its own copy of the geometry.
+#pragma once
+#include <Eigen/Core>
+#include <cstddef>
+#include <cstdint>
+#include <stdexcept>
+
+namespace rad {
+
+struct RayHit {
+    bool hit = false;
+    float distance = 0.0f;      // t along the (unit or not) ray direction
+    std::uint32_t face = 0;     // triangle index in the input face array
+    float u = 0.0f, v = 0.0f;   // barycentrics: point = (1 - u - v) a + u b + v c of face (a, b, c)
+};
+
+struct RayCastError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+class RayScene {
+public:
+    // positions: 3 * vertexCount floats; faces: 3 * faceCount indices (validated by the caller).
+    // Throws RayCastError when Embree cannot create the device or the scene.
+    RayScene(const float* positions, std::size_t vertexCount, const std::uint32_t* faces, std::size_t faceCount);
+    ~RayScene();
+    RayScene(const RayScene&) = delete;
+    RayScene& operator=(const RayScene&) = delete;
+
+    // Closest hit of origin + t * direction for t in [tNear, tFar].
+    RayHit intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, float tNear, float tFar) const;
+    // Whether anything is hit for t in [tNear, tFar] (any hit, faster than intersect).
+    bool occluded(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, float tNear, float tFar) const;
+
+    std::size_t faceCount() const { return faceCount_; }
+
+private:
+    void* device_ = nullptr;  // RTCDevice
+    void* scene_ = nullptr;   // RTCScene
+    std::size_t faceCount_ = 0;
+};
+
+}  // namespace rad
