@@ -1,0 +1,66 @@
+// MeshLab's camera (vcg::Shot) -> our plain pinhole camera (common/camera/pinhole_camera.h).
+//
+// vcg's conventions (vcglib vcg/math/shot.h and camera.h, checked by tests/adapter against
+// vcg::Shot::Project itself):
+//  - Extrinsics.Rot(): rows = camera axes in world coordinates: image right, image UP, BACKWARDS;
+//  - Extrinsics.Tra(): the camera centre C (GetViewPoint);
+//  - camera point cp = Rot (X - C), then cp.z = -cp.z (depth > 0 in front);
+//  - px = cp.x * FocalMm / cp.z / PixelSizeMm.x + CenterPx.x, py likewise with y, where px counts
+//    from the image's LEFT edge and py from its BOTTOM edge; ViewportPx = image size.
+// Ours: rows right, DOWN, FORWARD; v from the TOP edge. Hence
+//    rotation rows = (Rot row 0, -Rot row 1, -Rot row 2),   fx = FocalMm / PixelSizeMm.x,
+//    fy = FocalMm / PixelSizeMm.y,   cx = CenterPx.x,   cy = ViewportPx.y - CenterPx.y,
+// so that u = px and v = height - py for every point in front of the camera.
+//
+// Refused (with a sentence for the log): orthographic cameras, a non-zero radial distortion
+// (vcg's k1 model; undistort the photographs first), non-finite or degenerate values.
+#pragma once
+
+#include "camera/pinhole_camera.h"
+
+#include <vcg/math/shot.h>
+
+#include <cmath>
+#include <string>
+
+namespace radml {
+
+// Empty string on success (out filled); otherwise why the shot cannot be used (out untouched).
+template <typename S>
+std::string pinholeFromShot(const vcg::Shot<S>& shot, rad::PinholeCamera& out) {
+    const vcg::Camera<S>& intrinsics = shot.Intrinsics;
+    if (intrinsics.cameraType != vcg::Camera<S>::PERSPECTIVE)
+        return "the camera is not a perspective camera (orthographic and isometric cameras are not supported)";
+    if (intrinsics.k[0] != S(0) || intrinsics.k[1] != S(0))
+        return "the camera has radial lens distortion (k1 = " + std::to_string(double(intrinsics.k[0])) +
+               "); undistort the photographs and set the distortion to 0";
+    const double pixelX = intrinsics.PixelSizeMm[0], pixelY = intrinsics.PixelSizeMm[1];
+    const double focal = intrinsics.FocalMm;
+    if (!std::isfinite(pixelX) || !std::isfinite(pixelY) || !std::isfinite(focal) || !(pixelX > 0.0) ||
+        !(pixelY > 0.0) || !(focal > 0.0))
+        return "the camera's focal length or pixel size is not positive";
+    if (intrinsics.ViewportPx[0] <= 0 || intrinsics.ViewportPx[1] <= 0)
+        return "the camera's viewport (image size) is empty";
+
+    vcg::Matrix44<S> rot = shot.Extrinsics.Rot();
+    const vcg::Point3<S> centre = shot.Extrinsics.Tra();
+    rad::PinholeCamera camera;
+    for (int c = 0; c < 3; ++c) {
+        camera.rotation(0, c) = rot[0][c];
+        camera.rotation(1, c) = -double(rot[1][c]);
+        camera.rotation(2, c) = -double(rot[2][c]);
+        camera.center[c] = centre[c];
+    }
+    camera.fx = focal / pixelX;
+    camera.fy = focal / pixelY;
+    camera.width = intrinsics.ViewportPx[0];
+    camera.height = intrinsics.ViewportPx[1];
+    camera.cx = intrinsics.CenterPx[0];
+    camera.cy = camera.height - double(intrinsics.CenterPx[1]);
+    const std::string problem = camera.validate();
+    if (!problem.empty()) return problem;
+    out = camera;
+    return {};
+}
+
+}  // namespace radml
