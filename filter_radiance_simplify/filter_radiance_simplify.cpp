@@ -114,7 +114,7 @@ bool materialFromParameters(const RichParameterList& par, const Box3m& box, rad:
 }  // namespace
 
 RadianceFilterPlugin::RadianceFilterPlugin() {
-    typeList << FP_CREATE_ANALYTIC_RADIANCE << FP_RADIANCE_TO_VERTEX_COLOR;
+    typeList << FP_FIT_FROM_RASTERS << FP_CREATE_ANALYTIC_RADIANCE << FP_RADIANCE_TO_VERTEX_COLOR;
     for (FilterIDType id : types()) actionList << new QAction(filterName(id), this);
 }
 
@@ -122,6 +122,7 @@ QString RadianceFilterPlugin::filterName(FilterIDType filter) const {
     switch (filter) {
         case FP_CREATE_ANALYTIC_RADIANCE: return "Radiance: Create Radiance Data from Analytic Material";
         case FP_RADIANCE_TO_VERTEX_COLOR: return "Radiance: Evaluate Radiance toward a Viewpoint as Vertex Color";
+        case FP_FIT_FROM_RASTERS: return "Radiance: Fit Radiance Functions from Rasters";
     }
     return {};
 }
@@ -147,20 +148,52 @@ QString RadianceFilterPlugin::filterInfo(FilterIDType filter) const {
                        "vertex's tangent plane take the value of the hemisphere's border (sec. 7, 'Exceeding "
                        "hemispheres'). This is per-vertex evaluation, the Gouraud-like mode of sec. 5.") +
                    kCitation;
+        case FP_FIT_FROM_RASTERS:
+            return QString(
+                       "Fits a view-dependent radiance function (RF) to every vertex of the current mesh from the "
+                       "calibrated photographs of the document's raster layers (open them with File > Import "
+                       "Raster or a project: .mlp, Bundler .out), keeping the view dependence (highlights, gloss) "
+                       "that <i>Project active rasters color to current mesh</i> averages away (paper 000 sec. 7, "
+                       "'Data acquisition and reconstruction').<br>"
+                       "A photograph contributes a sample to a vertex only where the vertex is in front of its "
+                       "camera, projects inside the image (minus the border margin), faces the camera within the "
+                       "grazing-angle cut-off, and is not hidden by any part of the mesh (an Embree ray cast from "
+                       "the vertex toward the camera, ignoring hits closer than the depth tolerance). Pixels are "
+                       "read with bilinear interpolation and decoded from sRGB to linear radiance.<br>"
+                       "Each vertex's samples are fitted by weighted least squares (weight = cosine of the viewing "
+                       "angle) in PB(d) (local frame) or SH(d) (global frame), with a Tikhonov regularisation "
+                       "toward the vertex's mean colour. Against overshooting on poorly sampled vertices (few or "
+                       "clustered directions; after Vanhoey et al., 'Robust Fitting on Poorly Sampled Data for "
+                       "Surface Light Field Rendering and Image Relighting', CGF 2013) the hemisphere directions "
+                       "no photograph covers receive virtual samples of the mean colour, and a fit that leaves "
+                       "the range of the vertex's observed colours is regularised further, down to the constant "
+                       "mean colour. Vertices with fewer samples than the minimum get their mean colour as a "
+                       "constant RF; vertices no photograph sees are filled from their neighbours.<br>"
+                       "Output: the radiance data (save as .rply), the vertex colour = the mean (diffuse) colour, "
+                       "the vertex quality = sample count or fit residual. Cameras with lens distortion are "
+                       "skipped (undistort the photographs first); the images must have the cameras' size.") +
+                   kCitation;
     }
     return {};
 }
 
-MeshFilterInterface::FilterClass RadianceFilterPlugin::getClass(QAction*) {
+MeshFilterInterface::FilterClass RadianceFilterPlugin::getClass(QAction* action) {
+    if (ID(action) == FP_FIT_FROM_RASTERS)
+        return FilterClass(MeshFilterInterface::VertexColoring | MeshFilterInterface::Camera |
+                           MeshFilterInterface::RasterLayer);
     return MeshFilterInterface::VertexColoring;
 }
 
 int RadianceFilterPlugin::getPreConditions(QAction*) const { return MeshModel::MM_NONE; }
 
-int RadianceFilterPlugin::postCondition(QAction*) const { return MeshModel::MM_VERTCOLOR; }
+int RadianceFilterPlugin::postCondition(QAction* action) const {
+    if (ID(action) == FP_FIT_FROM_RASTERS) return MeshModel::MM_VERTCOLOR | MeshModel::MM_VERTQUALITY;
+    return MeshModel::MM_VERTCOLOR;
+}
 
 void RadianceFilterPlugin::initParameterSet(QAction* action, MeshModel& m, RichParameterList& par) {
     switch (ID(action)) {
+        case FP_FIT_FROM_RASTERS: addFitParameters(m, par); break;
         case FP_CREATE_ANALYTIC_RADIANCE:
             par.addParam(RichEnum("basis", 0,
                                   QStringList() << "Hemispherical polynomials PB(d), local frame"
@@ -226,6 +259,7 @@ bool RadianceFilterPlugin::applyFilter(QAction* action, MeshDocument& md, const 
         switch (ID(action)) {
             case FP_CREATE_ANALYTIC_RADIANCE: ok = createAnalyticRadiance(*m, par, cb); break;
             case FP_RADIANCE_TO_VERTEX_COLOR: ok = radianceToVertexColor(*m, par, cb); break;
+            case FP_FIT_FROM_RASTERS: ok = fitFromRasters(md, *m, par, cb); break;
             default: errorMessage = "Unknown filter."; break;
         }
     } catch (const std::bad_alloc&) {

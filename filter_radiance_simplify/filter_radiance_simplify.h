@@ -1,6 +1,7 @@
-// Filter plugin for radiance data on meshes (paper 000, Vanhoey et al. 2015). For now it creates
-// radiance data from an analytic material and evaluates it toward a viewpoint as vertex colours;
-// fitting from photographs and radiance-aware simplification join it in later issues.
+// Filter plugin for radiance data on meshes (paper 000, Vanhoey et al. 2015): fits radiance
+// functions from calibrated photographs (raster layers), creates them from an analytic material,
+// and evaluates them toward a viewpoint as vertex colours; radiance-aware simplification joins it
+// in a later issue.
 // A thin adapter: parameters in, a call into common/, the result attached to the layer, log out.
 #pragma once
 
@@ -13,7 +14,7 @@ class RadianceFilterPlugin : public QObject, public MeshFilterInterface {
     Q_INTERFACES(MeshFilterInterface)
 
 public:
-    enum { FP_CREATE_ANALYTIC_RADIANCE, FP_RADIANCE_TO_VERTEX_COLOR };
+    enum { FP_CREATE_ANALYTIC_RADIANCE, FP_RADIANCE_TO_VERTEX_COLOR, FP_FIT_FROM_RASTERS };
 
     RadianceFilterPlugin();
     QString pluginName() const override { return "FilterRadiance"; }
@@ -29,4 +30,6 @@ public:
 private:
     bool createAnalyticRadiance(MeshModel& m, const RichParameterList& par, vcg::CallBackPos* cb);
     bool radianceToVertexColor(MeshModel& m, const RichParameterList& par, vcg::CallBackPos* cb);
+    static void addFitParameters(MeshModel& m, RichParameterList& par);
+    bool fitFromRasters(MeshDocument& md, MeshModel& m, const RichParameterList& par, vcg::CallBackPos* cb);
 };

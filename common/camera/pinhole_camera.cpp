@@ -3,6 +3,8 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 
 namespace rad {
 
@@ -21,6 +23,9 @@ Eigen::Vector3d PinholeCamera::rayDirection(double u, double v) const {
 
 PinholeCamera PinholeCamera::lookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target,
                                     const Eigen::Vector3d& up, double horizontalFovDegrees, int width, int height) {
+    if (!(horizontalFovDegrees > 0.0 && horizontalFovDegrees < 179.0))
+        throw std::invalid_argument("PinholeCamera::lookAt: the field of view must be in (0, 179) degrees, got " +
+                                    std::to_string(horizontalFovDegrees));
     PinholeCamera cam;
     const Eigen::Vector3d forward = (target - eye).normalized();
     Eigen::Vector3d right = forward.cross(up);

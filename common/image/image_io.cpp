@@ -27,6 +27,9 @@ Image8 readImage8(const std::string& path) {
 }
 
 void writePng(const std::string& path, const Image8& image) {
+    if (image.rgb.size() != std::size_t(image.width) * image.height * 3)
+        throw ImageFileError("cannot write PNG image '" + path + "': the image holds " + std::to_string(image.rgb.size()) +
+                             " bytes, not 3 x " + std::to_string(image.width) + " x " + std::to_string(image.height));
     if (image.width <= 0 || image.height <= 0 ||
         !stbi_write_png(path.c_str(), image.width, image.height, 3, image.rgb.data(), image.width * 3))
         throw ImageFileError("cannot write PNG image '" + path + "'");

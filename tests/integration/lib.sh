@@ -71,3 +71,23 @@ create_radiance_mlx() {
         '<Param type="RichFloat" name="ambient" value="0.05"/>' \
         '<Param type="RichBool" name="setColor" value="true"/>'
 }
+
+# fit_mlx FILE [BASIS(0=PB,1=SH)] [DEGREE] [REFLECTED] [QUALITY(0=count,1=residual)]: a script
+# running "Fit Radiance Functions from Rasters" with every parameter listed.
+fit_mlx() {
+    local file="$1" basis="${2:-0}" degree="${3:-4}" reflected="${4:-false}" quality="${5:-0}"
+    write_mlx "$file" "Radiance: Fit Radiance Functions from Rasters" \
+        '<Param type="RichBool" name="visibleOnly" value="false"/>' \
+        "<Param type=\"RichEnum\" name=\"basis\" value=\"$basis\" enum_cardinality=\"2\" enum_val0=\"PB\" enum_val1=\"SH\"/>" \
+        "<Param type=\"RichInt\" name=\"degree\" value=\"$degree\"/>" \
+        '<Param type="RichFloat" name="regularization" value="0.001"/>' \
+        '<Param type="RichAbsPerc" name="depthTolerance" value="0.003" min="0" max="10"/>' \
+        '<Param type="RichFloat" name="grazingAngle" value="80"/>' \
+        '<Param type="RichInt" name="borderMargin" value="2"/>' \
+        '<Param type="RichInt" name="minSamples" value="3"/>' \
+        "<Param type=\"RichBool\" name=\"reflected\" value=\"$reflected\"/>" \
+        "<Param type=\"RichEnum\" name=\"quality\" value=\"$quality\" enum_cardinality=\"2\" enum_val0=\"count\" enum_val1=\"residual\"/>" \
+        '<Param type="RichBool" name="setColor" value="true"/>'
+}
+
+VIRTUAL_ACQUISITION="$RADIANCE_BUILD_DIR/tools/virtual_acquisition"

@@ -1,0 +1,69 @@
+#!/usr/bin/env bash
+# Speed of "Fit Radiance Functions from Rasters" on a large project, side by side with MeshLab's own
+# "Project active rasters color to current mesh" on the same project, both through meshlabserver.
+#   bench/fit_vs_meshlab.sh [VIEWS] [WxH] [SUBDIVIDE]   (defaults: 50 views, 2048x1536, 3 levels)
+# The mesh: the CGAL armadillo scan (26,002 vertices) midpoint-subdivided 3 times = 1,662,722
+# vertices. Photographs: virtual_acquisition (glossy material, shadows), 2x2 supersampling.
+# Printed: meshlabserver wall time of (a) loading only, (b) loading + our fit (PB4), (c) loading +
+# MeshLab's colour projection, and the filter times from the logs. Not part of CI (minutes).
+set -euo pipefail
+REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+BUILD_DIR="${BUILD_DIR:-$REPO/build}"
+VIEWS="${1:-50}"; SIZE="${2:-2048x1536}"; LEVELS="${3:-3}"
+WORK="${WORK:-$BUILD_DIR/bench-fit-vs-meshlab}"
+mkdir -p "$WORK/config"
+WORK="$(cd "$WORK" && pwd)"
+export XDG_CONFIG_HOME="$WORK/config"
+# MeshLab's GUI default GPU-memory budget (350 MB) so its GL-based filter runs with buffer objects
+# (docs: meshlabserver reads the budget from the GUI's settings).
+mkdir -p "$WORK/config/VCG"
+printf '[General]\nMeshLab::System::maxGPUMemDedicatedToGeometry=350\n' >"$WORK/config/VCG/MeshLab_64bit_fp.conf"
+PREFIX="$BUILD_DIR/meshlab-prefix"
+server() { /usr/bin/time -f "%e s wall, %M KB peak" xvfb-run -a -s "-screen 0 1280x1024x24" "$PREFIX/bin/meshlabserver" "$@"; }
+
+if [ ! -f "$WORK/photos/project.mlp" ]; then
+    "$BUILD_DIR/tools/virtual_acquisition" "$REPO/data-cache/meshes/armadillo.off" -o "$WORK/photos" \
+        --views "$VIEWS" --size "$SIZE" --subdivide "$LEVELS" --material glossy | tail -n 3
+fi
+cat >"$WORK/fit.mlx" <<'MLX'
+<!DOCTYPE FilterScript>
+<FilterScript>
+ <filter name="Radiance: Fit Radiance Functions from Rasters">
+  <Param type="RichBool" name="visibleOnly" value="false"/>
+  <Param type="RichEnum" name="basis" value="0" enum_cardinality="2" enum_val0="PB" enum_val1="SH"/>
+  <Param type="RichInt" name="degree" value="4"/>
+  <Param type="RichFloat" name="regularization" value="0.001"/>
+  <Param type="RichAbsPerc" name="depthTolerance" value="0.05" min="0" max="1000"/>
+  <Param type="RichFloat" name="grazingAngle" value="80"/>
+  <Param type="RichInt" name="borderMargin" value="2"/>
+  <Param type="RichInt" name="minSamples" value="3"/>
+  <Param type="RichBool" name="reflected" value="false"/>
+  <Param type="RichEnum" name="quality" value="0" enum_cardinality="2" enum_val0="count" enum_val1="residual"/>
+  <Param type="RichBool" name="setColor" value="true"/>
+ </filter>
+</FilterScript>
+MLX
+cat >"$WORK/meshlab_projection.mlx" <<'MLX'
+<!DOCTYPE FilterScript>
+<FilterScript>
+ <filter name="Project active rasters color to current mesh">
+  <Param type="RichFloat" name="deptheta" value="0.5"/>
+  <Param type="RichBool" name="onselection" value="false"/>
+  <Param type="RichBool" name="useangle" value="true"/>
+  <Param type="RichBool" name="usedistance" value="true"/>
+  <Param type="RichBool" name="useborders" value="true"/>
+  <Param type="RichBool" name="usesilhouettes" value="true"/>
+  <Param type="RichBool" name="usealpha" value="false"/>
+  <Param type="RichColor" name="blankColor" r="0" g="0" b="0" a="255"/>
+ </filter>
+</FilterScript>
+MLX
+args=(-i "$WORK/photos/mesh.ply" -p "$WORK/photos/project.mlp")
+echo "== loading only (mesh + $VIEWS rasters)"
+server "${args[@]}" >"$WORK/load.log" 2>&1; tail -n 1 "$WORK/load.log"
+echo "== loading + Fit Radiance Functions from Rasters (PB4)"
+server "${args[@]}" -s "$WORK/fit.mlx" -o "$WORK/fit.rply" -m vc vq vn >"$WORK/fit.log" 2>&1
+grep -h "Fitted" "$WORK/fit.log" | tail -n 1; tail -n 1 "$WORK/fit.log"
+echo "== loading + Project active rasters color to current mesh (MeshLab)"
+server "${args[@]}" -s "$WORK/meshlab_projection.mlx" -o "$WORK/meshlab_colors.ply" -m vc >"$WORK/meshlab.log" 2>&1
+tail -n 1 "$WORK/meshlab.log"

@@ -1,0 +1,92 @@
+// "Fit Radiance Functions from Rasters": per-vertex radiance functions (RF) of a whole mesh fitted
+// on calibrated photographs (paper 000, Vanhoey et al. 2015, sec. 7 "Data acquisition and
+// reconstruction"). The driver the MeshLab filter and the benchmarks call:
+//
+//   1. validation of everything before any work (FitError with a sentence saying what is wrong and
+//      how to fix it); unusable views are skipped with a warning naming their index;
+//   2. per vertex, in parallel (OpenMP, dynamic schedule): frame from the vertex normal
+//      (frameFromNormal of radiance_frame.h), samples from every view (fit/view_sampling.h: facing,
+//      in frame, Embree visibility, bilinear sRGB-decoded colour, weight = cosine), robust fit
+//      (fit/robust_radiance_fit.h: virtual samples of the mean colour where no view looked, Tikhonov
+//      regularisation toward the mean colour, range guard). Samples live in one buffer per thread:
+//      memory does not grow with the number of samples of the mesh;
+//   3. vertices no view sees are filled from their neighbours (below); vertices of parts of the mesh
+//      that no view sees at all keep zero radiance and are counted and reported.
+//
+// Filling unseen vertices: ring by ring over the edges of the faces. At each round every unseen
+// vertex with at least one known neighbour (fitted, or filled in an EARLIER round, so the result
+// does not depend on the vertex order or the thread count) receives the plain average of its known
+// neighbours' coefficients and mean colours. Averaging coefficients is exact for SH (one global
+// frame: the average of the coefficients is the coefficients of the average function; with
+// reflected storage it is the r-RF interpolation of paper 000 eq. 1). For PB it is an approximation:
+// each vertex's coefficients live in its own local frame, and neighbouring frames differ by the small
+// rotation between their normals (frameFromNormal is continuous away from n = -z), so the average
+// mixes functions expressed in slightly rotated frames. Exact re-projection would cost a fit per
+// filled vertex for data that is a guess anyway; we accept the approximation.
+#pragma once
+
+#include "fit/robust_radiance_fit.h"
+#include "fit/view_sampling.h"
+#include "geometry/triangle_mesh.h"
+#include "radiance/radiance_field.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace rad {
+
+// Thrown when the fit cannot run; what() is a sentence for the user (what is wrong, how to fix it).
+struct FitError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+struct RadianceFromViewsOptions {
+    RobustFitOptions fit;           // basis, storage, regularisation, coverage, range guard
+    ViewSamplingOptions sampling;   // depth tolerance, grazing angle, border margin
+    bool fillUnseen = true;         // fill unseen vertices from their neighbours
+};
+
+struct RadianceFromViewsResult {
+    // One RF per vertex: frames from the vertex normals, `reflected` = options.fit.storeReflected.
+    RadianceField field;
+    std::vector<float> meanColor;     // 3 per vertex, linear RGB (the diffuse colour)
+    std::vector<float> sampleCount;   // per vertex: samples used (0 for unseen / filled)
+    std::vector<float> residual;      // per vertex: weighted RMS residual of the samples (0 if none)
+    std::vector<std::uint8_t> status; // per vertex: a FitStatus value
+    std::size_t fitted = 0;           // status Fitted
+    std::size_t poorlySampled = 0;    // status PoorlySampled
+    std::size_t unseenFilled = 0;     // status FilledFromNeighbours
+    std::size_t unseenLeft = 0;       // status Unseen: zero radiance
+    std::size_t guardRetried = 0;     // vertices whose lambda the range guard escalated
+    std::size_t constantFallbacks = 0;  // vertices given the constant mean colour (too few samples or guard)
+    std::size_t viewsUsed = 0;        // views that passed checkView
+    std::vector<std::size_t> samplesPerView;  // per input view (0 for skipped views)
+    std::size_t totalSamples = 0;
+    std::vector<std::string> warnings;  // sentences for the log (skipped views, unseen parts...)
+    double seconds = 0.0;             // wall-clock time of the whole call
+};
+
+// percent in [0, 100], stage a short English phrase; always called from the calling thread.
+using FitProgressCallback = std::function<void(int percent, const char* stage)>;
+
+// mesh: positions, unit (or at least non-zero finite) per-vertex normals, faces (may be empty: a
+// point cloud, sampled without visibility test and without filling).
+// Throws FitError on unusable input (empty mesh, missing / zero / non-finite normals, non-finite
+// positions, bad face indices, invalid options, no view or no usable view, no vertex seen at all).
+RadianceFromViewsResult fitRadianceFromViews(const TriangleMesh& mesh, const std::vector<CalibratedView>& views,
+                                             const RadianceFromViewsOptions& options,
+                                             const FitProgressCallback& progress = {});
+
+// Vertex adjacency over the face edges, compressed: the neighbours of v are
+// neighbours[offsets[v] .. offsets[v + 1]), sorted, without duplicates. Faces must be valid.
+struct VertexAdjacency {
+    std::vector<std::size_t> offsets;
+    std::vector<std::uint32_t> neighbours;
+};
+VertexAdjacency buildVertexAdjacency(const TriangleMesh& mesh);
+
+}  // namespace rad

@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# "Fit Radiance Functions from Rasters" on a MeshLab project of virtual photographs, through the
+# real meshlabserver (mesh with -i, rasters with -p, as a user's photogrammetry project):
+#  - the log reports the counts; the saved .rply holds PB4 radiance;
+#  - evaluated toward each camera, the fitted functions reproduce the photographs at the vertices'
+#    projections (checked by an independent Python implementation of the .mlp camera model);
+#  - the reflected and SH variants run and save, and the vertex quality holds the sample counts.
+source "$(dirname "$0")/lib.sh"
+CHECK_FIT="python3 $RADIANCE_SOURCE_DIR/tests/integration/check_fit_against_photos.py"
+
+"$MAKE_SCENE" sphere --level 4 -o "$WORK/sphere.ply"
+"$VIRTUAL_ACQUISITION" "$WORK/sphere.ply" -o "$WORK/photos" --views 16 --size 320x240 --no-variation \
+    >"$WORK/acquisition.log" 2>&1 || { cat "$WORK/acquisition.log" >&2; fail "virtual acquisition failed"; }
+
+fit_mlx "$WORK/fit_pb4.mlx" 0 4 false 0
+run_meshlabserver "$WORK/pb4.log" -i "$WORK/photos/mesh.ply" -p "$WORK/photos/project.mlp" \
+    -s "$WORK/fit_pb4.mlx" -o "$WORK/fit_pb4.rply" -m vc vq vn \
+    || { cat "$WORK/pb4.log" >&2; fail "fit failed"; }
+grep -qE "Fitted PB4 radiance functions from 16 of 16 rasters \([0-9]+ samples\) on 2562 vertices" "$WORK/pb4.log" \
+    || { cat "$WORK/pb4.log" >&2; fail "no fit summary in the log"; }
+# Median and 90th percentile of |fitted - photo| in 8-bit sRGB levels over vertex-view pairs.
+$CHECK_FIT "$WORK/fit_pb4.rply" "$WORK/photos/project.mlp" 2 8 || fail "fitted functions do not reproduce the photographs"
+
+# Vertex quality = sample count: every vertex of a sphere seen from 16 directions all around is
+# seen several times, and no vertex by more than the 16 photographs.
+python3 - "$WORK/fit_pb4.rply" "$PLY_READER" <<'PY' || fail "vertex quality is not a sample count"
+import sys, importlib.util
+spec = importlib.util.spec_from_file_location("ply_reader", sys.argv[2]); r = importlib.util.module_from_spec(spec); spec.loader.exec_module(r)
+q = r.read_ply(sys.argv[1])["elements"]["vertex"]["quality"]
+assert all(float(x).is_integer() and 1 <= x <= 16 for x in q), (min(q), max(q))
+assert sum(q) / len(q) > 3, sum(q) / len(q)
+print(f"sample counts {min(q):.0f}..{max(q):.0f}, mean {sum(q) / len(q):.1f}")
+PY
+
+fit_mlx "$WORK/fit_sh_reflected.mlx" 1 3 true 1
+run_meshlabserver "$WORK/sh.log" -i "$WORK/photos/mesh.ply" -p "$WORK/photos/project.mlp" \
+    -s "$WORK/fit_sh_reflected.mlx" -o "$WORK/fit_sh.rply" -m vc vq vn \
+    || { cat "$WORK/sh.log" >&2; fail "SH fit failed"; }
+grep -qF "Fitted SH3 radiance functions (reflected)" "$WORK/sh.log" || { cat "$WORK/sh.log" >&2; fail "no SH summary"; }
+python3 "$PLY_READER" --summary "$WORK/fit_sh.rply" | grep "radiance_basis SH3" >/dev/null || fail "SH3 radiance not saved"
+note "ok"

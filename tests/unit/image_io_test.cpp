@@ -1,0 +1,179 @@
+// Tests of image/image_io.h: PNG round trips (lossless: bit-exact), PNGs of other channel counts
+// written by stb_image_write itself, a JPEG written by stb_image_write (lossy: compared with a
+// tolerance), and the refusals (missing, empty, truncated, foreign, unwritable) whose messages must
+// name the file.
+#include "image/image_io.h"
+
+#include <gtest/gtest.h>
+
+#include <stb/stb_image_write.h>  // declarations only: the implementation lives in image/image_io.cpp
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+
+// stb_image_write's JPEG encoder left-shifts negative ints (upstream nothings/stb issue #1433);
+// common/CMakeLists.txt compiles image/image_io.cpp (stb's implementation) with
+// -fno-sanitize=shift-base in the sanitizer build, so these tests run there too.
+
+std::string tmpPath(const std::string& name) { return std::string(RADIANCE_TEST_TMPDIR) + "/image_io_" + name; }
+
+rad::Image8 randomImage(int w, int h, unsigned seed) {
+    rad::Image8 image(w, h);
+    std::mt19937 rng(seed);
+    std::uniform_int_distribution<int> code(0, 255);
+    for (auto& b : image.rgb) b = static_cast<std::uint8_t>(code(rng));
+    return image;
+}
+
+// Smooth content (JPEG's 8x8 DCT keeps it well), different per channel.
+rad::Image8 smoothImage(int w, int h) {
+    rad::Image8 image(w, h);
+    for (int r = 0; r < h; ++r)
+        for (int c = 0; c < w; ++c) {
+            std::uint8_t* p = image.pixel(c, r);
+            p[0] = static_cast<std::uint8_t>(40 + 150.0 * c / (w - 1));
+            p[1] = static_cast<std::uint8_t>(200 - 120.0 * r / (h - 1));
+            p[2] = static_cast<std::uint8_t>(128 + 60.0 * std::sin(0.2 * (c + r)));
+        }
+    return image;
+}
+
+std::vector<char> readBytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::vector<char>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+void writeBytes(const std::string& path, const std::vector<char>& bytes) {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(bytes.data(), std::streamsize(bytes.size()));
+}
+
+// The ImageFileError text of readImage8 ("" when it succeeded).
+std::string readError(const std::string& path) {
+    try {
+        rad::readImage8(path);
+    } catch (const rad::ImageFileError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+// Copies of `whole` cut from inside the header to just before the end must all be refused, with
+// the file named. (Not tested: cuts inside a PNG's final IEND chunk, after all pixel data, are
+// accepted by stb, harmlessly.)
+void expectTruncationsRefused(const std::string& whole) {
+    const std::vector<char> bytes = readBytes(whole);
+    ASSERT_GT(bytes.size(), 100u);
+    EXPECT_EQ(readError(whole), "");
+    for (const double fraction : {0.02, 0.3, 0.7, 0.98}) {
+        const std::size_t keep = static_cast<std::size_t>(fraction * bytes.size());
+        const std::string cut = tmpPath("truncated_" + std::to_string(keep) + "_" + whole.substr(whole.rfind('/') + 1));
+        writeBytes(cut, std::vector<char>(bytes.begin(), bytes.begin() + std::ptrdiff_t(keep)));
+        const std::string why = readError(cut);
+        EXPECT_NE(why.find(cut), std::string::npos) << "kept " << keep << " of " << bytes.size() << ": '" << why << "'";
+    }
+}
+
+TEST(ImageIo, PngRoundTripIsBitExactAtOddSizes) {
+    for (const auto& size : {std::pair<int, int>{3, 5}, {1, 1}, {17, 2}, {64, 33}}) {
+        const rad::Image8 image = randomImage(size.first, size.second, unsigned(size.first * 100 + size.second));
+        const std::string path = tmpPath("roundtrip_" + std::to_string(size.first) + "x" + std::to_string(size.second) + ".png");
+        rad::writePng(path, image);
+        const rad::Image8 back = rad::readImage8(path);
+        ASSERT_EQ(back.width, image.width);
+        ASSERT_EQ(back.height, image.height);
+        EXPECT_EQ(back.rgb, image.rgb);
+    }
+}
+
+TEST(ImageIo, GreyAndRgbaPngsAreReadAsRgb) {
+    const int w = 3, h = 5;
+    std::vector<std::uint8_t> grey(w * h), rgba(w * h * 4);
+    for (int i = 0; i < w * h; ++i) {
+        grey[i] = static_cast<std::uint8_t>(17 * i);
+        for (int k = 0; k < 4; ++k) rgba[4 * i + k] = static_cast<std::uint8_t>(11 * i + 50 * k);
+    }
+    const std::string greyPath = tmpPath("grey.png"), rgbaPath = tmpPath("rgba.png");
+    ASSERT_TRUE(stbi_write_png(greyPath.c_str(), w, h, 1, grey.data(), w));
+    ASSERT_TRUE(stbi_write_png(rgbaPath.c_str(), w, h, 4, rgba.data(), 4 * w));
+    const rad::Image8 g = rad::readImage8(greyPath), c = rad::readImage8(rgbaPath);
+    ASSERT_EQ(g.width, w);
+    ASSERT_EQ(c.height, h);
+    for (int i = 0; i < w * h; ++i)
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_EQ(g.rgb[3 * i + k], grey[i]);          // grey replicated
+            EXPECT_EQ(c.rgb[3 * i + k], rgba[4 * i + k]);  // alpha dropped, not premultiplied
+        }
+}
+
+TEST(ImageIo, ReadsAJpegWrittenByStb) {
+    const int w = 21, h = 13;  // not multiples of the 8x8 blocks
+    const rad::Image8 image = smoothImage(w, h);
+    const std::string path = tmpPath("smooth.jpg");
+    ASSERT_TRUE(stbi_write_jpg(path.c_str(), w, h, 3, image.rgb.data(), 95));
+    const rad::Image8 back = rad::readImage8(path);
+    ASSERT_EQ(back.width, w);
+    ASSERT_EQ(back.height, h);
+    // Quality 95 with chroma subsampling: a few codes per channel on smooth content.
+    double sumError = 0.0;
+    int worst = 0;
+    for (std::size_t i = 0; i < image.rgb.size(); ++i) {
+        const int e = std::abs(int(back.rgb[i]) - int(image.rgb[i]));
+        worst = std::max(worst, e);
+        sumError += e;
+    }
+    EXPECT_LE(worst, 16);
+    EXPECT_LT(sumError / image.rgb.size(), 3.0);
+}
+
+TEST(ImageIo, MissingEmptyForeignAndTruncatedPngFilesAreRefusedNamingTheFile) {
+    const std::string missing = tmpPath("does_not_exist.png");
+    std::remove(missing.c_str());
+    std::string why = readError(missing);
+    EXPECT_NE(why.find(missing), std::string::npos) << why;
+
+    const std::string empty = tmpPath("empty.png");
+    writeBytes(empty, {});
+    why = readError(empty);
+    EXPECT_NE(why.find(empty), std::string::npos) << why;
+
+    const std::string text = tmpPath("text.jpg");
+    const std::string content = "not an image at all\n";
+    writeBytes(text, std::vector<char>(content.begin(), content.end()));
+    why = readError(text);
+    EXPECT_NE(why.find(text), std::string::npos) << why;
+
+    // Truncations of a PNG, from inside the header to just before the end.
+    const rad::Image8 image = randomImage(40, 30, 9);
+    const std::string png = tmpPath("whole.png");
+    rad::writePng(png, image);
+    expectTruncationsRefused(png);
+}
+
+TEST(ImageIo, TruncatedJpegIsRefusedNamingTheFile) {
+    const rad::Image8 image = randomImage(40, 30, 9);
+    const std::string jpg = tmpPath("whole.jpg");
+    ASSERT_TRUE(stbi_write_jpg(jpg.c_str(), image.width, image.height, 3, image.rgb.data(), 90));
+    expectTruncationsRefused(jpg);
+}
+
+TEST(ImageIo, UnwritablePathsAndEmptyImagesAreRefused) {
+    const rad::Image8 image = randomImage(3, 5, 1);
+    const std::string badPath = tmpPath("no_such_directory/out.png");
+    try {
+        rad::writePng(badPath, image);
+        FAIL() << "writing into a missing directory succeeded";
+    } catch (const rad::ImageFileError& e) {
+        EXPECT_NE(std::string(e.what()).find(badPath), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(rad::writePng(tmpPath("empty_image.png"), rad::Image8()), rad::ImageFileError);
+}
+
+}  // namespace
