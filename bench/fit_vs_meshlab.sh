@@ -25,24 +25,7 @@ if [ ! -f "$WORK/photos/project.mlp" ]; then
     "$BUILD_DIR/tools/virtual_acquisition" "$REPO/data-cache/meshes/armadillo.off" -o "$WORK/photos" \
         --views "$VIEWS" --size "$SIZE" --subdivide "$LEVELS" --material glossy | tail -n 3
 fi
-cat >"$WORK/fit.mlx" <<'MLX'
-<!DOCTYPE FilterScript>
-<FilterScript>
- <filter name="Radiance: Fit Radiance Functions from Rasters">
-  <Param type="RichBool" name="visibleOnly" value="false"/>
-  <Param type="RichEnum" name="basis" value="0" enum_cardinality="2" enum_val0="PB" enum_val1="SH"/>
-  <Param type="RichInt" name="degree" value="4"/>
-  <Param type="RichFloat" name="regularization" value="0.001"/>
-  <Param type="RichAbsPerc" name="depthTolerance" value="0.05" min="0" max="1000"/>
-  <Param type="RichFloat" name="grazingAngle" value="80"/>
-  <Param type="RichInt" name="borderMargin" value="2"/>
-  <Param type="RichInt" name="minSamples" value="3"/>
-  <Param type="RichBool" name="reflected" value="false"/>
-  <Param type="RichEnum" name="quality" value="0" enum_cardinality="2" enum_val0="count" enum_val1="residual"/>
-  <Param type="RichBool" name="setColor" value="true"/>
- </filter>
-</FilterScript>
-MLX
+bash "$REPO/scripts/write_fit_mlx.sh" "$WORK/fit.mlx" 0.05
 cat >"$WORK/meshlab_projection.mlx" <<'MLX'
 <!DOCTYPE FilterScript>
 <FilterScript>

@@ -30,24 +30,7 @@ echo "[main] photographing $(basename "$SCAN") virtually: 40 views of 1024x768"
     --material glossy >"$OUT_DIR/acquisition.log"
 tail -n 3 "$OUT_DIR/acquisition.log"
 
-cat >"$OUT_DIR/fit.mlx" <<'MLX'
-<!DOCTYPE FilterScript>
-<FilterScript>
- <filter name="Radiance: Fit Radiance Functions from Rasters">
-  <Param type="RichBool" name="visibleOnly" value="false"/>
-  <Param type="RichEnum" name="basis" value="0" enum_cardinality="2" enum_val0="PB" enum_val1="SH"/>
-  <Param type="RichInt" name="degree" value="4"/>
-  <Param type="RichFloat" name="regularization" value="0.001"/>
-  <Param type="RichAbsPerc" name="depthTolerance" value="0.0002" min="0" max="1"/>
-  <Param type="RichFloat" name="grazingAngle" value="80"/>
-  <Param type="RichInt" name="borderMargin" value="2"/>
-  <Param type="RichInt" name="minSamples" value="3"/>
-  <Param type="RichBool" name="reflected" value="false"/>
-  <Param type="RichEnum" name="quality" value="0" enum_cardinality="2" enum_val0="count" enum_val1="residual"/>
-  <Param type="RichBool" name="setColor" value="true"/>
- </filter>
-</FilterScript>
-MLX
+bash "$REPO/scripts/write_fit_mlx.sh" "$OUT_DIR/fit.mlx" 0.0002
 
 echo "[main] fitting PB(4) radiance functions in meshlabserver"
 start=$(date +%s.%N)

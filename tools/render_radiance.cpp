@@ -29,11 +29,13 @@
 #include <stdexcept>
 #include <string>
 
+#include "command_line.h"
+
 namespace {
 
-struct UsageError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
+using radtools::UsageError;
+using radtools::toInt;
+using radtools::toNumber;
 
 void usage(std::ostream& out) {
     out << "usage: render_radiance MESH.rply --project project.mlp --view K -o out.png [options]\n"
@@ -45,23 +47,6 @@ void usage(std::ostream& out) {
            "  --side-by-side FILE.png  write photograph | rendering | 4 x difference (needs --compare)\n";
 }
 
-double toNumber(const std::string& key, const std::string& text) {
-    std::size_t used = 0;
-    double v = 0.0;
-    try {
-        v = std::stod(text, &used);
-    } catch (const std::exception&) {
-        used = 0;
-    }
-    if (used != text.size() || !std::isfinite(v)) throw UsageError(key + " needs a number, got '" + text + "'");
-    return v;
-}
-
-int toInt(const std::string& key, const std::string& text) {
-    const double v = toNumber(key, text);
-    if (v != std::floor(v) || std::fabs(v) > 1e9) throw UsageError(key + " needs an integer, got '" + text + "'");
-    return static_cast<int>(v);
-}
 
 void printErrors(const char* what, const rad::ImageErrors& e) {
     std::printf("%s (%zu pixels): 8-bit sRGB RMSE %.3f, PSNR %.2f dB; linear RMSE %.5f, PSNR %.2f dB\n", what,

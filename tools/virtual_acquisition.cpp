@@ -40,11 +40,14 @@
 #include <string>
 #include <vector>
 
+#include "command_line.h"
+
 namespace {
 
-struct UsageError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
+using radtools::UsageError;
+using radtools::toInt;
+using radtools::toNumber;
+using radtools::numberList;
 
 void usage(std::ostream& out) {
     out << "usage: virtual_acquisition MESH.{off,ply} -o OUTDIR [options]\n"
@@ -72,31 +75,7 @@ void usage(std::ostream& out) {
            "  --exposure E         linear scale before sRGB encoding [1]\n";
 }
 
-double toNumber(const std::string& key, const std::string& text) {
-    std::size_t used = 0;
-    double v = 0.0;
-    try {
-        v = std::stod(text, &used);
-    } catch (const std::exception&) {
-        used = 0;
-    }
-    if (used != text.size() || !std::isfinite(v)) throw UsageError(key + " needs a number, got '" + text + "'");
-    return v;
-}
 
-int toInt(const std::string& key, const std::string& text) {
-    const double v = toNumber(key, text);
-    if (v != std::floor(v) || std::fabs(v) > 1e9) throw UsageError(key + " needs an integer, got '" + text + "'");
-    return static_cast<int>(v);
-}
-
-std::vector<double> numberList(const std::string& key, const std::string& text, char sep) {
-    std::vector<double> out;
-    std::stringstream in(text);
-    std::string item;
-    while (std::getline(in, item, sep)) out.push_back(toNumber(key, item));
-    return out;
-}
 
 Eigen::Vector3d parseAxis(const std::string& text) {
     static const std::pair<const char*, Eigen::Vector3d> axes[] = {

@@ -148,6 +148,7 @@ void FitScratch::reserveSamples(int k, std::size_t sampleCount) {
     gram.resize(static_cast<std::size_t>(k) * k);
     system.resize(static_cast<std::size_t>(k) * k);
     solution.resize(static_cast<std::size_t>(k) * 3);
+    trial.resize(static_cast<std::size_t>(k) * 3);
     rhs.resize(static_cast<std::size_t>(k) * 3);
     invDiag.resize(k);
     rotateIn.resize(k);
@@ -240,32 +241,25 @@ void RobustRadianceFitter::writeSolution(const Frame& frame, const double* solut
     }
 }
 
-bool RobustRadianceFitter::insideBand(const double* X, const double* lo, const double* hi) const {
-    // Values of the 3 channels at the points of C, block by block (k outer, points inner: the inner
-    // loop is a vectorisable axpy), stopping at the first block with a value outside the band. The
-    // coarse part comes first, so most failing fits are rejected after kGuardCoarse* points.
-    constexpr int kBlock = 72;
+bool RobustRadianceFitter::insideBand(const double* x, double lo, double hi) const {
+    // Values of one channel (coefficients x[0..K)) at the points of C, block by block (k outer,
+    // points inner: the inner loop is a vectorisable axpy), stopping at the first block with a value
+    // outside [lo, hi]. The coarse part of C comes first, so most failing fits are rejected after
+    // kGuardCoarse* points.
+    constexpr int kBlock = 96;
     const int C = kGuardDirections;
     const int K = K_;
-    double acc[3][kBlock];
+    double acc[kBlock];
     for (int begin = 0; begin < C; begin += kBlock) {
         const int size = std::min(kBlock, C - begin);
-        for (int c = 0; c < 3; ++c) {
-            const double x0 = X[c * K];
-            for (int i = 0; i < size; ++i) acc[c][i] = x0 * checkBasis_[begin + i];
-        }
+        for (int i = 0; i < size; ++i) acc[i] = x[0] * checkBasis_[begin + i];
         for (int k = 1; k < K; ++k) {
             const double* row = checkBasis_.data() + static_cast<std::size_t>(k) * C + begin;
-            const double x0 = X[k], x1 = X[K + k], x2 = X[2 * K + k];
-            for (int i = 0; i < size; ++i) {
-                acc[0][i] += x0 * row[i];
-                acc[1][i] += x1 * row[i];
-                acc[2][i] += x2 * row[i];
-            }
+            const double xk = x[k];
+            for (int i = 0; i < size; ++i) acc[i] += xk * row[i];
         }
-        for (int c = 0; c < 3; ++c)
-            for (int i = 0; i < size; ++i)
-                if (!(acc[c][i] >= lo[c] && acc[c][i] <= hi[c])) return false;  // also catches NaN
+        for (int i = 0; i < size; ++i)
+            if (!(acc[i] >= lo && acc[i] <= hi)) return false;  // also catches NaN
     }
     return true;
 }
@@ -403,22 +397,36 @@ VertexFitResult RobustRadianceFitter::fit(const Frame& frame, const DirectionalS
             for (int k = 0; k < K; ++k) r[k] += y * col[k];
         }
     }
-    MatrixMap X(scratch.solution.data(), K, 3);
+    MatrixMap X(scratch.trial.data(), K, 3);
     const double trace = G.trace();
     const double scale = trace / K;
 
     const bool guard = options_.rangeGuard == RangeGuardScope::AllVertices ||
                        (options_.rangeGuard == RangeGuardScope::PoorlySampledOnly && poorly);
+    // The channels share the matrix but not the right-hand side, so the guard accepts or escalates
+    // each channel on its own (our refinement of "retry with 10 lambda": a channel that stays in its
+    // range keeps the least regularised fit, whatever the others do). A channel whose observed values
+    // are all equal is the constant m_c outright: any fit in its zero-width band would only differ
+    // from it by rounding.
+    double* final = scratch.solution.data();  // K x 3, column-major: the accepted coefficients
+    bool pending[3];
     double bandLo[3], bandHi[3];
+    int pendingCount = 0;
     for (int c = 0; c < 3; ++c) {
-        const double margin = kGuardMarginFraction * options_.rangeTolerance * (hi[c] - lo[c]) + kRangeSlack;
+        const double margin = kGuardMarginFraction * options_.rangeTolerance * (hi[c] - lo[c]);
         bandLo[c] = lo[c] - margin;
         bandHi[c] = hi[c] + margin;
+        pending[c] = !(guard && hi[c] == lo[c]);
+        if (pending[c]) {
+            ++pendingCount;
+        } else {
+            std::fill(final + c * K, final + (c + 1) * K, 0.0);
+            final[c * K] = mean[c] / constantValue_;
+        }
     }
-    bool accepted = false;
     // Without the guard, further attempts only happen when the system is singular.
     const int attempts = options_.maxGuardRetries + 1;
-    for (int attempt = 0; attempt < attempts && !accepted; ++attempt) {
+    for (int attempt = 0; attempt < attempts && pendingCount > 0; ++attempt) {
         const double lambda = attempt == 0 ? options_.lambda
                                            : std::max(options_.lambda, kEscalationBaseLambda) * std::pow(10.0, attempt);
         double* A = scratch.system.data();
@@ -431,22 +439,37 @@ VertexFitResult RobustRadianceFitter::fit(const Frame& frame, const DirectionalS
         // least of the order of lambda s; with lambda = 0 a pivot below 1e-12 trace(G) (about
         // 1e-12 of the largest eigenvalue) means degenerate samples.
         const double minPivot = (lambda > 0.0 ? kMinReciprocalCondition : 1e-12) * trace;
-        bool ok = choleskyInPlace(A, K, minPivot, scratch.invDiag.data());
-        if (ok) {
-            choleskySolve3InPlace(A, scratch.invDiag.data(), K, X.data());
-            ok = X.allFinite();
-        }
-        if (!ok) {
+        if (!choleskyInPlace(A, K, minPivot, scratch.invDiag.data())) {
             result.guardRetries = attempt + 1;
             continue;  // singular (lambda = 0 with degenerate samples): escalate lambda
         }
-        if (!guard || insideBand(X.data(), bandLo, bandHi)) {
-            accepted = true;
-            break;
+        choleskySolve3InPlace(A, scratch.invDiag.data(), K, X.data());
+        bool escalate = false;
+        for (int c = 0; c < 3; ++c) {
+            if (!pending[c]) continue;
+            const double* xc = X.data() + c * K;
+            bool finite = true;
+            for (int k = 0; k < K; ++k) finite = finite && std::isfinite(xc[k]);
+            if (finite && (!guard || insideBand(xc, bandLo[c], bandHi[c]))) {
+                std::copy(xc, xc + K, final + c * K);
+                pending[c] = false;
+                --pendingCount;
+            } else {
+                escalate = true;
+            }
         }
-        result.guardRetries = attempt + 1;
+        if (escalate) result.guardRetries = attempt + 1;
     }
-    if (!accepted) {
+    // Channels that never passed: the constant m_c (always inside the observed range).
+    int constantChannels = 0;
+    for (int c = 0; c < 3; ++c) {
+        if (!pending[c]) continue;
+        std::fill(final + c * K, final + (c + 1) * K, 0.0);
+        final[c * K] = mean[c] / constantValue_;
+        ++constantChannels;
+    }
+    result.fallbackChannels = constantChannels;
+    if (constantChannels == 3) {
         result.constantFallback = true;
         result.residual = constantResidual();
         writeConstant(frame, mean, out);
@@ -458,7 +481,7 @@ VertexFitResult RobustRadianceFitter::fit(const Frame& frame, const DirectionalS
         const double* col = design + j * K;
         for (int c = 0; c < 3; ++c) {
             double f = 0.0;
-            for (int k = 0; k < K; ++k) f += col[k] * X(k, c);
+            for (int k = 0; k < K; ++k) f += col[k] * final[c * K + k];
             const double d = f - targets[c * rowsCapacity + j];
             e += d * d;
         }
