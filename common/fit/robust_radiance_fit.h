@@ -54,16 +54,17 @@
 //     (border extension), as far as tested.
 //  6. Poorly sampled (status PoorlySampled) := fewer than poorSamplingFactor * K samples (default
 //     2K), or fewer than half of D covered, or fewer than minSamples samples.
-//     Guard scope (option rangeGuard), measured with bench_fit (glossy analytic radiance, RMS error
-//     over the hemisphere): on WELL-sampled vertices (300 views, ~124 samples) guarding costs PB4
-//     accuracy (RMS 0.019 -> 0.043: 35 % of the vertices retried, because the samples never contain
-//     the exact extremes of a highlight, so a correct fit often leaves their range) and helps SH6 a
-//     little (0.012 -> 0.009, damping its ringing near the border). The guarantee is only required
-//     where the data cannot constrain the fit, so the default is PoorlySampledOnly; AllVertices is
-//     available for SH users who want the bound everywhere. On poorly sampled vertices the guard is
-//     the price of the bound: PB4 with 50 views (~21 samples) RMS 0.023 -> 0.040, SH6 0.033 -> 0.029
-//     with the worst error 0.59 -> 0.24. Note that with the 2K threshold nearly every vertex of a
-//     real acquisition (10-50 photographs) is poorly sampled for PB4 (30) and SH6 (98 samples).
+//     Guard scope (option rangeGuard), measured with bench_fit (glossy analytic radiance, 0.01
+//     noise, RMS error over the hemisphere): on WELL-sampled vertices (300 views, ~124 samples)
+//     guarding costs PB4 accuracy (RMS 0.019 -> 0.041: 35 % of the vertices escalated, because the
+//     samples never contain the exact extremes of a highlight, so a correct fit often leaves their
+//     range) and helps SH6 a little (0.012 -> 0.010, damping its ringing near the border). The
+//     guarantee is only required where the data cannot constrain the fit, so the default is
+//     PoorlySampledOnly; AllVertices is there for SH users who want the bound everywhere. On poorly
+//     sampled vertices the guard is the price of the bound: PB4 with 50 views (~21 samples) RMS
+//     0.023 -> 0.035, SH6 0.033 -> 0.029 with the worst error 0.59 -> 0.25. With the 2K threshold
+//     nearly every vertex of a real acquisition (10-50 photographs) is poorly sampled for PB4 (30
+//     samples) and SH6 (98).
 //  7. Result: the coefficients (3K floats, PB in the local frame, SH in the global frame; plain L or
 //     reflected L~ of paper 000 sec. 3.1 per option), mean colour, sample count, weighted RMS
 //     residual of the real samples, status, guard retries.
