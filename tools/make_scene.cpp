@@ -26,6 +26,8 @@
 #include <string>
 #include <vector>
 
+#include "command_line.h"
+
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -44,27 +46,7 @@ void usage(std::ostream& out) {
            "        .off = ASCII NOFF (positions and normals)\n";
 }
 
-struct UsageError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
-
-double toNumber(const std::string& key, const std::string& text) {
-    std::size_t used = 0;
-    double v = 0.0;
-    try {
-        v = std::stod(text, &used);
-    } catch (const std::exception&) {
-        used = 0;
-    }
-    if (used != text.size() || !std::isfinite(v)) throw UsageError("--" + key + " needs a number, got '" + text + "'");
-    return v;
-}
-
-int toInt(const std::string& key, const std::string& text) {
-    const double v = toNumber(key, text);
-    if (v != std::floor(v) || std::fabs(v) > 1e9) throw UsageError("--" + key + " needs an integer, got '" + text + "'");
-    return static_cast<int>(v);
-}
+using radtools::UsageError;
 
 void putU32(std::ostream& out, std::uint32_t v) {
     const unsigned char b[4] = {static_cast<unsigned char>(v), static_cast<unsigned char>(v >> 8),
@@ -161,8 +143,8 @@ int run(int argc, char** argv) {
     const bool ply = endsWith(output, ".ply");
     if (!ply && !endsWith(output, ".off")) throw UsageError("output must end in .ply or .off: " + output);
 
-    auto num = [&](const std::string& k, double def) { return opt.count(k) ? toNumber(k, opt[k]) : def; };
-    auto integer = [&](const std::string& k, int def) { return opt.count(k) ? toInt(k, opt[k]) : def; };
+    auto num = [&](const std::string& k, double def) { return opt.count(k) ? radtools::toNumber("--" + k, opt[k]) : def; };
+    auto integer = [&](const std::string& k, int def) { return opt.count(k) ? radtools::toInt("--" + k, opt[k]) : def; };
 
     rad::TriangleMesh mesh;
     std::string comment = "make_scene " + scene;

@@ -117,15 +117,6 @@ std::vector<float> rampPixels(int width, int height) {
     return rgb;
 }
 
-std::vector<char> readBytes(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::vector<char>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-void writeBytes(const std::string& path, const std::vector<char>& bytes) {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out.write(bytes.data(), std::streamsize(bytes.size()));
-}
-
 // Runs readEnvironmentMap and returns the error text ("" when it did not throw).
 std::string readError(const std::string& path) {
     try {
@@ -373,14 +364,14 @@ TEST(EnvironmentMapFile, RefusesMissingEmptyForeignTruncatedAndNonFiniteFilesNam
     EXPECT_NE(readError(missing).find(missing), std::string::npos);
 
     const std::string empty = tmpPath("empty.hdr");
-    writeBytes(empty, {});
+    radtest::writeBytes(empty, {});
     std::string why = readError(empty);
     EXPECT_NE(why.find(empty), std::string::npos) << why;
     EXPECT_NE(why.find("empty"), std::string::npos) << why;
 
     const std::string text = tmpPath("text.exr");
     const std::string content = "this is not an image\n";
-    writeBytes(text, std::vector<char>(content.begin(), content.end()));
+    radtest::writeBytes(text, std::vector<char>(content.begin(), content.end()));
     why = readError(text);
     EXPECT_NE(why.find(text), std::string::npos) << why;
 
@@ -393,13 +384,13 @@ TEST(EnvironmentMapFile, RefusesMissingEmptyForeignTruncatedAndNonFiniteFilesNam
     ASSERT_TRUE(stbi_write_hdr(rle.c_str(), 19, 6, 3, rgb.data()));
     ASSERT_TRUE(stbi_write_hdr(flat.c_str(), 5, 6, 3, rgb.data()));
     for (const std::string& whole : {exr, rle, flat}) {
-        const std::vector<char> bytes = readBytes(whole);
+        const std::vector<char> bytes = radtest::readBytes(whole);
         ASSERT_GT(bytes.size(), 40u);
         for (const double fraction : {0.1, 0.5, 0.9, 0.99, 1.0}) {
             // 1.0: one byte short, the last texel's exponent.
             const std::size_t keep = std::min(bytes.size() - 1, static_cast<std::size_t>(fraction * bytes.size()));
             const std::string cut = tmpPath("truncated_" + std::to_string(keep) + "_" + whole.substr(whole.rfind('/') + 1));
-            writeBytes(cut, std::vector<char>(bytes.begin(), bytes.begin() + std::ptrdiff_t(keep)));
+            radtest::writeBytes(cut, std::vector<char>(bytes.begin(), bytes.begin() + std::ptrdiff_t(keep)));
             why = readError(cut);
             EXPECT_NE(why.find(cut), std::string::npos) << "kept " << keep << " of " << bytes.size() << ": '" << why << "'";
         }
@@ -408,14 +399,14 @@ TEST(EnvironmentMapFile, RefusesMissingEmptyForeignTruncatedAndNonFiniteFilesNam
 
     // A complete RLE file whose first run count is 0: corrupt (stb itself would never finish it).
     {
-        std::vector<char> bytes = readBytes(rle);
+        std::vector<char> bytes = radtest::readBytes(rle);
         const std::string header(bytes.begin(), bytes.begin() + 200);
         const std::size_t resolution = header.find("\n\n") + 2;
         const std::size_t firstCount = header.find('\n', resolution) + 1 + 4;  // after "2 2 0 19"
         ASSERT_EQ(bytes[firstCount - 4], 2);
         bytes[firstCount] = 0;
         const std::string corrupt = tmpPath("zero_run.hdr");
-        writeBytes(corrupt, bytes);
+        radtest::writeBytes(corrupt, bytes);
         why = readError(corrupt);
         EXPECT_NE(why.find(corrupt), std::string::npos) << why;
         EXPECT_NE(why.find("corrupt"), std::string::npos) << why;

@@ -4,6 +4,8 @@
 // name the file.
 #include "image/image_io.h"
 
+#include "test_support.h"
+
 #include <gtest/gtest.h>
 
 #include <stb/stb_image_write.h>  // declarations only: the implementation lives in image/image_io.cpp
@@ -46,15 +48,6 @@ rad::Image8 smoothImage(int w, int h) {
     return image;
 }
 
-std::vector<char> readBytes(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::vector<char>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-void writeBytes(const std::string& path, const std::vector<char>& bytes) {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out.write(bytes.data(), std::streamsize(bytes.size()));
-}
-
 // The ImageFileError text of readImage8 ("" when it succeeded).
 std::string readError(const std::string& path) {
     try {
@@ -69,13 +62,13 @@ std::string readError(const std::string& path) {
 // the file named. (Not tested: cuts inside a PNG's final IEND chunk, after all pixel data, are
 // accepted by stb, harmlessly.)
 void expectTruncationsRefused(const std::string& whole) {
-    const std::vector<char> bytes = readBytes(whole);
+    const std::vector<char> bytes = radtest::readBytes(whole);
     ASSERT_GT(bytes.size(), 100u);
     EXPECT_EQ(readError(whole), "");
     for (const double fraction : {0.02, 0.3, 0.7, 0.98}) {
         const std::size_t keep = static_cast<std::size_t>(fraction * bytes.size());
         const std::string cut = tmpPath("truncated_" + std::to_string(keep) + "_" + whole.substr(whole.rfind('/') + 1));
-        writeBytes(cut, std::vector<char>(bytes.begin(), bytes.begin() + std::ptrdiff_t(keep)));
+        radtest::writeBytes(cut, std::vector<char>(bytes.begin(), bytes.begin() + std::ptrdiff_t(keep)));
         const std::string why = readError(cut);
         EXPECT_NE(why.find(cut), std::string::npos) << "kept " << keep << " of " << bytes.size() << ": '" << why << "'";
     }
@@ -140,13 +133,13 @@ TEST(ImageIo, MissingEmptyForeignAndTruncatedPngFilesAreRefusedNamingTheFile) {
     EXPECT_NE(why.find(missing), std::string::npos) << why;
 
     const std::string empty = tmpPath("empty.png");
-    writeBytes(empty, {});
+    radtest::writeBytes(empty, {});
     why = readError(empty);
     EXPECT_NE(why.find(empty), std::string::npos) << why;
 
     const std::string text = tmpPath("text.jpg");
     const std::string content = "not an image at all\n";
-    writeBytes(text, std::vector<char>(content.begin(), content.end()));
+    radtest::writeBytes(text, std::vector<char>(content.begin(), content.end()));
     why = readError(text);
     EXPECT_NE(why.find(text), std::string::npos) << why;
 

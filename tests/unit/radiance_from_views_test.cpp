@@ -361,28 +361,6 @@ TEST(RadianceFromViews, ResultDoesNotDependOnTheThreadCountAndStorageKeepsRadian
 
 // ---- unseen vertices ------------------------------------------------------------------------------
 
-bool bruteOccluded(const rad::TriangleMesh& mesh, const Vector3d& o, const Vector3d& d, double tNear, double tFar) {
-    for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
-        Vector3d p[3];
-        for (int k = 0; k < 3; ++k) {
-            const float* q = mesh.positions.data() + 3 * mesh.faces[3 * f + k];
-            p[k] = Vector3d(q[0], q[1], q[2]);
-        }
-        const Vector3d e1 = p[1] - p[0], e2 = p[2] - p[0], h = d.cross(e2);
-        const double det = e1.dot(h);
-        if (std::abs(det) < 1e-14) continue;
-        const Vector3d s = o - p[0];
-        const double a = s.dot(h) / det;
-        if (a < 0 || a > 1) continue;
-        const Vector3d q = s.cross(e1);
-        const double b = d.dot(q) / det;
-        if (b < 0 || a + b > 1) continue;
-        const double t = e2.dot(q) / det;
-        if (t >= tNear && t <= tFar) return true;
-    }
-    return false;
-}
-
 TEST(RadianceFromViews, UnseenVerticesAreFilledRingByRingAndIsolatedOnesLeft) {
     // A 21 x 21 grid under an occluding square (a separate component) seen by one camera straight
     // above: the grid vertices in the square's shadow are unseen but connected to seen ones; a
@@ -418,7 +396,7 @@ TEST(RadianceFromViews, UnseenVerticesAreFilledRingByRingAndIsolatedOnesLeft) {
         const Vector3d nv(mesh.normals[3 * v], mesh.normals[3 * v + 1], mesh.normals[3 * v + 2]);
         const double dist = (cam.center - X).norm();
         const Vector3d w = (cam.center - X) / dist;
-        seen[v] = nv.dot(w) > std::cos(80 * kPi / 180) && !bruteOccluded(mesh, X, w, 1e-3, dist - 1e-3);
+        seen[v] = nv.dot(w) > std::cos(80 * kPi / 180) && !radtest::bruteOccluded(mesh, X, w, 1e-3, dist - 1e-3);
         if (!seen[v] && v < 21 * 21) ++unseenGrid;
     }
     ASSERT_GT(unseenGrid, 10u);

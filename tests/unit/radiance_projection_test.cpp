@@ -39,28 +39,6 @@ std::vector<double> randomCoefficients(const BasisSpec& basis, std::mt19937& rng
     return c;
 }
 
-// Independent PB function: sum c_ij u^i v^j, (u, v) = (t.w, b.w), computed with std::pow.
-Vector3d polynomialValue(const BasisSpec& basis, const std::vector<double>& c, const rad::Frame& f, const Vector3d& w) {
-    const double u = f.t.dot(w), v = f.n.cross(f.t).dot(w);
-    const int K = basis.coefficientCount();
-    Vector3d out = Vector3d::Zero();
-    for (int ch = 0; ch < 3; ++ch)
-        for (int i = 0; i <= basis.degree; ++i)
-            for (int j = 0; i + j <= basis.degree; ++j)
-                out[ch] += c[ch * K + rad::polynomialIndex(i, j)] * std::pow(u, i) * std::pow(v, j);
-    return out;
-}
-
-// SH function through evaluateBasis (the SH evaluation is tested in spherical_harmonics_test).
-Vector3d harmonicValue(const BasisSpec& basis, const std::vector<double>& c, const Vector3d& w) {
-    std::vector<double> y(basis.coefficientCount());
-    rad::evaluateBasis(basis, w.x(), w.y(), w.z(), y.data());
-    Vector3d out = Vector3d::Zero();
-    for (int ch = 0; ch < 3; ++ch)
-        for (int k = 0; k < basis.coefficientCount(); ++k) out[ch] += c[ch * basis.coefficientCount() + k] * y[k];
-    return out;
-}
-
 using radtest::bruteHemisphere;
 
 // A Phong-like RF: diffuse + specular lobe around the mirror direction of a light.
@@ -84,7 +62,7 @@ TEST(RadianceProjection, PolynomialSpanIsReproducedExactly) {
             const rad::Frame frame = rad::frameFromNormalAndTangent(randomUnit(rng), randomUnit(rng));
             const std::vector<double> c = randomCoefficients(basis, rng);
             std::vector<double> out(c.size());
-            projector.project(frame, [&](const Vector3d& w) { return polynomialValue(basis, c, frame, w); },
+            projector.project(frame, [&](const Vector3d& w) { return radtest::polynomialValue(basis, c, frame, w); },
                               out.data());
             for (std::size_t k = 0; k < c.size(); ++k) EXPECT_NEAR(out[k], c[k], 1e-9) << k;
         }
@@ -103,7 +81,7 @@ TEST(RadianceProjection, HarmonicSpanIsReproducedExactly) {
             const rad::Frame frame = rad::frameFromNormal(randomUnit(rng));
             const std::vector<double> c = randomCoefficients(basis, rng);
             std::vector<double> out(c.size());
-            projector.project(frame, [&](const Vector3d& w) { return harmonicValue(basis, c, w); }, out.data());
+            projector.project(frame, [&](const Vector3d& w) { return radtest::harmonicValue(basis, c, w); }, out.data());
             for (std::size_t k = 0; k < c.size(); ++k) EXPECT_NEAR(out[k], c[k], 1e-9) << k;
         }
     }
@@ -250,7 +228,7 @@ TEST(RadianceFit, ExactDataIsReproduced) {
         for (int i = 0; i < 200; ++i) {
             // Upper hemisphere (samples below are moved to the border); that determines SH3 as well.
             const Vector3d w = randomUpper(rng, frame.n);
-            const Vector3d value = basis.usesLocalFrame() ? polynomialValue(basis, c, frame, w) : harmonicValue(basis, c, w);
+            const Vector3d value = basis.usesLocalFrame() ? radtest::polynomialValue(basis, c, frame, w) : radtest::harmonicValue(basis, c, w);
             samples.push_back({w, value, weight(rng)});
         }
         std::vector<double> out(c.size());

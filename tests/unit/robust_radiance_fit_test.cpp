@@ -96,27 +96,6 @@ Fitted runFit(const rad::RobustFitOptions& options, const rad::Frame& frame, con
     return out;
 }
 
-// Independent PB function sum c_ij u^i v^j with (u, v) = (t.w, b.w), std::pow.
-Vector3d polynomialValue(const BasisSpec& basis, const std::vector<double>& c, const rad::Frame& f, const Vector3d& w) {
-    const double u = f.t.dot(w), v = f.b.dot(w);
-    const int K = basis.coefficientCount();
-    Vector3d out = Vector3d::Zero();
-    for (int ch = 0; ch < 3; ++ch)
-        for (int i = 0; i <= basis.degree; ++i)
-            for (int j = 0; i + j <= basis.degree; ++j)
-                out[ch] += c[ch * K + rad::polynomialIndex(i, j)] * std::pow(u, i) * std::pow(v, j);
-    return out;
-}
-
-Vector3d harmonicValue(const BasisSpec& basis, const std::vector<double>& c, const Vector3d& w) {
-    std::vector<double> y(basis.coefficientCount());
-    rad::evaluateBasis(basis, w.x(), w.y(), w.z(), y.data());
-    Vector3d out = Vector3d::Zero();
-    for (int ch = 0; ch < 3; ++ch)
-        for (int k = 0; k < basis.coefficientCount(); ++k) out[ch] += c[ch * basis.coefficientCount() + k] * y[k];
-    return out;
-}
-
 // Dense check set, independent of the fitter's: a (theta, phi) grid over the closed hemisphere
 // (theta = 0 .. 90 degrees in 1.5 degree steps, phi in 3 degree steps), in local coordinates.
 std::vector<Vector3d> denseLocalHemisphere() {
@@ -251,7 +230,7 @@ TEST(RobustRadianceFit, RecoversPolynomialFromManyWellSpreadSamples) {
                 const Vector3d w = randomUpper(rng, frame);
                 s.push_back(makeSample(w, Vector3d::Zero(), 0.5 + 0.5 * std::abs(u(rng))));
                 // The value of the (float) direction the fitter will read.
-                const Vector3d value = polynomialValue(basis, truth, frame, dirOf(s.back()).normalized());
+                const Vector3d value = radtest::polynomialValue(basis, truth, frame, dirOf(s.back()).normalized());
                 for (int k = 0; k < 3; ++k) s.back().rgb[k] = static_cast<float>(value[k]);
             }
             rad::RobustFitOptions options;
@@ -281,7 +260,7 @@ TEST(RobustRadianceFit, RecoversHarmonicFunctionOnTheHemisphere) {
             std::vector<DirectionalSample> s;
             for (int j = 0; j < 600; ++j) {
                 s.push_back(makeSample(randomUpper(rng, frame), Vector3d::Zero(), 1.0));
-                const Vector3d value = harmonicValue(basis, truth, dirOf(s.back()).normalized());
+                const Vector3d value = radtest::harmonicValue(basis, truth, dirOf(s.back()).normalized());
                 for (int k = 0; k < 3; ++k) s.back().rgb[k] = static_cast<float>(value[k]);
             }
             rad::RobustFitOptions options;
@@ -295,7 +274,7 @@ TEST(RobustRadianceFit, RecoversHarmonicFunctionOnTheHemisphere) {
             double worst = 0;
             for (int i = 0; i < 500; ++i) {
                 const Vector3d w = randomUpper(rng, frame);
-                worst = std::max(worst, (rad::evaluateRadiance(f.field, 0, w) - harmonicValue(basis, truth, w)).norm());
+                worst = std::max(worst, (rad::evaluateRadiance(f.field, 0, w) - radtest::harmonicValue(basis, truth, w)).norm());
             }
             EXPECT_LT(worst, 2e-4);
             // ... and, a band-limited function being determined by its values on an open set, the

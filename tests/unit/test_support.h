@@ -4,8 +4,17 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "geometry/triangle_mesh.h"
+#include "radiance/basis.h"
+#include "radiance/radiance_frame.h"
+
 #include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <iterator>
 #include <random>
+#include <string>
+#include <vector>
 
 namespace radtest {
 
@@ -38,6 +47,75 @@ double bruteHemisphere(const Eigen::Vector3d& n, int thetaSteps, int phiSteps, G
         sum += ring * st;
     }
     return sum * dt * dp / (2 * pi);
+}
+
+// Moller-Trumbore against every face, no acceleration structure (an oracle for the Embree-based
+// visibility): is anything hit by o + t d for t in [tNear, tFar]?
+inline bool bruteOccluded(const rad::TriangleMesh& mesh, const Eigen::Vector3d& o, const Eigen::Vector3d& d, double tNear, double tFar) {
+    for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
+        Eigen::Vector3d p[3];
+        for (int k = 0; k < 3; ++k) {
+            const float* q = mesh.positions.data() + 3 * mesh.faces[3 * f + k];
+            p[k] = Eigen::Vector3d(q[0], q[1], q[2]);
+        }
+        const Eigen::Vector3d e1 = p[1] - p[0], e2 = p[2] - p[0], h = d.cross(e2);
+        const double det = e1.dot(h);
+        if (std::abs(det) < 1e-14) continue;
+        const Eigen::Vector3d s = o - p[0];
+        const double a = s.dot(h) / det;
+        if (a < 0 || a > 1) continue;
+        const Eigen::Vector3d q = s.cross(e1);
+        const double b = d.dot(q) / det;
+        if (b < 0 || a + b > 1) continue;
+        const double t = e2.dot(q) / det;
+        if (t >= tNear && t <= tFar) return true;
+    }
+    return false;
+}
+
+// Appends the square [x0, x1] x [y0, y1] at height z, normals +z, counter-clockwise from above.
+inline void addQuad(rad::TriangleMesh& m, float x0, float x1, float y0, float y1, float z) {
+    const auto base = static_cast<std::uint32_t>(m.vertexCount());
+    const float corners[4][2] = {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
+    for (const auto& c : corners) {
+        m.positions.insert(m.positions.end(), {c[0], c[1], z});
+        m.normals.insert(m.normals.end(), {0.0f, 0.0f, 1.0f});
+    }
+    m.faces.insert(m.faces.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+}
+
+// Whole files as bytes (for tests that truncate or corrupt files).
+inline std::vector<char> readBytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::vector<char>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+inline void writeBytes(const std::string& path, const std::vector<char>& bytes) {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(bytes.data(), std::streamsize(bytes.size()));
+}
+
+// Independent PB function: sum c_ij u^i v^j with (u, v) = (t.w, (n x t).w), std::pow (not the
+// basis code under test). c: 3 channel-major blocks of K coefficients.
+inline Eigen::Vector3d polynomialValue(const rad::BasisSpec& basis, const std::vector<double>& c, const rad::Frame& f,
+                                       const Eigen::Vector3d& w) {
+    const double u = f.t.dot(w), v = f.n.cross(f.t).dot(w);
+    const int K = basis.coefficientCount();
+    Eigen::Vector3d out = Eigen::Vector3d::Zero();
+    for (int ch = 0; ch < 3; ++ch)
+        for (int i = 0; i <= basis.degree; ++i)
+            for (int j = 0; i + j <= basis.degree; ++j)
+                out[ch] += c[ch * K + rad::polynomialIndex(i, j)] * std::pow(u, i) * std::pow(v, j);
+    return out;
+}
+
+// SH function through evaluateBasis (the SH evaluation is tested in spherical_harmonics_test).
+inline Eigen::Vector3d harmonicValue(const rad::BasisSpec& basis, const std::vector<double>& c, const Eigen::Vector3d& w) {
+    std::vector<double> y(basis.coefficientCount());
+    rad::evaluateBasis(basis, w.x(), w.y(), w.z(), y.data());
+    Eigen::Vector3d out = Eigen::Vector3d::Zero();
+    for (int ch = 0; ch < 3; ++ch)
+        for (int k = 0; k < basis.coefficientCount(); ++k) out[ch] += c[ch * basis.coefficientCount() + k] * y[k];
+    return out;
 }
 
 }  // namespace radtest

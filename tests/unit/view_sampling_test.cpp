@@ -8,6 +8,8 @@
 #include "geometry/triangle_mesh.h"
 #include "image/rgb_image.h"
 
+#include "test_support.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -78,29 +80,6 @@ Vector3d bilinear(const rad::Image8& image, double u, double v) {
     return out;
 }
 
-// Moller-Trumbore against every face: is anything hit for t in [tNear, tFar]?
-bool bruteOccluded(const rad::TriangleMesh& mesh, const Vector3d& o, const Vector3d& d, double tNear, double tFar) {
-    for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
-        Vector3d p[3];
-        for (int k = 0; k < 3; ++k) {
-            const float* q = mesh.positions.data() + 3 * mesh.faces[3 * f + k];
-            p[k] = Vector3d(q[0], q[1], q[2]);
-        }
-        const Vector3d e1 = p[1] - p[0], e2 = p[2] - p[0], h = d.cross(e2);
-        const double det = e1.dot(h);
-        if (std::abs(det) < 1e-14) continue;
-        const Vector3d s = o - p[0];
-        const double a = s.dot(h) / det;
-        if (a < 0 || a > 1) continue;
-        const Vector3d q = s.cross(e1);
-        const double b = d.dot(q) / det;
-        if (b < 0 || a + b > 1) continue;
-        const double t = e2.dot(q) / det;
-        if (t >= tNear && t <= tFar) return true;
-    }
-    return false;
-}
-
 struct Expected {
     bool sampled = false;
     bool facing = false, inFront = false, inFrame = false, occluded = false;
@@ -121,7 +100,7 @@ Expected oracle(const rad::TriangleMesh& mesh, std::size_t v, const rad::Pinhole
     e.inFront = xc.z() > 0;
     const double u = cam.fx * xc.x() / xc.z() + cam.cx, vv = cam.fy * xc.y() / xc.z() + cam.cy;
     e.inFrame = e.inFront && u >= margin && vv >= margin && u <= cam.width - margin && vv <= cam.height - margin;
-    e.occluded = occlusion && bruteOccluded(mesh, X, e.direction, tolerance, dist - tolerance);
+    e.occluded = occlusion && radtest::bruteOccluded(mesh, X, e.direction, tolerance, dist - tolerance);
     e.sampled = e.facing && e.inFrame && !e.occluded;
     if (e.sampled) e.rgb = bilinear(image, u, vv);
     return e;

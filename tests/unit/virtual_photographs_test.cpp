@@ -6,6 +6,8 @@
 
 #include "image/image_io.h"
 
+#include "test_support.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -18,16 +20,6 @@ using Eigen::Vector3d;
 using rad::Rgb;
 
 constexpr double kPi = 3.14159265358979323846;
-
-void addQuad(rad::TriangleMesh& m, float x0, float x1, float y0, float y1, float z) {
-    const auto base = static_cast<std::uint32_t>(m.vertexCount());
-    const float corners[4][2] = {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
-    for (const auto& c : corners) {
-        m.positions.insert(m.positions.end(), {c[0], c[1], z});
-        m.normals.insert(m.normals.end(), {0.0f, 0.0f, 1.0f});
-    }
-    m.faces.insert(m.faces.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
-}
 
 struct HeadOn {
     rad::AnalyticMaterial material;
@@ -76,7 +68,7 @@ rad::VirtualSceneOptions noVariation() {
 TEST(VirtualPhotographs, FlatQuadHeadOnMatchesClosedFormShading) {
     const HeadOn s;
     rad::TriangleMesh quad;
-    addQuad(quad, -1, 1, -1, 1, 0);
+    radtest::addQuad(quad, -1, 1, -1, 1, 0);
     const rad::VirtualScene scene(quad, s.material, s.lighting, noVariation());
     rad::PhotographOptions o;
     o.supersampling = 1;
@@ -105,7 +97,7 @@ TEST(VirtualPhotographs, FlatQuadHeadOnMatchesClosedFormShading) {
 TEST(VirtualPhotographs, SupersamplingAveragesSubPixelCentres) {
     const HeadOn s;
     rad::TriangleMesh quad;
-    addQuad(quad, -1, 1, -1, 1, 0);
+    radtest::addQuad(quad, -1, 1, -1, 1, 0);
     const rad::VirtualScene scene(quad, s.material, s.lighting, noVariation());
     rad::PhotographOptions o;
     o.supersampling = 3;
@@ -122,7 +114,7 @@ TEST(VirtualPhotographs, SupersamplingAveragesSubPixelCentres) {
 TEST(VirtualPhotographs, SilhouettesAreAntialiased) {
     const HeadOn s;
     rad::TriangleMesh quad;
-    addQuad(quad, -1, 1, -1, 1, 0);
+    radtest::addQuad(quad, -1, 1, -1, 1, 0);
     const rad::VirtualScene scene(quad, s.material, s.lighting, noVariation());
     rad::PhotographOptions o;
     o.supersampling = 4;
@@ -147,8 +139,8 @@ TEST(VirtualPhotographs, CastShadowsAppearInThePhotograph) {
     HeadOn s;
     s.lighting.directional[0].direction = Vector3d(0, 0, 1);
     rad::TriangleMesh scene2;
-    addQuad(scene2, -1, 1, -1, 1, 0);
-    addQuad(scene2, -0.2f, 0.2f, -0.2f, 0.2f, 1.0f);  // blocker between camera and ground, lit from above
+    radtest::addQuad(scene2, -1, 1, -1, 1, 0);
+    radtest::addQuad(scene2, -0.2f, 0.2f, -0.2f, 0.2f, 1.0f);  // blocker between camera and ground, lit from above
     const rad::VirtualScene scene(scene2, s.material, s.lighting, noVariation());
     rad::PhotographOptions o;
     o.supersampling = 1;
@@ -174,7 +166,7 @@ TEST(VirtualPhotographs, CastShadowsAppearInThePhotograph) {
 TEST(VirtualPhotographs, PngIsTheSrgbEncoding) {
     const HeadOn s;
     rad::TriangleMesh quad;
-    addQuad(quad, -1, 1, -1, 1, 0);
+    radtest::addQuad(quad, -1, 1, -1, 1, 0);
     const rad::VirtualScene scene(quad, s.material, s.lighting, noVariation());
     const rad::ImageF img = rad::renderPhotograph(scene, s.camera);
     const std::string path = std::string(RADIANCE_TEST_TMPDIR) + "/virtual_photograph_test.png";
@@ -190,7 +182,7 @@ TEST(VirtualPhotographs, PngIsTheSrgbEncoding) {
 TEST(VirtualPhotographs, RefusesBadCameraAndOptions) {
     const HeadOn s;
     rad::TriangleMesh quad;
-    addQuad(quad, -1, 1, -1, 1, 0);
+    radtest::addQuad(quad, -1, 1, -1, 1, 0);
     const rad::VirtualScene scene(quad, s.material, s.lighting, noVariation());
     rad::PinholeCamera bad = s.camera;
     bad.fx = 0.0;

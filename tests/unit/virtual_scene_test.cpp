@@ -4,6 +4,8 @@
 
 #include "geometry/primitive_meshes.h"
 
+#include "test_support.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -17,22 +19,11 @@ using rad::Rgb;
 
 constexpr double kPi = 3.14159265358979323846;
 
-// Appends the square [x0, x1] x [y0, y1] at height z, normals +z, counter-clockwise from above.
-void addQuad(rad::TriangleMesh& m, float x0, float x1, float y0, float y1, float z) {
-    const auto base = static_cast<std::uint32_t>(m.vertexCount());
-    const float corners[4][2] = {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
-    for (const auto& c : corners) {
-        m.positions.insert(m.positions.end(), {c[0], c[1], z});
-        m.normals.insert(m.normals.end(), {0.0f, 0.0f, 1.0f});
-    }
-    m.faces.insert(m.faces.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
-}
-
 // A ground square [-1, 1]^2 at z = 0 under a blocker [-0.3, 0.3]^2 at z = 0.5.
 rad::TriangleMesh groundAndBlocker() {
     rad::TriangleMesh m;
-    addQuad(m, -1, 1, -1, 1, 0);
-    addQuad(m, -0.3f, 0.3f, -0.3f, 0.3f, 0.5f);
+    radtest::addQuad(m, -1, 1, -1, 1, 0);
+    radtest::addQuad(m, -0.3f, 0.3f, -0.3f, 0.3f, 0.5f);
     return m;
 }
 
@@ -192,7 +183,7 @@ TEST(VirtualScene, ComputesNormalsWhenMissingAndRefusesBadInput) {
     rad::AnalyticLighting light;
     light.directional.push_back({Vector3d(0, 0, 1), Rgb::Ones()});
     rad::TriangleMesh quad;
-    addQuad(quad, -1, 1, -1, 1, 0);
+    radtest::addQuad(quad, -1, 1, -1, 1, 0);
     quad.normals.clear();
     const rad::VirtualScene scene(quad, glossy(), light, plain());
     for (std::size_t v = 0; v < 4; ++v) EXPECT_FLOAT_EQ(scene.mesh().normals[3 * v + 2], 1.0f);
@@ -200,11 +191,11 @@ TEST(VirtualScene, ComputesNormalsWhenMissingAndRefusesBadInput) {
     rad::TriangleMesh empty;
     EXPECT_THROW(rad::VirtualScene(empty, glossy(), light), rad::VirtualSceneError);
     rad::TriangleMesh zeroNormal;
-    addQuad(zeroNormal, -1, 1, -1, 1, 0);
+    radtest::addQuad(zeroNormal, -1, 1, -1, 1, 0);
     zeroNormal.normals[0] = zeroNormal.normals[1] = zeroNormal.normals[2] = 0.0f;
     EXPECT_THROW(rad::VirtualScene(zeroNormal, glossy(), light), rad::VirtualSceneError);
     rad::TriangleMesh badIndex;
-    addQuad(badIndex, -1, 1, -1, 1, 0);
+    radtest::addQuad(badIndex, -1, 1, -1, 1, 0);
     badIndex.faces[0] = 99;
     EXPECT_THROW(rad::VirtualScene(badIndex, glossy(), light), rad::VirtualSceneError);
     rad::AnalyticLighting zeroDirection;
