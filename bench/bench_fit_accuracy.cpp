@@ -160,8 +160,10 @@ int main(int argc, char** argv) {
             for (long long v = 0; v < (long long)mesh.vertexCount(); ++v) {
                 const std::size_t count = sampler.sampleVertex(v, samples.data());
                 if (count == 0) continue;
+                // The vertex's RF and frame once; every direction below reuses them.
                 const VertexRadiance rf = vertexRadiance(fit.field, v);
                 const Frame& frame = rf.frame;
+                double scratch[3 * kMaxCoefficientsPerChannel];
                 const Eigen::Vector3d p(scene.mesh().positions[3 * v], scene.mesh().positions[3 * v + 1],
                                         scene.mesh().positions[3 * v + 2]);
                 for (std::size_t s = 0; s < count; ++s) {
@@ -170,12 +172,11 @@ int main(int argc, char** argv) {
                     const Eigen::Vector3d truth = scene.radiance(p, frame.n, w);
                     sumPhotoErr += (seen - truth).squaredNorm();
                     sumPhotoTruth += truth.squaredNorm();
-                    sumResidual += (evaluateRadiance(fit.field, v, w) - seen).squaredNorm();
+                    sumResidual += (evaluateRadiance(rf, w, scratch) - seen).squaredNorm();
                 }
                 projector.project(frame, [&](const Eigen::Vector3d& w) { return scene.radiance(p, frame.n, w); },
                                   best.data());
                 const VertexRadianceT<double> bestRf{basis.value(), best.data(), frame, false};
-                double scratch[3 * kMaxCoefficientsPerChannel];
                 for (const Eigen::Vector3d& local : dense) {
                     const Eigen::Vector3d w = frame.toWorld(local);
                     bool observed = false;
@@ -184,7 +185,7 @@ int main(int argc, char** argv) {
                                                          samples[s].direction[2])) >= cosCover;
                     if (!observed) continue;
                     const Eigen::Vector3d truth = scene.radiance(p, frame.n, w);
-                    const Eigen::Vector3d got = evaluateRadiance(fit.field, v, w);
+                    const Eigen::Vector3d got = evaluateRadiance(rf, w, scratch);
                     sumErr += (got - truth).squaredNorm();
                     sumProjErr += (evaluateRadiance(bestRf, w, scratch) - truth).squaredNorm();
                     sumTruth += truth.squaredNorm();
@@ -250,9 +251,10 @@ int main(int argc, char** argv) {
                         hi[c] = std::max(hi[c], double(samples[s].rgb[c]));
                     }
                 const VertexRadiance rf = vertexRadiance(fewFit.field, v);
+                double scratch[3 * kMaxCoefficientsPerChannel];
                 double excess = 0.0;
                 for (const Eigen::Vector3d& local : dense) {
-                    const Eigen::Vector3d value = evaluateRadiance(fewFit.field, v, rf.frame.toWorld(local));
+                    const Eigen::Vector3d value = evaluateRadiance(rf, rf.frame.toWorld(local), scratch);
                     for (int c = 0; c < 3; ++c) {
                         const double range = std::max(hi[c] - lo[c], 1e-6);
                         excess = std::max(excess, std::max(lo[c] - value[c], value[c] - hi[c]) / range);
