@@ -1,0 +1,136 @@
+#include "simplify/collapse_mesh.h"
+
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+
+namespace rad {
+
+CollapseMesh::CollapseMesh(const float* positions, std::size_t vertexCount, const std::uint32_t* faces,
+                           std::size_t faceCount)
+    : positions_(positions, positions + 3 * vertexCount),
+      faces_(faces, faces + 3 * faceCount),
+      faceAlive_(faceCount, 1),
+      vertexAlive_(vertexCount, 1),
+      vertexFaces_(vertexCount),
+      aliveFaces_(faceCount),
+      aliveVertices_(vertexCount) {
+    std::vector<std::uint32_t> valence(vertexCount, 0);
+    for (std::size_t f = 0; f < faceCount; ++f) {
+        const std::uint32_t* t = faces + 3 * f;
+        for (int k = 0; k < 3; ++k) {
+            if (t[k] >= vertexCount)
+                throw std::invalid_argument("face " + std::to_string(f) + " refers to vertex " + std::to_string(t[k]) +
+                                            " of a mesh with " + std::to_string(vertexCount) + " vertices");
+        }
+        if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2])
+            throw std::invalid_argument("face " + std::to_string(f) + " repeats a vertex");
+        for (int k = 0; k < 3; ++k) ++valence[t[k]];
+    }
+    for (std::size_t v = 0; v < vertexCount; ++v) vertexFaces_[v].reserve(valence[v]);
+    for (std::size_t f = 0; f < faceCount; ++f)
+        for (int k = 0; k < 3; ++k) vertexFaces_[faces[3 * f + k]].push_back(static_cast<std::uint32_t>(f));
+}
+
+void CollapseMesh::setPosition(std::uint32_t v, const Eigen::Vector3d& p) {
+    positions_[3 * v] = p.x();
+    positions_[3 * v + 1] = p.y();
+    positions_[3 * v + 2] = p.z();
+}
+
+void CollapseMesh::star(std::uint32_t v, std::vector<StarFace>& out) const {
+    out.clear();
+    for (std::uint32_t f : vertexFaces_[v]) {
+        const std::uint32_t* t = face(f);
+        if (t[0] == v) out.push_back({t[1], t[2]});
+        else if (t[1] == v) out.push_back({t[2], t[0]});
+        else out.push_back({t[0], t[1]});
+    }
+}
+
+void CollapseMesh::neighbours(std::uint32_t v, std::vector<std::uint32_t>& out) const {
+    out.clear();
+    for (std::uint32_t f : vertexFaces_[v]) {
+        const std::uint32_t* t = face(f);
+        for (int k = 0; k < 3; ++k) {
+            if (t[k] != v && std::find(out.begin(), out.end(), t[k]) == out.end()) out.push_back(t[k]);
+        }
+    }
+}
+
+int CollapseMesh::edgeFaceCount(std::uint32_t u, std::uint32_t v) const {
+    int count = 0;
+    for (std::uint32_t f : vertexFaces_[u]) {
+        const std::uint32_t* t = face(f);
+        if (t[0] == v || t[1] == v || t[2] == v) ++count;
+    }
+    return count;
+}
+
+bool CollapseMesh::onBoundary(std::uint32_t v) const {
+    // Every edge (v, u) of a closed manifold star appears in exactly two faces: once as the 'a'
+    // and once as the 'b' of a StarFace. Count occurrences per neighbour.
+    const auto& fs = vertexFaces_[v];
+    for (std::uint32_t f : fs) {
+        const std::uint32_t* t = face(f);
+        for (int k = 0; k < 3; ++k) {
+            if (t[k] == v) continue;
+            if (edgeFaceCount(v, t[k]) != 2) return true;
+        }
+    }
+    return false;
+}
+
+void CollapseMesh::collapse(std::uint32_t v0, std::uint32_t v1, std::vector<std::uint32_t>* killedFaces) {
+    auto& faces0 = vertexFaces_[v0];
+    auto& faces1 = vertexFaces_[v1];
+    for (std::uint32_t f : faces0) {
+        std::uint32_t* t = faces_.data() + 3 * f;
+        const bool hasV1 = t[0] == v1 || t[1] == v1 || t[2] == v1;
+        if (hasV1) {
+            // The face dies: detach it from its other vertices.
+            faceAlive_[f] = 0;
+            --aliveFaces_;
+            if (killedFaces) killedFaces->push_back(f);
+            for (int k = 0; k < 3; ++k) {
+                if (t[k] == v0) continue;
+                auto& list = vertexFaces_[t[k]];
+                auto it = std::find(list.begin(), list.end(), f);
+                if (it != list.end()) {
+                    *it = list.back();
+                    list.pop_back();
+                }
+            }
+        } else {
+            for (int k = 0; k < 3; ++k)
+                if (t[k] == v0) t[k] = v1;
+            faces1.push_back(f);
+        }
+    }
+    faces0.clear();
+    faces0.shrink_to_fit();
+    vertexAlive_[v0] = 0;
+    --aliveVertices_;
+}
+
+void CollapseMesh::compact(std::vector<float>& positions, std::vector<std::uint32_t>& faces,
+                           std::vector<std::uint32_t>& vertexMap) const {
+    const std::size_t nv = vertexCount();
+    vertexMap.assign(nv, std::numeric_limits<std::uint32_t>::max());
+    positions.clear();
+    positions.reserve(3 * aliveVertices_);
+    std::uint32_t next = 0;
+    for (std::size_t v = 0; v < nv; ++v) {
+        if (!vertexAlive_[v]) continue;
+        vertexMap[v] = next++;
+        for (int k = 0; k < 3; ++k) positions.push_back(static_cast<float>(positions_[3 * v + k]));
+    }
+    faces.clear();
+    faces.reserve(3 * aliveFaces_);
+    for (std::size_t f = 0; f < faceCount(); ++f) {
+        if (!faceAlive_[f]) continue;
+        for (int k = 0; k < 3; ++k) faces.push_back(vertexMap[faces_[3 * f + k]]);
+    }
+}
+
+}  // namespace rad

@@ -1,0 +1,65 @@
+// The pluggable pricing modules of the edge-collapse engine (edge_collapse.h), in the spirit of
+// OpenMesh's Decimater modules and CGoGN's Selector/Approximator split: the engine owns the
+// connectivity, the queue and the validity checks; a metric prices collapses and keeps its own
+// per-vertex attributes up to date after each collapse.
+//
+// Two kinds of collapse (paper 000, Vanhoey et al. 2015, sec. 4.1 and 4.3):
+//  - half-edge collapse v0 -> v1: v0 disappears, v1 keeps its position and attributes; the faces of
+//    v0's star that do not contain v1 become (v1, a, b);
+//  - full edge collapse (v0, v1) -> v: the survivor (slot v1) moves to `position` (QEM-optimal,
+//    projected on the edge at parameter s for the attributes), attributes are set by the metric.
+//
+// Threading: price*() is called concurrently from several threads (different sources/edges), never
+// concurrently with onCollapse(). Metrics keep their scratch buffers per thread (thread_local).
+#pragma once
+
+#include "simplify/collapse_mesh.h"
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <string>
+
+namespace rad {
+
+struct HalfEdgeQuery {
+    std::uint32_t source = 0;         // v0, the vertex that disappears
+    const StarFace* star = nullptr;   // every alive face around v0: (v0, a, b) counter-clockwise
+    int starSize = 0;
+    const std::uint32_t* targets = nullptr;  // candidate v1, each a neighbour of v0
+    int targetCount = 0;
+};
+
+struct EdgeQuery {
+    std::uint32_t v0 = 0, v1 = 0;     // v1 is the slot that survives
+    const StarFace* star0 = nullptr;  // faces around v0 that do NOT contain v1, (v0, a, b) CCW
+    int star0Size = 0;
+    const StarFace* star1 = nullptr;  // faces around v1 that do NOT contain v0, (v1, a, b) CCW
+    int star1Size = 0;
+    Eigen::Vector3d position;         // where the new vertex goes
+    double s = 0.5;                   // parameter of position's projection on p0 + s (p1 - p0), clamped to [0, 1]
+};
+
+class CollapseMetric {
+public:
+    virtual ~CollapseMetric() = default;
+    virtual std::string name() const = 0;
+
+    // costs[i] = error of the half-edge collapse source -> targets[i], >= 0 (or +infinity to
+    // forbid). The mesh is in its pre-collapse state.
+    virtual void priceHalfEdges(const CollapseMesh& mesh, const HalfEdgeQuery& query, double* costs) const = 0;
+
+    // Full collapse; empty `why` when supported. Default: not supported.
+    virtual bool supportsFullCollapse(std::string& why) const {
+        why = name() + " prices half-edge collapses only";
+        return false;
+    }
+    virtual double priceEdge(const CollapseMesh& mesh, const EdgeQuery& query) const { return 0.0; }
+
+    // Called after the engine applied a collapse (mesh already in its post-collapse state; for a
+    // full collapse the survivor v1 is at query.position). Half-edge: query.s == 1 and
+    // position == p1. Metrics that own attributes update the survivor's here.
+    virtual void onCollapse(const CollapseMesh& mesh, const EdgeQuery& query) {}
+};
+
+}  // namespace rad
