@@ -41,6 +41,7 @@
 #include <vector>
 
 #include "command_line.h"
+#include "scene_setup.h"
 
 namespace {
 
@@ -48,6 +49,8 @@ using radtools::UsageError;
 using radtools::toInt;
 using radtools::toNumber;
 using radtools::numberList;
+using radtools::loadMesh;
+using radtools::parseAxis;
 
 void usage(std::ostream& out) {
     out << "usage: virtual_acquisition MESH.{off,ply} -o OUTDIR [options]\n"
@@ -76,36 +79,6 @@ void usage(std::ostream& out) {
 }
 
 
-
-Eigen::Vector3d parseAxis(const std::string& text) {
-    static const std::pair<const char*, Eigen::Vector3d> axes[] = {
-        {"x", Eigen::Vector3d::UnitX()},  {"y", Eigen::Vector3d::UnitY()},  {"z", Eigen::Vector3d::UnitZ()},
-        {"-x", -Eigen::Vector3d::UnitX()}, {"-y", -Eigen::Vector3d::UnitY()}, {"-z", -Eigen::Vector3d::UnitZ()}};
-    for (const auto& a : axes)
-        if (text == a.first) return a.second;
-    throw UsageError("--up needs x, y, z, -x, -y or -z, got '" + text + "'");
-}
-
-std::string lower(std::string s) {
-    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return s;
-}
-
-rad::TriangleMesh loadMesh(const std::string& path) {
-    const std::string ext = lower(std::filesystem::path(path).extension().string());
-    rad::TriangleMesh mesh;
-    if (ext == ".off") {
-        mesh = rad::readOff(path);
-    } else if (ext == ".ply" || ext == ".rply") {
-        rad::RadianceMesh rm = rad::readRadiancePly(path);
-        mesh.positions = std::move(rm.positions);
-        mesh.normals = std::move(rm.normals);
-        mesh.faces = std::move(rm.faces);
-    } else {
-        throw UsageError("the mesh must be an .off or a binary little-endian .ply file: " + path);
-    }
-    return mesh;
-}
 
 struct LightSpec {
     bool directional = true;
@@ -229,13 +202,9 @@ int run(int argc, char** argv) {
                 seconds(t0, tMesh));
 
     Eigen::AlignedBox3d box;
-    for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
-        box.extend(Eigen::Vector3d(mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]));
-    const Eigen::Vector3d centre = box.center();
     double radius = 0.0;  // bounding sphere around the box centre
-    for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
-        radius = std::max(radius, (Eigen::Vector3d(mesh.positions[3 * v], mesh.positions[3 * v + 1],
-                                                   mesh.positions[3 * v + 2]) - centre).norm());
+    radtools::meshBounds(mesh, box, radius);
+    const Eigen::Vector3d centre = box.center();
 
     rad::AnalyticLighting lighting;
     if (lightSpecs.empty()) {

@@ -1,0 +1,468 @@
+#include "simplify/edge_collapse.h"
+
+#include "simplify/quadric_error.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+
+namespace rad {
+
+std::string describe(StopReason reason) {
+    switch (reason) {
+        case StopReason::TargetReached: return "target reached";
+        case StopReason::MaxErrorReached: return "maximum error reached";
+        case StopReason::NoValidCollapse: return "no valid collapse left";
+        case StopReason::Cancelled: return "cancelled";
+    }
+    return "unknown";
+}
+
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+struct QueueEntry {
+    double cost;
+    std::uint32_t a, b;            // half-edge: a -> b; full: edge (a, b)
+    std::uint32_t stampA, stampB;  // versions of a and b when priced (stampB unused in half-edge mode)
+};
+
+// Min-heap on cost; ties by indices so runs are deterministic whatever the thread count.
+struct CostsMore {
+    bool operator()(const QueueEntry& x, const QueueEntry& y) const {
+        if (x.cost != y.cost) return x.cost > y.cost;
+        if (x.a != y.a) return x.a > y.a;
+        return x.b > y.b;
+    }
+};
+
+// Per-thread buffers of one pricing.
+struct Workspace {
+    std::vector<StarFace> star0, star1, star0WithoutV1, star1WithoutV0;
+    std::vector<std::uint32_t> neighbours0, neighbours1, targets, apexNeighbours;
+    std::vector<double> attributeCosts;
+    std::vector<std::pair<double, std::uint32_t>> order;
+};
+
+Workspace& workspace() {
+    thread_local Workspace w;
+    return w;
+}
+
+bool contains(const std::vector<std::uint32_t>& list, std::uint32_t v) {
+    return std::find(list.begin(), list.end(), v) != list.end();
+}
+
+// A vertex is inside a closed fan when every neighbour appears once as an 'a' and once as a 'b'.
+bool starIsOpen(const std::vector<StarFace>& star) {
+    for (const StarFace& f : star) {
+        int asB = 0, asA = 0;
+        for (const StarFace& g : star) {
+            asB += g.b == f.a;
+            asA += g.a == f.b;
+        }
+        if (asB != 1 || asA != 1) return true;
+    }
+    return false;
+}
+
+class Simplifier {
+public:
+    Simplifier(CollapseMesh& mesh, CollapseMetric* metric, const EdgeCollapseOptions& options)
+        : mesh_(mesh), metric_(metric), options_(options), version_(mesh.vertexCount(), 0) {
+        const double degrees = std::clamp(options.maxNormalDeviationDegrees, 0.0, 180.0);
+        minNormalCosine_ = std::cos(degrees * 3.14159265358979323846 / 180.0);
+        useMetric_ = metric_ != nullptr && options_.attributeWeight > 0.0;
+    }
+
+    EdgeCollapseResult run(const std::function<void(const CollapseStep&)>& onStep);
+
+private:
+    // --- validity -----------------------------------------------------------------------------
+    // Faces of `star` on the edge to v (the apexes are the other vertex of those faces).
+    static int edgeFaces(const std::vector<StarFace>& star, std::uint32_t v, std::uint32_t apex[2]) {
+        int n = 0;
+        for (const StarFace& f : star) {
+            if (f.a == v || f.b == v) {
+                if (n < 2) apex[n] = f.a == v ? f.b : f.a;
+                ++n;
+            }
+        }
+        return n;
+    }
+
+    bool linkConditionHolds(const std::vector<std::uint32_t>& n0, const std::vector<std::uint32_t>& n1,
+                            int edgeFaceCount) const {
+        int common = 0;
+        for (std::uint32_t u : n0)
+            if (contains(n1, u)) ++common;
+        return common == edgeFaceCount;
+    }
+
+    // Faces (v, a, b) of `star` not touching `other`, with v moved from `from` to `to`: each keeps
+    // its orientation within the allowed deviation and a non-degenerate shape.
+    bool noFlip(const std::vector<StarFace>& star, std::uint32_t other, const Eigen::Vector3d& from,
+                const Eigen::Vector3d& to) const {
+        for (const StarFace& f : star) {
+            if (f.a == other || f.b == other) continue;
+            const Eigen::Vector3d pa = mesh_.position(f.a), pb = mesh_.position(f.b);
+            const Eigen::Vector3d before = (pa - from).cross(pb - from);
+            const Eigen::Vector3d after = (pa - to).cross(pb - to);
+            const double lengthBefore = before.norm(), lengthAfter = after.norm();
+            const double scale = (pa - to).squaredNorm() + (pb - to).squaredNorm() + (pa - pb).squaredNorm();
+            if (!(lengthAfter > 1e-10 * scale)) return false;  // sliver or zero area after
+            if (lengthBefore > 0.0 && before.dot(after) < minNormalCosine_ * lengthBefore * lengthAfter) return false;
+        }
+        return true;
+    }
+
+    bool valenceAllowed(std::size_t newValence, const std::uint32_t* apex, int apexCount, Workspace& w) const {
+        if (options_.maxValence > 0 && newValence > static_cast<std::size_t>(options_.maxValence)) return false;
+        if (options_.minValence > 0) {
+            if (newValence < static_cast<std::size_t>(options_.minValence)) return false;
+            for (int i = 0; i < apexCount; ++i) {
+                mesh_.neighbours(apex[i], w.apexNeighbours);
+                if (w.apexNeighbours.size() - 1 < static_cast<std::size_t>(options_.minValence)) return false;
+            }
+        }
+        return true;
+    }
+
+    // Topological and geometric validity of v0 -> v1 (half-edge) or (v0, v1) -> position (full).
+    // Expects w.star0/w.neighbours0 of v0 filled; fills w.neighbours1 (and w.star1 when the
+    // boundary status or the flips of v1's faces matter).
+    bool collapseAllowed(std::uint32_t v0, std::uint32_t v1, bool open0, const Eigen::Vector3d& position,
+                         bool full, Workspace& w) const {
+        std::uint32_t apex[2];
+        const int edgeFaceCount = edgeFaces(w.star0, v1, apex);
+        if (edgeFaceCount < 1 || edgeFaceCount > 2) return false;
+        const bool needStar1 = full || !options_.preserveBoundary;
+        if (needStar1) {
+            mesh_.star(v1, w.star1);
+            const bool open1 = starIsOpen(w.star1);
+            if (options_.preserveBoundary ? (open0 || open1) : (open0 && open1 && edgeFaceCount != 1))
+                return false;  // boundary kept, or an interior edge between two boundary vertices would pinch
+        } else if (open0) {
+            return false;
+        }
+        mesh_.neighbours(v1, w.neighbours1);
+        if (!linkConditionHolds(w.neighbours0, w.neighbours1, edgeFaceCount)) return false;
+        // The edge part of the link condition: the only candidates are edges between the common
+        // neighbours, i.e. the two apexes. Joined apexes (a tetrahedron) would leave two faces on
+        // one edge pair with opposite orientations.
+        if (edgeFaceCount == 2 && mesh_.edgeFaceCount(apex[0], apex[1]) > 0) return false;
+        const std::size_t newValence = w.neighbours0.size() + w.neighbours1.size() - 2 - edgeFaceCount;
+        if (!valenceAllowed(newValence, apex, std::min(edgeFaceCount, 2), w)) return false;
+        const Eigen::Vector3d p0 = mesh_.position(v0), p1 = mesh_.position(v1);
+        if (!noFlip(w.star0, v1, p0, position)) return false;
+        if (full && !noFlip(w.star1, v0, p1, position)) return false;
+        return true;
+    }
+
+    // The distinct neighbours of v0 from its star (every 'a', plus the 'b's of an open fan).
+    static void neighboursFromStar(const std::vector<StarFace>& star, std::vector<std::uint32_t>& out) {
+        out.clear();
+        for (const StarFace& f : star) {
+            if (!contains(out, f.a)) out.push_back(f.a);
+            if (!contains(out, f.b)) out.push_back(f.b);
+        }
+    }
+
+    // --- pricing ------------------------------------------------------------------------------
+    // Half-edge mode: the cheapest valid collapse out of v0, or cost = +inf. Every target is priced
+    // (the metric prices them together), then validity is checked in order of increasing cost
+    // until one passes: usually the first.
+    QueueEntry priceSource(std::uint32_t v0) const {
+        QueueEntry best{kInfinity, v0, v0, version_[v0], 0};
+        if (!mesh_.vertexAlive(v0) || mesh_.incidentFaces(v0).empty()) return best;
+        Workspace& w = workspace();
+        mesh_.star(v0, w.star0);
+        const bool open0 = starIsOpen(w.star0);
+        if (open0 && options_.preserveBoundary) return best;
+        neighboursFromStar(w.star0, w.neighbours0);
+        w.targets = w.neighbours0;
+        const std::size_t n = w.targets.size();
+        w.attributeCosts.assign(n, 0.0);
+        if (useMetric_) {
+            HalfEdgeQuery query;
+            query.source = v0;
+            query.star = w.star0.data();
+            query.starSize = static_cast<int>(w.star0.size());
+            query.targets = w.targets.data();
+            query.targetCount = static_cast<int>(n);
+            metric_->priceHalfEdges(mesh_, query, w.attributeCosts.data());
+        }
+        const Quadric q = vertexQuadric(mesh_, v0);
+        w.order.resize(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            double cost = options_.geometryWeight * std::max(0.0, q.evaluate(mesh_.position(w.targets[i])));
+            if (useMetric_) cost += options_.attributeWeight * w.attributeCosts[i];
+            if (!(cost < kInfinity)) cost = kInfinity;  // NaN and overflow never win
+            w.order[i] = {cost, w.targets[i]};
+        }
+        std::sort(w.order.begin(), w.order.end());
+        for (const auto& [cost, v1] : w.order) {
+            if (cost == kInfinity) break;
+            if (collapseAllowed(v0, v1, open0, mesh_.position(v1), false, w)) {
+                best.cost = cost;
+                best.b = v1;
+                break;
+            }
+        }
+        return best;
+    }
+
+    struct Placement {
+        Eigen::Vector3d position;
+        double s;
+    };
+    Placement placeEdge(std::uint32_t v0, std::uint32_t v1) const {
+        Quadric q = vertexQuadric(mesh_, v0);
+        q += vertexQuadric(mesh_, v1);
+        const Eigen::Vector3d p0 = mesh_.position(v0), p1 = mesh_.position(v1);
+        const Eigen::Vector3d p = optimalPosition(q, p0, p1);
+        const double length2 = (p1 - p0).squaredNorm();
+        const double s = length2 > 0.0 ? std::clamp((p - p0).dot(p1 - p0) / length2, 0.0, 1.0) : 0.5;
+        return {p, s};
+    }
+
+    // Full mode: the cost of collapsing edge (v0, v1) into slot v1, +inf when not allowed.
+    QueueEntry priceEdge(std::uint32_t v0, std::uint32_t v1) const {
+        QueueEntry entry{kInfinity, v0, v1, version_[v0], version_[v1]};
+        if (!mesh_.vertexAlive(v0) || !mesh_.vertexAlive(v1)) return entry;
+        Workspace& w = workspace();
+        mesh_.star(v0, w.star0);
+        neighboursFromStar(w.star0, w.neighbours0);
+        const bool open0 = starIsOpen(w.star0);
+        const Placement place = placeEdge(v0, v1);
+        if (!collapseAllowed(v0, v1, open0, place.position, true, w)) return entry;
+        Quadric q = vertexQuadric(mesh_, v0);
+        q += vertexQuadric(mesh_, v1);
+        double cost = options_.geometryWeight * std::max(0.0, q.evaluate(place.position));
+        if (useMetric_) {
+            EdgeQuery query = edgeQuery(v0, v1, place, w);
+            cost += options_.attributeWeight * metric_->priceEdge(mesh_, query);
+        }
+        entry.cost = std::isfinite(cost) ? cost : kInfinity;
+        return entry;
+    }
+
+    EdgeQuery edgeQuery(std::uint32_t v0, std::uint32_t v1, const Placement& place, Workspace& w) const {
+        w.star0WithoutV1.clear();
+        for (const StarFace& f : w.star0)
+            if (f.a != v1 && f.b != v1) w.star0WithoutV1.push_back(f);
+        w.star1WithoutV0.clear();
+        for (const StarFace& f : w.star1)
+            if (f.a != v0 && f.b != v0) w.star1WithoutV0.push_back(f);
+        EdgeQuery query;
+        query.v0 = v0;
+        query.v1 = v1;
+        query.star0 = w.star0WithoutV1.data();
+        query.star0Size = static_cast<int>(w.star0WithoutV1.size());
+        query.star1 = w.star1WithoutV0.data();
+        query.star1Size = static_cast<int>(w.star1WithoutV0.size());
+        query.position = place.position;
+        query.s = place.s;
+        return query;
+    }
+
+    // Whether a popped, non-stale entry is still a valid collapse (validity can change without the
+    // source's star changing: the target's link or an apex's valence).
+    bool stillAllowed(const QueueEntry& e) const {
+        Workspace& w = workspace();
+        if (!mesh_.vertexAlive(e.a) || !mesh_.vertexAlive(e.b)) return false;
+        mesh_.star(e.a, w.star0);
+        neighboursFromStar(w.star0, w.neighbours0);
+        if (!contains(w.neighbours0, e.b)) return false;
+        const bool open0 = starIsOpen(w.star0);
+        if (options_.kind == CollapseKind::HalfEdge) return collapseAllowed(e.a, e.b, open0, mesh_.position(e.b), false, w);
+        return collapseAllowed(e.a, e.b, open0, placeEdge(e.a, e.b).position, true, w);
+    }
+
+    bool stale(const QueueEntry& e) const {
+        if (e.stampA != version_[e.a]) return true;
+        return options_.kind == CollapseKind::Full && e.stampB != version_[e.b];
+    }
+
+    void push(const QueueEntry& e) {
+        if (e.cost == kInfinity) return;
+        heap_.push_back(e);
+        std::push_heap(heap_.begin(), heap_.end(), CostsMore());
+    }
+
+    // Geometry-only pricing of a handful of vertices costs less than waking the thread team; the
+    // initial pricing of the whole mesh and attribute metrics (eq. 7 integrates over a hemisphere
+    // per vertex) are worth it.
+    bool parallelWorth(long n) const { return n > 256 || (useMetric_ && n > 2); }
+
+    // Prices `vertices` (half-edge) or every edge incident to them (full) in parallel, pushes.
+    void reprice(const std::vector<std::uint32_t>& vertices);
+
+    CollapseMesh& mesh_;
+    CollapseMetric* metric_;
+    EdgeCollapseOptions options_;
+    std::vector<std::uint32_t> version_;
+    std::vector<QueueEntry> heap_;
+    std::vector<QueueEntry> priced_;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> edges_;
+    std::vector<std::uint32_t> around_;
+    double minNormalCosine_ = 0.0;
+    bool useMetric_ = false;
+    std::size_t pricings_ = 0;
+};
+
+void Simplifier::reprice(const std::vector<std::uint32_t>& vertices) {
+    const int threads = options_.threads > 0 ? options_.threads : omp_get_max_threads();
+    if (options_.kind == CollapseKind::HalfEdge) {
+        priced_.resize(vertices.size());
+        const long n = static_cast<long>(vertices.size());
+#pragma omp parallel for schedule(dynamic, 4) num_threads(threads) if (parallelWorth(n))
+        for (long i = 0; i < n; ++i) priced_[i] = priceSource(vertices[i]);
+        pricings_ += vertices.size();
+    } else {
+        edges_.clear();
+        std::vector<std::uint32_t>& around = around_;
+        for (std::uint32_t v : vertices) {
+            if (!mesh_.vertexAlive(v)) continue;
+            mesh_.neighbours(v, around);
+            for (std::uint32_t u : around) edges_.emplace_back(std::min(u, v), std::max(u, v));
+        }
+        std::sort(edges_.begin(), edges_.end());
+        edges_.erase(std::unique(edges_.begin(), edges_.end()), edges_.end());
+        priced_.resize(edges_.size());
+        const long n = static_cast<long>(edges_.size());
+        // Which end survives: the slot with the larger index, so that the choice is stable.
+#pragma omp parallel for schedule(dynamic, 4) num_threads(threads) if (parallelWorth(n))
+        for (long i = 0; i < n; ++i) priced_[i] = priceEdge(edges_[i].first, edges_[i].second);
+        pricings_ += edges_.size();
+    }
+    for (const QueueEntry& e : priced_) push(e);
+}
+
+EdgeCollapseResult Simplifier::run(const std::function<void(const CollapseStep&)>& onStep) {
+    EdgeCollapseResult result;
+    const std::size_t startFaces = mesh_.aliveFaceCount();
+    const std::size_t target = options_.targetFaceCount;
+    result.stop = StopReason::TargetReached;
+    if (startFaces <= target) {
+        result.finalFaceCount = startFaces;
+        result.finalVertexCount = mesh_.aliveVertexCount();
+        return result;
+    }
+
+    std::vector<std::uint32_t> all(mesh_.vertexCount());
+    for (std::size_t v = 0; v < all.size(); ++v) all[v] = static_cast<std::uint32_t>(v);
+    heap_.clear();
+    heap_.reserve(options_.kind == CollapseKind::HalfEdge ? all.size() : 3 * all.size());
+    reprice(all);
+
+    const double work = static_cast<double>(startFaces - target);
+    std::size_t nextReport = 0;
+    const std::size_t reportStep = std::max<std::size_t>(1, static_cast<std::size_t>(work / 100.0));
+    std::vector<std::uint32_t> affected;
+    std::vector<std::uint32_t> ring;
+
+    while (mesh_.aliveFaceCount() > target) {
+        if (heap_.empty()) {
+            result.stop = StopReason::NoValidCollapse;
+            break;
+        }
+        std::pop_heap(heap_.begin(), heap_.end(), CostsMore());
+        const QueueEntry top = heap_.back();
+        heap_.pop_back();
+        if (stale(top)) {
+            ++result.staleEntries;
+            continue;
+        }
+        if (!stillAllowed(top)) {
+            ++result.staleEntries;
+            if (options_.kind == CollapseKind::HalfEdge) {
+                ++version_[top.a];  // the old entry is dead; price the source again
+                push(priceSource(top.a));
+                ++pricings_;
+            }
+            continue;
+        }
+        if (top.cost > options_.maxError) {
+            result.stop = StopReason::MaxErrorReached;
+            break;
+        }
+
+        const std::uint32_t v0 = top.a, v1 = top.b;
+        // Half-edge: only v1 and the neighbours of v0 see their star change (v1 does not move, so
+        // the faces of v1's other neighbours are untouched). Full: v1 moves, its whole new ring.
+        if (options_.kind == CollapseKind::HalfEdge) mesh_.neighbours(v0, ring);
+        EdgeQuery applied;
+        applied.v0 = v0;
+        applied.v1 = v1;
+        if (options_.kind == CollapseKind::HalfEdge) {
+            applied.position = mesh_.position(v1);
+            applied.s = 1.0;
+            mesh_.collapse(v0, v1);
+        } else {
+            Workspace& w = workspace();
+            const Placement place = placeEdge(v0, v1);
+            mesh_.star(v0, w.star0);
+            mesh_.star(v1, w.star1);
+            applied = edgeQuery(v0, v1, place, w);
+            mesh_.setPosition(v1, place.position);
+            mesh_.collapse(v0, v1);
+        }
+        if (metric_) metric_->onCollapse(mesh_, applied);
+
+        ++result.collapses;
+        result.lastCost = top.cost;
+        result.maxCost = std::max(result.maxCost, top.cost);
+        if (onStep) {
+            CollapseStep step;
+            step.removed = v0;
+            step.survivor = v1;
+            for (int k = 0; k < 3; ++k) step.position[k] = static_cast<float>(applied.position[k]);
+            step.cost = static_cast<float>(top.cost);
+            onStep(step);
+        }
+
+        ++version_[v0];
+        if (options_.kind == CollapseKind::Full) mesh_.neighbours(v1, ring);
+        affected.assign(1, v1);
+        for (std::uint32_t v : ring)
+            if (v != v1) affected.push_back(v);
+        for (std::uint32_t v : affected) ++version_[v];
+        reprice(affected);
+
+        const std::size_t done = startFaces - mesh_.aliveFaceCount();
+        if (options_.progress && done >= nextReport) {
+            nextReport = done + reportStep;
+            if (!options_.progress(std::min(1.0, static_cast<double>(done) / work))) {
+                result.stop = StopReason::Cancelled;
+                break;
+            }
+        }
+    }
+    result.finalFaceCount = mesh_.aliveFaceCount();
+    result.finalVertexCount = mesh_.aliveVertexCount();
+    result.repricedVertices = pricings_;
+    return result;
+}
+
+}  // namespace
+
+EdgeCollapseResult simplifyByEdgeCollapse(CollapseMesh& mesh, CollapseMetric* metric, const EdgeCollapseOptions& options,
+                                          const std::function<void(const CollapseStep&)>& onStep) {
+    if (!(options.geometryWeight >= 0.0) || !(options.attributeWeight >= 0.0))
+        throw std::invalid_argument("the geometry and attribute weights must be non-negative");
+    if (options.minValence > 0 && options.maxValence > 0 && options.minValence > options.maxValence)
+        throw std::invalid_argument("the minimum valence exceeds the maximum valence");
+    if (options.kind == CollapseKind::Full && metric != nullptr && options.attributeWeight > 0.0) {
+        std::string why;
+        if (!metric->supportsFullCollapse(why)) throw std::invalid_argument(why);
+    }
+    Simplifier simplifier(mesh, metric, options);
+    return simplifier.run(onStep);
+}
+
+}  // namespace rad

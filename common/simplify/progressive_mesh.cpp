@@ -1,0 +1,288 @@
+#include "simplify/progressive_mesh.h"
+
+#include "io/radiance_ply.h"
+#include "radiance/radiance_evaluation.h"
+#include "radiance/radiance_frame.h"
+
+#include <algorithm>
+#include <cstring>
+#include <stdexcept>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <sstream>
+
+namespace rad {
+
+namespace {
+
+constexpr char kMagic[] = "radiance-progressive-mesh";
+constexpr int kFormatVersion = 1;
+constexpr std::size_t kFixedRecordBytes = 4 * 3 + 4 * 4;  // removed, survivor, faces after; xyz, cost
+
+std::string kindName(CollapseKind k) { return k == CollapseKind::HalfEdge ? "half-edge" : "full"; }
+
+// Follows removed -> survivor links with path halving (the links only ever point to later survivors).
+std::uint32_t representative(std::vector<std::uint32_t>& parent, std::uint32_t v) {
+    while (parent[v] != v) {
+        parent[v] = parent[parent[v]];
+        v = parent[v];
+    }
+    return v;
+}
+
+std::string folderOf(const std::string& path) {
+    const auto slash = path.find_last_of('/');
+    return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
+}
+
+}  // namespace
+
+int ProgressiveRadianceMesh::rowFloats() const {
+    if (kind != CollapseKind::Full || !base.radiance) return 0;
+    return 6 + base.radiance->coefficientsPerVertex();
+}
+
+std::size_t ProgressiveRadianceMesh::stepsForFaceCount(std::size_t faces) const {
+    if (base.faceCount() <= faces) return 0;
+    // faceCountAfter is non-increasing: binary search for the first step at or below `faces`.
+    const auto it = std::lower_bound(faceCountAfter.begin(), faceCountAfter.end(), faces,
+                                     [](std::uint32_t have, std::size_t want) { return have > want; });
+    return it == faceCountAfter.end() ? steps.size() : static_cast<std::size_t>(it - faceCountAfter.begin()) + 1;
+}
+
+RadianceMesh ProgressiveRadianceMesh::extract(std::size_t stepCount) const {
+    stepCount = std::min(stepCount, steps.size());
+    const std::size_t nv = base.vertexCount();
+    std::vector<std::uint32_t> parent(nv);
+    for (std::size_t v = 0; v < nv; ++v) parent[v] = static_cast<std::uint32_t>(v);
+    std::vector<float> positions = base.positions;
+    std::optional<RadianceField> field = base.radiance;
+    std::vector<float> normals = base.normals;
+    const int row = rowFloats();
+    for (std::size_t i = 0; i < stepCount; ++i) {
+        const CollapseStep& s = steps[i];
+        parent[s.removed] = s.survivor;
+        if (kind == CollapseKind::Full) {
+            std::copy(s.position, s.position + 3, positions.begin() + 3 * s.survivor);
+            if (row > 0) {
+                const float* r = survivorRows.data() + i * row;
+                std::copy(r, r + 6, field->frame(s.survivor));
+                std::copy(r + 6, r + row, field->vertexCoefficients(s.survivor));
+                if (!normals.empty()) std::copy(r + 3, r + 6, normals.begin() + 3 * s.survivor);
+            }
+        }
+    }
+
+    RadianceMesh out;
+    std::vector<std::uint32_t> newIndex(nv, std::numeric_limits<std::uint32_t>::max());
+    std::vector<std::uint32_t> kept;
+    for (std::size_t v = 0; v < nv; ++v) {
+        if (representative(parent, static_cast<std::uint32_t>(v)) != v) continue;
+        newIndex[v] = static_cast<std::uint32_t>(kept.size());
+        kept.push_back(static_cast<std::uint32_t>(v));
+    }
+    for (std::size_t f = 0; f < base.faceCount(); ++f) {
+        std::uint32_t t[3];
+        for (int k = 0; k < 3; ++k) t[k] = representative(parent, base.faces[3 * f + k]);
+        if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;
+        for (int k = 0; k < 3; ++k) out.faces.push_back(newIndex[t[k]]);
+    }
+    // Per-vertex arrays follow the kept vertices.
+    auto gather = [&](const std::vector<float>& in, std::size_t width, std::vector<float>& to) {
+        if (in.empty()) return;
+        to.resize(kept.size() * width);
+        for (std::size_t i = 0; i < kept.size(); ++i)
+            std::copy(in.begin() + kept[i] * width, in.begin() + (kept[i] + 1) * width, to.begin() + i * width);
+    };
+    gather(positions, 3, out.positions);
+    gather(normals, 3, out.normals);
+    gather(base.quality, 1, out.quality);
+    if (!base.colors.empty()) {
+        out.colors.resize(kept.size() * 4);
+        for (std::size_t i = 0; i < kept.size(); ++i)
+            std::copy(base.colors.begin() + 4 * kept[i], base.colors.begin() + 4 * kept[i] + 4, out.colors.begin() + 4 * i);
+    }
+    if (field) {
+        RadianceField reduced(field->basis, kept.size(), field->reflected);
+        gather(field->coefficients, field->coefficientsPerVertex(), reduced.coefficients);
+        gather(field->frames, 6, reduced.frames);
+        out.radiance = std::move(reduced);
+    }
+    for (const NamedVertexBlock& block : base.extraBlocks) {
+        NamedVertexBlock b = block;
+        b.values.clear();
+        gather(block.values, block.width, b.values);
+        out.extraBlocks.push_back(std::move(b));
+    }
+    return out;
+}
+
+ProgressiveRecorder::ProgressiveRecorder(ProgressiveRadianceMesh& target, const CollapseMesh& mesh,
+                                         const RadianceField* field)
+    : target_(target), mesh_(mesh), field_(field) {}
+
+void ProgressiveRecorder::operator()(const CollapseStep& step) {
+    target_.steps.push_back(step);
+    target_.faceCountAfter.push_back(static_cast<std::uint32_t>(mesh_.aliveFaceCount()));
+    const int row = target_.rowFloats();
+    if (row > 0) {
+        if (!field_) throw std::logic_error("a full collapse of a radiance mesh is recorded without its field");
+        const float* frame = field_->frame(step.survivor);
+        const float* coefficients = field_->vertexCoefficients(step.survivor);
+        target_.survivorRows.insert(target_.survivorRows.end(), frame, frame + 6);
+        const std::size_t at = target_.survivorRows.size();
+        target_.survivorRows.insert(target_.survivorRows.end(), coefficients,
+                                    coefficients + field_->coefficientsPerVertex());
+        // The metric may work in the other storage (SH metrics switch to reflected coefficients):
+        // rows are kept in the base's storage so that extraction never mixes the two.
+        if (field_->reflected != target_.base.radiance->reflected)
+            reflectCoefficients(field_->basis, frameFromStored(frame), target_.survivorRows.data() + at,
+                                target_.survivorRows.data() + at);
+    }
+}
+
+namespace {
+
+template <typename T>
+void put(std::string& out, T value) {
+    char bytes[sizeof(T)];
+    std::memcpy(bytes, &value, sizeof(T));
+    out.append(bytes, sizeof(T));
+}
+
+template <typename T>
+T take(const char*& p) {
+    T value;
+    std::memcpy(&value, p, sizeof(T));
+    p += sizeof(T);
+    return value;
+}
+
+}  // namespace
+
+void writeProgressiveMesh(const std::string& path, const std::string& basePath, const ProgressiveRadianceMesh& mesh) {
+    const int row = mesh.rowFloats();
+    if (mesh.faceCountAfter.size() != mesh.steps.size() || mesh.survivorRows.size() != mesh.steps.size() * row)
+        throw ProgressiveMeshError("progressive mesh is inconsistent: " + std::to_string(mesh.steps.size()) +
+                                   " steps, " + std::to_string(mesh.faceCountAfter.size()) + " face counts, " +
+                                   std::to_string(mesh.survivorRows.size()) + " row floats");
+    writeRadiancePly(basePath, mesh.base);
+    const std::string baseName =
+        folderOf(basePath) == folderOf(path) ? basePath.substr(folderOf(basePath).size()) : basePath;
+    if (baseName.find_first_of(" \t\r\n") != std::string::npos)
+        throw ProgressiveMeshError("the base file name '" + baseName + "' contains white space; choose another name");
+
+    std::ostringstream header;
+    header << kMagic << "\n"
+           << "format binary_little_endian " << kFormatVersion << "\n"
+           << "base " << baseName << "\n"
+           << "collapse_kind " << kindName(mesh.kind) << "\n"
+           << "vertex_count " << mesh.base.vertexCount() << "\n"
+           << "face_count " << mesh.base.faceCount() << "\n"
+           << "steps " << mesh.steps.size() << "\n"
+           << "row_floats " << row << "\n"
+           << "end_header\n";
+    std::string data = header.str();
+    data.reserve(data.size() + mesh.steps.size() * (kFixedRecordBytes + 4 * row));
+    for (std::size_t i = 0; i < mesh.steps.size(); ++i) {
+        const CollapseStep& s = mesh.steps[i];
+        put(data, s.removed);
+        put(data, s.survivor);
+        put(data, mesh.faceCountAfter[i]);
+        for (float x : s.position) put(data, x);
+        put(data, s.cost);
+        for (int k = 0; k < row; ++k) put(data, mesh.survivorRows[i * row + k]);
+    }
+    const std::string temporary = path + ".part";
+    {
+        std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
+        if (!file) throw ProgressiveMeshError("cannot create '" + temporary + "': check the folder exists and is writable");
+        file.write(data.data(), static_cast<std::streamsize>(data.size()));
+        if (!file) throw ProgressiveMeshError("cannot write '" + temporary + "' (disk full?)");
+    }
+    if (std::rename(temporary.c_str(), path.c_str()) != 0) {
+        std::remove(temporary.c_str());
+        throw ProgressiveMeshError("cannot rename '" + temporary + "' to '" + path + "'");
+    }
+}
+
+ProgressiveRadianceMesh readProgressiveMesh(const std::string& path) {
+    std::ifstream file(path, std::ios::binary);
+    if (!file) throw ProgressiveMeshError("cannot open '" + path + "'");
+    std::string contents((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    const std::string endTag = "end_header\n";
+    const auto headerEnd = contents.find(endTag);
+    if (contents.rfind(std::string(kMagic) + "\n", 0) != 0 || headerEnd == std::string::npos)
+        throw ProgressiveMeshError("'" + path + "' is not a radiance progressive mesh (no '" + kMagic +
+                                   "' header ending with end_header)");
+    std::istringstream header(contents.substr(0, headerEnd));
+    std::string line, baseName, kind;
+    long long vertexCount = -1, faceCount = -1, stepCount = -1, row = -1;
+    int version = 0;
+    std::getline(header, line);
+    while (std::getline(header, line)) {
+        std::istringstream words(line);
+        std::string key;
+        words >> key;
+        if (key == "format") {
+            std::string encoding;
+            words >> encoding >> version;
+            if (encoding != "binary_little_endian" || version != kFormatVersion)
+                throw ProgressiveMeshError("'" + path + "' has an unsupported format line '" + line + "'");
+        } else if (key == "base") words >> baseName;
+        else if (key == "collapse_kind") words >> kind;
+        else if (key == "vertex_count") words >> vertexCount;
+        else if (key == "face_count") words >> faceCount;
+        else if (key == "steps") words >> stepCount;
+        else if (key == "row_floats") words >> row;
+        else throw ProgressiveMeshError("'" + path + "': unknown header line '" + line + "'");
+    }
+    if (version != kFormatVersion || baseName.empty() || (kind != "half-edge" && kind != "full") || vertexCount < 0 ||
+        faceCount < 0 || stepCount < 0 || row < 0)
+        throw ProgressiveMeshError("'" + path + "': incomplete header (needs format, base, collapse_kind, "
+                                   "vertex_count, face_count, steps, row_floats)");
+    ProgressiveRadianceMesh mesh;
+    mesh.kind = kind == "full" ? CollapseKind::Full : CollapseKind::HalfEdge;
+    const std::string basePath = baseName.front() == '/' ? baseName : folderOf(path) + baseName;
+    mesh.base = readRadiancePly(basePath);
+    if (static_cast<long long>(mesh.base.vertexCount()) != vertexCount ||
+        static_cast<long long>(mesh.base.faceCount()) != faceCount)
+        throw ProgressiveMeshError("'" + path + "' was recorded on a mesh of " + std::to_string(vertexCount) +
+                                   " vertices and " + std::to_string(faceCount) + " faces but its base '" + basePath +
+                                   "' has " + std::to_string(mesh.base.vertexCount()) + " and " +
+                                   std::to_string(mesh.base.faceCount()));
+    if (row != mesh.rowFloats())
+        throw ProgressiveMeshError("'" + path + "': row_floats " + std::to_string(row) + " does not match the base (" +
+                                   std::to_string(mesh.rowFloats()) + " expected)");
+    const std::size_t recordBytes = kFixedRecordBytes + 4 * static_cast<std::size_t>(row);
+    const std::size_t available = contents.size() - headerEnd - endTag.size();
+    if (available != static_cast<std::size_t>(stepCount) * recordBytes)
+        throw ProgressiveMeshError("'" + path + "' is truncated or padded: " + std::to_string(stepCount) +
+                                   " steps need " + std::to_string(stepCount * recordBytes) + " bytes, found " +
+                                   std::to_string(available));
+    const char* p = contents.data() + headerEnd + endTag.size();
+    std::vector<std::uint8_t> removed(static_cast<std::size_t>(vertexCount), 0);
+    std::uint32_t lastFaces = static_cast<std::uint32_t>(faceCount);
+    for (long long i = 0; i < stepCount; ++i) {
+        CollapseStep s;
+        s.removed = take<std::uint32_t>(p);
+        s.survivor = take<std::uint32_t>(p);
+        const std::uint32_t facesAfter = take<std::uint32_t>(p);
+        for (float& x : s.position) x = take<float>(p);
+        s.cost = take<float>(p);
+        if (s.removed >= vertexCount || s.survivor >= vertexCount || s.removed == s.survivor || removed[s.removed] ||
+            removed[s.survivor] || facesAfter > lastFaces)
+            throw ProgressiveMeshError("'" + path + "': step " + std::to_string(i) +
+                                       " is inconsistent (vertex out of range, already removed, or face count rising)");
+        removed[s.removed] = 1;
+        lastFaces = facesAfter;
+        mesh.steps.push_back(s);
+        mesh.faceCountAfter.push_back(facesAfter);
+        for (long long k = 0; k < row; ++k) mesh.survivorRows.push_back(take<float>(p));
+    }
+    return mesh;
+}
+
+}  // namespace rad

@@ -1,0 +1,165 @@
+#include "simplify/radiance_simplification.h"
+
+#include "io/radiance_ply.h"
+#include "radiance/material_radiance.h"
+#include "simplify/color_quadric.h"
+#include "simplify/light_field_quadric.h"
+#include "simplify/radiance_collapse_error.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <optional>
+
+namespace rad {
+
+std::string describe(SimplificationMetric metric) {
+    switch (metric) {
+        case SimplificationMetric::Radiance: return "radiance (Vanhoey et al. 2015, eq. 7)";
+        case SimplificationMetric::LightField2010: return "light field (Vanhoey et al. 2010)";
+        case SimplificationMetric::ColorQuadric: return "colour QEM (Garland-Heckbert 1998)";
+        case SimplificationMetric::GeometryOnly: return "geometry only (memoryless QEM)";
+    }
+    return "unknown";
+}
+
+namespace {
+
+bool needsRadiance(SimplificationMetric metric) { return metric != SimplificationMetric::GeometryOnly; }
+
+std::string plural(std::size_t n, const char* word) {
+    return std::to_string(n) + " " + word + (n == 1 ? "" : "s");
+}
+
+}  // namespace
+
+std::string checkSimplificationInput(const RadianceMesh& mesh, SimplificationMetric metric, CollapseKind kind) {
+    if (mesh.faceCount() == 0)
+        return "the mesh has no faces: edge-collapse simplification needs a triangle mesh (reconstruct a surface "
+               "from a point cloud first, e.g. 'Surface Reconstruction: Screened Poisson')";
+    if (needsRadiance(metric) && !mesh.radiance)
+        return "the mesh carries no radiance data, which the " + describe(metric) +
+               " metric needs: fit it with 'Radiance: Fit Radiance Functions from Rasters', create it with 'Radiance: "
+               "Create Radiance Data from Analytic Material', open a .rply file, or choose the geometry-only metric";
+    if (const std::string problem = validateRadianceMesh(mesh); !problem.empty()) return problem;
+    if (needsRadiance(metric) && kind == CollapseKind::Full && metric == SimplificationMetric::Radiance &&
+        mesh.radiance->basis.kind != BasisKind::SphericalHarmonics)
+        return "full edge collapse with the radiance metric needs spherical harmonics (paper 000 sec. 4.3: the new "
+               "vertex's function is interpolated between two frames, which needs a rotation-invariant basis); the mesh "
+               "has " + mesh.radiance->basis.name() + ": choose half-edge collapse";
+
+    const std::size_t nf = mesh.faceCount();
+    std::size_t repeated = 0, zeroArea = 0;
+    std::vector<std::array<std::uint32_t, 3>> sortedFaces(nf);
+    std::vector<std::uint64_t> edges;
+    edges.reserve(3 * nf);
+    for (std::size_t f = 0; f < nf; ++f) {
+        const std::uint32_t* t = mesh.faces.data() + 3 * f;
+        if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {
+            ++repeated;
+            continue;
+        }
+        const Eigen::Vector3f a = Eigen::Map<const Eigen::Vector3f>(&mesh.positions[3 * t[0]]);
+        const Eigen::Vector3f b = Eigen::Map<const Eigen::Vector3f>(&mesh.positions[3 * t[1]]);
+        const Eigen::Vector3f c = Eigen::Map<const Eigen::Vector3f>(&mesh.positions[3 * t[2]]);
+        if ((b - a).cross(c - a).squaredNorm() == 0.0f) ++zeroArea;
+        std::array<std::uint32_t, 3> s{t[0], t[1], t[2]};
+        std::sort(s.begin(), s.end());
+        sortedFaces[f] = s;
+        for (int k = 0; k < 3; ++k) {
+            const std::uint64_t u = std::min(t[k], t[(k + 1) % 3]), v = std::max(t[k], t[(k + 1) % 3]);
+            edges.push_back((u << 32) | v);
+        }
+    }
+    if (repeated > 0)
+        return "the mesh has " + plural(repeated, "face") +
+               " repeating a vertex: run 'Cleaning and Repairing: Remove Zero Area Faces' (or Remove Duplicate "
+               "Vertices first) and try again";
+    if (zeroArea > 0)
+        return "the mesh has " + plural(zeroArea, "face") +
+               " of zero area: run 'Cleaning and Repairing: Remove Zero Area Faces' and try again";
+    std::sort(sortedFaces.begin(), sortedFaces.end());
+    const std::size_t distinctFaces =
+        static_cast<std::size_t>(std::unique(sortedFaces.begin(), sortedFaces.end()) - sortedFaces.begin());
+    if (distinctFaces != nf)
+        return "the mesh has " + plural(nf - distinctFaces, "duplicate face") +
+               ": run 'Cleaning and Repairing: Remove Duplicate Faces' and try again";
+    std::sort(edges.begin(), edges.end());
+    std::size_t nonManifold = 0;
+    for (std::size_t i = 0; i < edges.size();) {
+        std::size_t j = i;
+        while (j < edges.size() && edges[j] == edges[i]) ++j;
+        if (j - i > 2) ++nonManifold;
+        i = j;
+    }
+    if (nonManifold > 0)
+        return "the mesh has " + plural(nonManifold, "non-manifold edge") +
+               " (shared by more than two faces): run 'Cleaning and Repairing: Repair non Manifold Edges' and try again";
+    return {};
+}
+
+RadianceSimplificationResult simplifyRadianceMesh(RadianceMesh mesh, const RadianceSimplificationOptions& options) {
+    const auto start = std::chrono::steady_clock::now();
+    if (const std::string problem = checkSimplificationInput(mesh, options.metric, options.collapse.kind); !problem.empty())
+        throw SimplificationError(problem);
+    if (options.collapse.targetFaceCount >= mesh.faceCount())
+        throw SimplificationError("the target of " + plural(options.collapse.targetFaceCount, "face") +
+                                  " is not below the mesh's " + plural(mesh.faceCount(), "face") +
+                                  ": choose a smaller target or ratio");
+
+    RadianceSimplificationResult result;
+    result.progressive.kind = options.collapse.kind;
+    result.progressive.base = std::move(mesh);
+    const RadianceMesh& base = result.progressive.base;
+    CollapseMesh collapseMesh(base.positions.data(), base.vertexCount(), base.faces.data(), base.faceCount());
+
+    // The metric's working field: a copy when the metric may rewrite it (full collapses, SH storage
+    // conversion); the base field itself otherwise (PB half-edge: read only), which saves a copy of
+    // the largest array on million-vertex scans.
+    std::optional<RadianceField> workingCopy;
+    RadianceField* field = nullptr;
+    if (base.radiance && needsRadiance(options.metric)) {
+        const bool mayWrite = options.collapse.kind == CollapseKind::Full ||
+                              base.radiance->basis.kind == BasisKind::SphericalHarmonics ||
+                              options.metric == SimplificationMetric::LightField2010;
+        if (mayWrite) {
+            workingCopy = *base.radiance;
+            field = &*workingCopy;
+        } else {
+            field = const_cast<RadianceField*>(&*base.radiance);  // read-only use, see above
+        }
+    }
+
+    std::unique_ptr<CollapseMetric> metric;
+    switch (options.metric) {
+        case SimplificationMetric::Radiance: metric = std::make_unique<RadianceCollapseMetric>(*field); break;
+        case SimplificationMetric::LightField2010: metric = std::make_unique<LightFieldQuadricMetric>(collapseMesh, *field);
+            break;
+        case SimplificationMetric::ColorQuadric:
+        {
+            std::vector<float> colors(3 * field->vertexCount());
+            meanHemisphereColors(*field, colors.data());  // the RF's diffuse colour
+            metric = std::make_unique<ColorQuadricMetric>(collapseMesh, colors);
+        }
+            break;
+        case SimplificationMetric::GeometryOnly: break;
+    }
+
+    // Full collapses record the survivor's RF row after every step; metrics that do not own the RF
+    // (geometry, colour) leave it as v1's.
+    const RadianceField* recordedField = nullptr;
+    if (options.collapse.kind == CollapseKind::Full && base.radiance) recordedField = field ? field : &*base.radiance;
+    ProgressiveRecorder recorder(result.progressive, collapseMesh, recordedField);
+    result.progressive.steps.reserve(base.vertexCount());
+    result.progressive.faceCountAfter.reserve(base.vertexCount());
+    result.collapse = simplifyByEdgeCollapse(collapseMesh, metric.get(), options.collapse,
+                                             [&](const CollapseStep& step) { recorder(step); });
+    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return result;
+}
+
+}  // namespace rad

@@ -1,0 +1,57 @@
+// One call from a radiance mesh to a progressive (level-of-detail) simplification of it: input
+// checks, the metric of choice plugged into the edge-collapse engine (edge_collapse.h), the
+// collapse sequence recorded (progressive_mesh.h). The MeshLab filter, the tools and the benchmarks
+// all go through here.
+//
+// Metrics (the engine adds the memoryless QEM with the geometry weight in every case):
+//  - Radiance: the radiance error of paper 000 (Vanhoey et al. 2015) eq. 7 (half-edge) / sec. 4.3
+//    (full, SH only), radiance_collapse_error.h; weights 1 % geometry / 99 % radiance (sec. 4.4);
+//  - LightField2010: the earlier metric of paper 003 (E_G + lambda (E_L + E_F)),
+//    light_field_quadric.h; attribute weight = lambda;
+//  - ColorQuadric: the extended colour QEM of Garland & Heckbert 1998 on each RF's mean colour over
+//    its hemisphere (color_quadric.h), the paper's colour baseline;
+//  - GeometryOnly: the memoryless QEM alone.
+#pragma once
+
+#include "io/radiance_mesh.h"
+#include "simplify/edge_collapse.h"
+#include "simplify/progressive_mesh.h"
+
+#include <stdexcept>
+#include <string>
+
+namespace rad {
+
+enum class SimplificationMetric { Radiance, LightField2010, ColorQuadric, GeometryOnly };
+std::string describe(SimplificationMetric metric);
+
+struct SimplificationError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+struct RadianceSimplificationOptions {
+    SimplificationMetric metric = SimplificationMetric::Radiance;
+    // Engine options: kind, targetFaceCount, maxError, weights, boundary, valence, progress...
+    EdgeCollapseOptions collapse;
+};
+
+struct RadianceSimplificationResult {
+    ProgressiveRadianceMesh progressive;  // base = the input, steps down to the coarsest mesh
+    EdgeCollapseResult collapse;
+    double seconds = 0.0;                 // setup + simplification (not extraction)
+};
+
+// Empty when `mesh` can be simplified with `metric`; otherwise a sentence saying what is wrong and
+// how to fix it in MeshLab: no faces, invalid arrays, radiance missing (for the metrics that need
+// it) or of mismatched size, non-finite values, faces repeating a vertex or of zero area,
+// duplicate faces, non-manifold edges (more than two faces).
+std::string checkSimplificationInput(const RadianceMesh& mesh, SimplificationMetric metric,
+                                     CollapseKind kind = CollapseKind::HalfEdge);
+
+// Simplifies (the mesh is taken by value: move it in to avoid a copy; it becomes the progressive
+// mesh's base). Throws SimplificationError when checkSimplificationInput fails or the target is
+// not below the face count, std::invalid_argument for inconsistent options (e.g. full collapse
+// with a PB field and the radiance metric: the message says why).
+RadianceSimplificationResult simplifyRadianceMesh(RadianceMesh mesh, const RadianceSimplificationOptions& options);
+
+}  // namespace rad

@@ -1,0 +1,246 @@
+#include "simplify/edge_collapse.h"
+
+#include "geometry/primitive_meshes.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <set>
+#include <utility>
+#include <vector>
+
+namespace {
+
+using rad::CollapseKind;
+using rad::CollapseMesh;
+using rad::EdgeCollapseOptions;
+
+CollapseMesh toCollapseMesh(const rad::TriangleMesh& m) {
+    return CollapseMesh(m.positions.data(), m.vertexCount(), m.faces.data(), m.faceCount());
+}
+
+// A regular n x n grid of squares in z = 0, split into triangles, counter-clockwise seen from +z.
+rad::TriangleMesh grid(int n) {
+    rad::TriangleMesh m;
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) m.positions.insert(m.positions.end(), {float(i) / n, float(j) / n, 0.0f});
+    auto id = [n](int i, int j) { return static_cast<std::uint32_t>(j * (n + 1) + i); };
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            m.faces.insert(m.faces.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+            m.faces.insert(m.faces.end(), {id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+        }
+    return m;
+}
+
+struct Topology {
+    std::size_t vertices = 0, edges = 0, faces = 0;
+    std::size_t nonManifoldEdges = 0, boundaryEdges = 0, duplicateFaces = 0;
+    std::map<std::uint32_t, std::set<std::uint32_t>> neighbours;
+};
+
+// Recounted from the compacted arrays, independently of the engine's incidence lists.
+Topology topology(const std::vector<std::uint32_t>& faces, std::size_t vertexCount) {
+    Topology t;
+    t.vertices = vertexCount;
+    t.faces = faces.size() / 3;
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> edgeUse;
+    std::set<std::vector<std::uint32_t>> seen;
+    for (std::size_t f = 0; f < t.faces; ++f) {
+        std::vector<std::uint32_t> key(faces.begin() + 3 * f, faces.begin() + 3 * f + 3);
+        std::sort(key.begin(), key.end());
+        if (!seen.insert(key).second) ++t.duplicateFaces;
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t a = faces[3 * f + k], b = faces[3 * f + (k + 1) % 3];
+            ++edgeUse[{std::min(a, b), std::max(a, b)}];
+            t.neighbours[a].insert(b);
+            t.neighbours[b].insert(a);
+        }
+    }
+    t.edges = edgeUse.size();
+    for (const auto& [edge, count] : edgeUse) {
+        if (count > 2) ++t.nonManifoldEdges;
+        if (count == 1) ++t.boundaryEdges;
+    }
+    return t;
+}
+
+TEST(EdgeCollapse, GeometryOnlySphereStaysAClosedOrientedManifold) {
+    for (CollapseKind kind : {CollapseKind::HalfEdge, CollapseKind::Full}) {
+        const rad::TriangleMesh sphere = rad::makeIcosphere(4);  // 5120 faces
+        CollapseMesh mesh = toCollapseMesh(sphere);
+        EdgeCollapseOptions options;
+        options.kind = kind;
+        options.targetFaceCount = 500;
+        std::size_t steps = 0;
+        const rad::EdgeCollapseResult r =
+            rad::simplifyByEdgeCollapse(mesh, nullptr, options, [&](const rad::CollapseStep&) { ++steps; });
+        EXPECT_EQ(r.stop, rad::StopReason::TargetReached);
+        EXPECT_LE(r.finalFaceCount, 500u);
+        EXPECT_GE(r.finalFaceCount, 498u);  // each collapse removes exactly two faces of a closed mesh
+        EXPECT_EQ(steps, r.collapses);
+        std::vector<float> p;
+        std::vector<std::uint32_t> f, map;
+        mesh.compact(p, f, map);
+        const Topology t = topology(f, p.size() / 3);
+        EXPECT_EQ(t.nonManifoldEdges, 0u);
+        EXPECT_EQ(t.boundaryEdges, 0u);
+        EXPECT_EQ(t.duplicateFaces, 0u);
+        EXPECT_EQ(static_cast<long>(t.vertices) - static_cast<long>(t.edges) + static_cast<long>(t.faces), 2);
+        for (std::size_t i = 0; i < t.faces; ++i) {
+            // Every face still faces away from the centre, and vertices stay near the unit sphere.
+            Eigen::Vector3d a(p[3 * f[3 * i]], p[3 * f[3 * i] + 1], p[3 * f[3 * i] + 2]);
+            Eigen::Vector3d b(p[3 * f[3 * i + 1]], p[3 * f[3 * i + 1] + 1], p[3 * f[3 * i + 1] + 2]);
+            Eigen::Vector3d c(p[3 * f[3 * i + 2]], p[3 * f[3 * i + 2] + 1], p[3 * f[3 * i + 2] + 2]);
+            EXPECT_GT((b - a).cross(c - a).dot(a + b + c), 0.0);
+            EXPECT_NEAR(a.norm(), 1.0, kind == CollapseKind::HalfEdge ? 1e-6 : 0.05);
+        }
+    }
+}
+
+TEST(EdgeCollapse, PlanarGridKeepsItsBoundaryAndCollapsesForFree) {
+    const rad::TriangleMesh g = grid(12);
+    CollapseMesh mesh = toCollapseMesh(g);
+    EdgeCollapseOptions options;
+    options.targetFaceCount = 60;
+    const rad::EdgeCollapseResult r = rad::simplifyByEdgeCollapse(mesh, nullptr, options);
+    EXPECT_LE(r.finalFaceCount, 60u);
+    EXPECT_NEAR(r.maxCost, 0.0, 1e-20);  // every face stays in the plane
+    for (std::uint32_t v = 0; v < g.vertexCount(); ++v) {
+        const float x = g.positions[3 * v], y = g.positions[3 * v + 1];
+        const bool boundary = x == 0.0f || y == 0.0f || x == 1.0f || y == 1.0f;
+        if (boundary) EXPECT_TRUE(mesh.vertexAlive(v)) << v;
+    }
+    std::vector<float> p;
+    std::vector<std::uint32_t> f, map;
+    mesh.compact(p, f, map);
+    double area = 0.0;
+    for (std::size_t i = 0; i < f.size() / 3; ++i) {
+        const float* a = &p[3 * f[3 * i]];
+        const float* b = &p[3 * f[3 * i + 1]];
+        const float* c = &p[3 * f[3 * i + 2]];
+        const double z = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        EXPECT_GT(z, 0.0);  // no flip
+        area += 0.5 * z;
+    }
+    EXPECT_NEAR(area, 1.0, 1e-6);  // the square is still covered exactly once
+}
+
+TEST(EdgeCollapse, BoundaryMayMoveWhenNotPreservedButNeverPinches) {
+    CollapseMesh mesh = toCollapseMesh(grid(10));
+    EdgeCollapseOptions options;
+    options.preserveBoundary = false;
+    options.targetFaceCount = 20;
+    rad::simplifyByEdgeCollapse(mesh, nullptr, options);
+    std::vector<float> p;
+    std::vector<std::uint32_t> f, map;
+    mesh.compact(p, f, map);
+    const Topology t = topology(f, p.size() / 3);
+    EXPECT_LE(t.faces, 20u);
+    EXPECT_EQ(t.nonManifoldEdges, 0u);
+    EXPECT_EQ(static_cast<long>(t.vertices) - static_cast<long>(t.edges) + static_cast<long>(t.faces), 1);  // a disc
+}
+
+TEST(EdgeCollapse, TetrahedronCannotCollapse) {
+    const float p[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+    const std::uint32_t f[] = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3};
+    CollapseMesh mesh(p, 4, f, 4);
+    EdgeCollapseOptions options;
+    options.targetFaceCount = 0;
+    const rad::EdgeCollapseResult r = rad::simplifyByEdgeCollapse(mesh, nullptr, options);
+    EXPECT_EQ(r.stop, rad::StopReason::NoValidCollapse);
+    EXPECT_EQ(r.collapses, 0u);
+    EXPECT_EQ(mesh.aliveFaceCount(), 4u);
+}
+
+TEST(EdgeCollapse, ValenceBoundsHold) {
+    CollapseMesh mesh = toCollapseMesh(rad::makeIcosphere(3));
+    EdgeCollapseOptions options;
+    options.minValence = 4;
+    options.maxValence = 11;
+    options.targetFaceCount = 200;
+    rad::simplifyByEdgeCollapse(mesh, nullptr, options);
+    std::vector<float> p;
+    std::vector<std::uint32_t> f, map;
+    mesh.compact(p, f, map);
+    const Topology t = topology(f, p.size() / 3);
+    for (const auto& [v, n] : t.neighbours) {
+        EXPECT_GE(n.size(), 4u);
+        EXPECT_LE(n.size(), 11u);
+    }
+}
+
+// A metric that forbids removing the vertices of a chosen set and counts its calls.
+class ProtectingMetric : public rad::CollapseMetric {
+public:
+    explicit ProtectingMetric(std::set<std::uint32_t> p) : protectedVertices(std::move(p)) {}
+    std::string name() const override { return "protecting"; }
+    void priceHalfEdges(const CollapseMesh&, const rad::HalfEdgeQuery& q, double* costs) const override {
+        for (int i = 0; i < q.targetCount; ++i)
+            costs[i] = protectedVertices.count(q.source) ? std::numeric_limits<double>::infinity() : 1.0 + q.targets[i];
+    }
+    void onCollapse(const CollapseMesh& mesh, const rad::EdgeQuery& q) override {
+        ++collapses;
+        EXPECT_FALSE(mesh.vertexAlive(q.v0));
+        EXPECT_TRUE(mesh.vertexAlive(q.v1));
+        EXPECT_EQ(q.s, 1.0);
+    }
+    std::set<std::uint32_t> protectedVertices;
+    std::size_t collapses = 0;
+};
+
+TEST(EdgeCollapse, MetricCanForbidAndIsToldOfEveryCollapse) {
+    CollapseMesh mesh = toCollapseMesh(rad::makeIcosphere(3));
+    std::set<std::uint32_t> keep;
+    for (std::uint32_t v = 0; v < 40; ++v) keep.insert(v);
+    ProtectingMetric metric(keep);
+    EdgeCollapseOptions options;
+    options.targetFaceCount = 100;
+    options.geometryWeight = 0.0;
+    options.attributeWeight = 1.0;
+    const rad::EdgeCollapseResult r = rad::simplifyByEdgeCollapse(mesh, &metric, options);
+    EXPECT_EQ(metric.collapses, r.collapses);
+    for (std::uint32_t v : keep) EXPECT_TRUE(mesh.vertexAlive(v)) << v;
+    EXPECT_GT(r.collapses, 100u);
+}
+
+TEST(EdgeCollapse, MaxErrorStopsBeforeTheTarget) {
+    CollapseMesh mesh = toCollapseMesh(rad::makeIcosphere(3));
+    EdgeCollapseOptions options;
+    options.targetFaceCount = 10;
+    options.maxError = 1e-5;
+    const rad::EdgeCollapseResult r = rad::simplifyByEdgeCollapse(mesh, nullptr, options);
+    EXPECT_EQ(r.stop, rad::StopReason::MaxErrorReached);
+    EXPECT_LE(r.maxCost, 1e-5);
+    EXPECT_GT(r.finalFaceCount, 10u);
+}
+
+TEST(EdgeCollapse, ProgressCanCancel) {
+    CollapseMesh mesh = toCollapseMesh(rad::makeIcosphere(3));
+    EdgeCollapseOptions options;
+    options.targetFaceCount = 100;
+    int calls = 0;
+    options.progress = [&](double fraction) {
+        EXPECT_GE(fraction, 0.0);
+        EXPECT_LE(fraction, 1.0);
+        return ++calls < 5;
+    };
+    const rad::EdgeCollapseResult r = rad::simplifyByEdgeCollapse(mesh, nullptr, options);
+    EXPECT_EQ(r.stop, rad::StopReason::Cancelled);
+    EXPECT_GT(r.finalFaceCount, 100u);
+}
+
+TEST(EdgeCollapse, RefusesInconsistentOptions) {
+    CollapseMesh mesh = toCollapseMesh(rad::makeIcosphere(1));
+    ProtectingMetric metric({});
+    EdgeCollapseOptions options;
+    options.kind = CollapseKind::Full;
+    EXPECT_THROW(rad::simplifyByEdgeCollapse(mesh, &metric, options), std::invalid_argument);
+    options.kind = CollapseKind::HalfEdge;
+    options.minValence = 8;
+    options.maxValence = 4;
+    EXPECT_THROW(rad::simplifyByEdgeCollapse(mesh, &metric, options), std::invalid_argument);
+}
+
+}  // namespace
