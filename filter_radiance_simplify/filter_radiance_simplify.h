@@ -1,7 +1,7 @@
 // Filter plugin for radiance data on meshes (paper 000, Vanhoey et al. 2015): fits radiance
 // functions from calibrated photographs (raster layers), creates them from an analytic material,
-// and evaluates them toward a viewpoint as vertex colours; radiance-aware simplification joins it
-// in a later issue.
+// evaluates them toward a viewpoint as vertex colours, and simplifies meshes carrying them
+// (radiance-aware edge collapse with levels of detail).
 // A thin adapter: parameters in, a call into common/, the result attached to the layer, log out.
 #pragma once
 
@@ -14,7 +14,7 @@ class RadianceFilterPlugin : public QObject, public MeshFilterInterface {
     Q_INTERFACES(MeshFilterInterface)
 
 public:
-    enum { FP_CREATE_ANALYTIC_RADIANCE, FP_RADIANCE_TO_VERTEX_COLOR, FP_FIT_FROM_RASTERS };
+    enum { FP_CREATE_ANALYTIC_RADIANCE, FP_RADIANCE_TO_VERTEX_COLOR, FP_FIT_FROM_RASTERS, FP_RADIANCE_SIMPLIFICATION };
 
     RadianceFilterPlugin();
     QString pluginName() const override { return "FilterRadiance"; }
@@ -32,4 +32,6 @@ private:
     bool radianceToVertexColor(MeshModel& m, const RichParameterList& par, vcg::CallBackPos* cb);
     static void addFitParameters(MeshModel& m, RichParameterList& par);
     bool fitFromRasters(MeshDocument& md, MeshModel& m, const RichParameterList& par, vcg::CallBackPos* cb);
+    static void addSimplifyParameters(MeshModel& m, RichParameterList& par);
+    bool simplifyRadiance(MeshDocument& md, MeshModel& m, const RichParameterList& par, vcg::CallBackPos* cb);
 };

@@ -36,6 +36,7 @@ void usage(std::ostream& out) {
            "  --attribute-weight W     weight of the metric (lambda for lightfield2010) [0.99]\n"
            "  --valence MIN,MAX        valence bounds, e.g. 4,11 (paper 003) [none]\n"
            "  --free-boundary          let boundary vertices move and disappear\n"
+           "  --eager                  re-price touched vertices at once instead of lazily\n"
            "  --max-normal-change DEG  largest rotation of a face's normal by a collapse [90]\n"
            "  --progressive OUT.rpm    also write the progressive mesh (and OUT_base.rply beside it)\n"
            "  --threads N              worker threads [all]\n";
@@ -65,6 +66,10 @@ int run(int argc, char** argv) {
         }
         if (a == "--free-boundary") {
             options.collapse.preserveBoundary = false;
+            continue;
+        }
+        if (a == "--eager") {
+            options.collapse.lazyRepricing = false;
             continue;
         }
         if (a.rfind("-", 0) != 0) {

@@ -38,6 +38,7 @@ struct EdgeQuery {
     int star1Size = 0;
     Eigen::Vector3d position;         // where the new vertex goes
     double s = 0.5;                   // parameter of position's projection on p0 + s (p1 - p0), clamped to [0, 1]
+    bool halfEdge = false;            // onCollapse of a half-edge collapse (then s == 1, position == p1)
 };
 
 class CollapseMetric {
@@ -57,8 +58,8 @@ public:
     virtual double priceEdge(const CollapseMesh& mesh, const EdgeQuery& query) const { return 0.0; }
 
     // Called after the engine applied a collapse (mesh already in its post-collapse state; for a
-    // full collapse the survivor v1 is at query.position). Half-edge: query.s == 1 and
-    // position == p1. Metrics that own attributes update the survivor's here.
+    // full collapse the survivor v1 is at query.position). Half-edge: query.halfEdge, s == 1 and
+    // position == p1 (a full collapse may also land at s == 1, with halfEdge false). Metrics that own attributes update the survivor's here.
     virtual void onCollapse(const CollapseMesh& mesh, const EdgeQuery& query) {}
 };
 

@@ -28,7 +28,8 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 struct QueueEntry {
     double cost;
     std::uint32_t a, b;            // half-edge: a -> b; full: edge (a, b)
-    std::uint32_t stampA, stampB;  // versions of a and b when priced (stampB unused in half-edge mode)
+    std::uint32_t stampA, stampB;  // versions of a and b when priced; half-edge mode: stampB = 1 marks a
+                                   // lazy entry (source not priced since its star changed)
 };
 
 // Min-heap on cost; ties by indices so runs are deterministic whatever the thread count.
@@ -73,7 +74,8 @@ bool starIsOpen(const std::vector<StarFace>& star) {
 class Simplifier {
 public:
     Simplifier(CollapseMesh& mesh, CollapseMetric* metric, const EdgeCollapseOptions& options)
-        : mesh_(mesh), metric_(metric), options_(options), version_(mesh.vertexCount(), 0) {
+        : mesh_(mesh), metric_(metric), options_(options), version_(mesh.vertexCount(), 0),
+          lastCost_(mesh.vertexCount(), kInfinity) {
         const double degrees = std::clamp(options.maxNormalDeviationDegrees, 0.0, 180.0);
         minNormalCosine_ = std::cos(degrees * 3.14159265358979323846 / 180.0);
         useMetric_ = metric_ != nullptr && options_.attributeWeight > 0.0;
@@ -310,6 +312,7 @@ private:
     std::vector<QueueEntry> priced_;
     std::vector<std::pair<std::uint32_t, std::uint32_t>> edges_;
     std::vector<std::uint32_t> around_;
+    std::vector<double> lastCost_;  // half-edge: each source's cost when last priced
     double minNormalCosine_ = 0.0;
     bool useMetric_ = false;
     std::size_t pricings_ = 0;
@@ -323,6 +326,7 @@ void Simplifier::reprice(const std::vector<std::uint32_t>& vertices) {
 #pragma omp parallel for schedule(dynamic, 4) num_threads(threads) if (parallelWorth(n))
         for (long i = 0; i < n; ++i) priced_[i] = priceSource(vertices[i]);
         pricings_ += vertices.size();
+        for (const QueueEntry& e : priced_) lastCost_[e.a] = e.cost;
     } else {
         edges_.clear();
         std::vector<std::uint32_t>& around = around_;
@@ -378,6 +382,14 @@ EdgeCollapseResult Simplifier::run(const std::function<void(const CollapseStep&)
             ++result.staleEntries;
             continue;
         }
+        if (options_.kind == CollapseKind::HalfEdge && top.stampB == 1) {
+            // A lazy entry reached the front: price its source now.
+            const QueueEntry priced = priceSource(top.a);
+            ++pricings_;
+            lastCost_[top.a] = priced.cost;
+            push(priced);
+            continue;
+        }
         if (!stillAllowed(top)) {
             ++result.staleEntries;
             if (options_.kind == CollapseKind::HalfEdge) {
@@ -402,6 +414,7 @@ EdgeCollapseResult Simplifier::run(const std::function<void(const CollapseStep&)
         if (options_.kind == CollapseKind::HalfEdge) {
             applied.position = mesh_.position(v1);
             applied.s = 1.0;
+            applied.halfEdge = true;
             mesh_.collapse(v0, v1);
         } else {
             Workspace& w = workspace();
@@ -432,7 +445,17 @@ EdgeCollapseResult Simplifier::run(const std::function<void(const CollapseStep&)
         for (std::uint32_t v : ring)
             if (v != v1) affected.push_back(v);
         for (std::uint32_t v : affected) ++version_[v];
-        reprice(affected);
+        if (options_.kind == CollapseKind::HalfEdge && options_.lazyRepricing) {
+            // Queue each affected source at its previous cost (a guess: costs mostly grow as the
+            // mesh coarsens) and price it only when it reaches the front.
+            for (std::uint32_t v : affected) {
+                const double guess = lastCost_[v] < kInfinity ? lastCost_[v] : top.cost;
+                heap_.push_back({guess, v, v, version_[v], 1});
+                std::push_heap(heap_.begin(), heap_.end(), CostsMore());
+            }
+        } else {
+            reprice(affected);
+        }
 
         const std::size_t done = startFaces - mesh_.aliveFaceCount();
         if (options_.progress && done >= nextReport) {

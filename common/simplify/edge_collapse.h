@@ -14,7 +14,8 @@
 //    priced together). After v0 -> v1, v1 and its neighbours are re-priced.
 //  - Full mode: one entry per edge; after (v0, v1) -> v1 every edge incident to v1 or to one of
 //    its neighbours is re-priced.
-// Re-pricing after a collapse runs in parallel (OpenMP) over the affected vertices/edges. Validity
+// Re-pricing after a collapse runs in parallel (OpenMP) over the affected vertices/edges (or, with
+// lazyRepricing in half-edge mode, when a touched source reaches the front of the queue). Validity
 // can also change without the star changing (a neighbour's valence, the link of the target), so an
 // entry is re-checked when popped and re-priced if it became invalid.
 //
@@ -58,6 +59,11 @@ struct EdgeCollapseOptions {
     double maxNormalDeviationDegrees = 90.0;  // a surviving face may turn by at most this much
     int minValence = 0;                       // 0: no bound
     int maxValence = 0;                       // 0: no bound
+    // Half-edge mode: after a collapse, re-queue the affected sources at their previous cost and
+    // price them only when they reach the front of the queue (instead of at once). Most sources
+    // are touched several times before they are collapsed, so this saves most pricings; the
+    // order can differ from the eager one where a cost decreased.
+    bool lazyRepricing = true;
     int threads = 0;                          // 0: OpenMP default
     // Called with the fraction done in [0, 1] about every 1 % of the work; return false to stop.
     std::function<bool(double)> progress;

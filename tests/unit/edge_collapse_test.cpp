@@ -185,6 +185,7 @@ public:
         EXPECT_FALSE(mesh.vertexAlive(q.v0));
         EXPECT_TRUE(mesh.vertexAlive(q.v1));
         EXPECT_EQ(q.s, 1.0);
+        EXPECT_TRUE(q.halfEdge);
     }
     std::set<std::uint32_t> protectedVertices;
     std::size_t collapses = 0;

@@ -1,0 +1,229 @@
+// "Radiance: Radiance-Aware Simplification": the adapter between a MeshLab layer and the
+// simplification core (common/simplify/radiance_simplification.h). The layer is exported, simplified
+// aside as a progressive mesh, and replaced only when everything succeeded; extra levels of detail
+// are extracted from the same recording into new layers.
+#include "filter_radiance_simplify.h"
+
+#include "mesh_conversion.h"
+#include "radiance_attribute.h"
+
+#include "simplify/progressive_mesh.h"
+#include "simplify/radiance_simplification.h"
+
+#include <QElapsedTimer>
+#include <QFileInfo>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <vector>
+
+namespace {
+
+enum MetricChoice { kMetricRadiance = 0, kMetricLightField2010 = 1, kMetricColor = 2, kMetricGeometry = 3 };
+
+// "0.5 0.25, 0.1" -> ratios in (0, 1); false with a message otherwise.
+bool parseRatios(const QString& text, std::vector<double>& ratios, QString& why) {
+    ratios.clear();
+    QString cleaned = text;
+    cleaned.replace(',', ' ').replace(';', ' ');
+    for (const QString& item : cleaned.split(QChar(' '), Qt::SkipEmptyParts)) {
+        bool ok = false;
+        double r = item.toDouble(&ok);
+        if (ok && item.endsWith('%')) ok = false;
+        if (!ok || !(r > 0.0 && r < 1.0)) {
+            why = QString("Level-of-detail ratio '%1' is not a number in (0, 1): write e.g. '0.5 0.25 0.1'.").arg(item);
+            return false;
+        }
+        ratios.push_back(r);
+    }
+    std::sort(ratios.begin(), ratios.end(), std::greater<double>());
+    ratios.erase(std::unique(ratios.begin(), ratios.end()), ratios.end());
+    return true;
+}
+
+}  // namespace
+
+void RadianceFilterPlugin::addSimplifyParameters(MeshModel& m, RichParameterList& par) {
+    const rad::EdgeCollapseOptions defaults;
+    par.addParam(RichEnum("metric", kMetricRadiance,
+                          QStringList() << "Radiance error (Vanhoey et al. 2015, eq. 7)"
+                                        << "Light-field quadric (Vanhoey et al. 2010)"
+                                        << "Colour QEM on the mean colour (Garland-Heckbert 1998)"
+                                        << "Geometry only (memoryless QEM)",
+                          "Metric",
+                          "What a collapse costs besides the geometric error: the radiance error of paper 000 "
+                          "(area-weighted L2 distance between the radiance functions before and after, over the "
+                          "hemisphere), its 2010 precursor (quadric on the coefficients), the extended colour QEM "
+                          "on each function's mean colour (the paper's colour baseline), or nothing."));
+    par.addParam(RichEnum("collapse", 0, QStringList() << "Half-edge collapse (sec. 4.1)" << "Full edge collapse (sec. 4.3)",
+                          "Collapse",
+                          "Half-edge: a vertex merges into a neighbour, positions and functions are never "
+                          "interpolated. Full: the new vertex goes to the QEM-optimal position and its function is "
+                          "interpolated along the edge (radiance metric: spherical harmonics only)."));
+    const int faces = m.cm.fn;
+    par.addParam(RichInt("targetFaces", std::max(faces / 2, 0), "Target number of faces",
+                         "The face count of the simplified layer (used when the percentage is 0)."));
+    par.addParam(RichFloat("targetPercentage", 0.0f, "Target percentage (0..1)",
+                           "If non-zero, the target as a fraction of the current face count."));
+    par.addParam(RichString("lodLevels", "", "Extra levels of detail",
+                            "Fractions of the face count, e.g. '0.5 0.25 0.1': each becomes a new layer "
+                            "'<name>_LOD<percent>' extracted from the same run (progressive mesh, sec. 4.5). Empty: "
+                            "none."));
+    par.addParam(RichFloat("geometryWeight", float(defaults.geometryWeight), "Geometry weight",
+                           "Weight of the memoryless QEM in the cost (sec. 4.4: 1 % geometry, 99 % radiance)."));
+    par.addParam(RichFloat("attributeWeight", float(defaults.attributeWeight), "Metric weight",
+                           "Weight of the chosen metric (lambda of the 2010 light-field metric)."));
+    par.addParam(RichBool("preserveBoundary", defaults.preserveBoundary, "Preserve boundary",
+                          "Never move or remove a vertex on a mesh boundary."));
+    par.addParam(RichInt("minValence", 0, "Minimum valence", "Forbid collapses leaving a vertex with fewer neighbours (0: no bound; paper 003 uses 4)."));
+    par.addParam(RichInt("maxValence", 0, "Maximum valence", "Forbid collapses leaving a vertex with more neighbours (0: no bound; paper 003 uses 11)."));
+    par.addParam(RichFloat("maxNormalChange", float(defaults.maxNormalDeviationDegrees), "Maximum normal change (degrees)",
+                           "A collapse may not turn any remaining face's normal by more than this."));
+    par.addParam(RichBool("lazy", defaults.lazyRepricing, "Lazy queue updates",
+                          "Re-price vertices touched by a collapse only when they reach the front of the queue "
+                          "(several times faster; slightly different order)."));
+    par.addParam(RichString("progressiveFile", "", "Progressive mesh file",
+                            "If set (a path ending in .rpm), the collapse sequence is written there, with the "
+                            "original mesh beside it as <name>_base.rply (docs/progressive-mesh-format.md)."));
+}
+
+bool RadianceFilterPlugin::simplifyRadiance(MeshDocument& md, MeshModel& m, const RichParameterList& par,
+                                            vcg::CallBackPos* cb) {
+    QElapsedTimer timer;
+    timer.start();
+    rad::RadianceSimplificationOptions options;
+    switch (par.getEnum("metric")) {
+        case kMetricRadiance: options.metric = rad::SimplificationMetric::Radiance; break;
+        case kMetricLightField2010: options.metric = rad::SimplificationMetric::LightField2010; break;
+        case kMetricColor: options.metric = rad::SimplificationMetric::ColorQuadric; break;
+        default: options.metric = rad::SimplificationMetric::GeometryOnly; break;
+    }
+    options.collapse.kind = par.getEnum("collapse") == 1 ? rad::CollapseKind::Full : rad::CollapseKind::HalfEdge;
+    options.collapse.geometryWeight = par.getFloat("geometryWeight");
+    options.collapse.attributeWeight = par.getFloat("attributeWeight");
+    options.collapse.preserveBoundary = par.getBool("preserveBoundary");
+    options.collapse.minValence = par.getInt("minValence");
+    options.collapse.maxValence = par.getInt("maxValence");
+    options.collapse.maxNormalDeviationDegrees = par.getFloat("maxNormalChange");
+    options.collapse.lazyRepricing = par.getBool("lazy");
+    if (!(options.collapse.geometryWeight >= 0.0) || !(options.collapse.attributeWeight >= 0.0)) {
+        errorMessage = "The weights must be non-negative numbers.";
+        return false;
+    }
+    if (options.collapse.minValence < 0 || options.collapse.maxValence < 0 ||
+        (options.collapse.maxValence > 0 && options.collapse.minValence > options.collapse.maxValence)) {
+        errorMessage = "The valence bounds must be non-negative with minimum <= maximum (0 = no bound).";
+        return false;
+    }
+    std::vector<double> lodRatios;
+    QString why;
+    if (!parseRatios(par.getString("lodLevels"), lodRatios, why)) {
+        errorMessage = why;
+        return false;
+    }
+    const QString progressivePath = par.getString("progressiveFile").trimmed();
+    if (!progressivePath.isEmpty() && !progressivePath.endsWith(".rpm", Qt::CaseInsensitive)) {
+        errorMessage = "The progressive mesh file must end in .rpm.";
+        return false;
+    }
+
+    rad::RadianceMesh plain;
+    std::string problem;
+    radml::ExportChoice choice;
+    choice.radiance = radml::hasRadiance(m.cm);
+    if (!radml::exportPlainMesh(m.cm, choice, plain, problem)) {
+        errorMessage = QString::fromStdString(problem);
+        return false;
+    }
+    if (!choice.radiance && options.metric != rad::SimplificationMetric::GeometryOnly) {
+        errorMessage = QString::fromStdString(radml::missingRadianceAdvice()) +
+                       " Or choose the geometry-only metric.";
+        return false;
+    }
+    if (const std::string bad = rad::checkSimplificationInput(plain, options.metric, options.collapse.kind); !bad.empty()) {
+        errorMessage = QString::fromStdString(bad);
+        return false;
+    }
+    const std::size_t faces = plain.faceCount();
+    const double percentage = par.getFloat("targetPercentage");
+    if (!(percentage >= 0.0 && percentage < 1.0)) {
+        errorMessage = QString("The target percentage must lie in [0, 1), got %1.").arg(percentage);
+        return false;
+    }
+    const long long targetFaces =
+        percentage > 0.0 ? static_cast<long long>(std::floor(percentage * faces)) : par.getInt("targetFaces");
+    if (targetFaces < 0 || static_cast<std::size_t>(targetFaces) >= faces) {
+        errorMessage = QString("The target of %1 faces is not below the layer's %2 faces: choose a smaller target.")
+                           .arg(targetFaces)
+                           .arg(faces);
+        return false;
+    }
+    std::size_t coarsest = static_cast<std::size_t>(targetFaces);
+    for (double r : lodRatios) coarsest = std::min(coarsest, static_cast<std::size_t>(std::floor(r * faces)));
+    options.collapse.targetFaceCount = coarsest;
+    int lastPercent = -10;
+    options.collapse.progress = [cb, &lastPercent](double fraction) {
+        const int percent = static_cast<int>(95.0 * fraction);
+        if (cb && percent / 5 != lastPercent / 5) {  // meshlabserver prints every call: 5 % steps
+            lastPercent = percent;
+            cb(percent, "Radiance-aware simplification");
+        }
+        return true;
+    };
+
+    // Everything is computed aside; the layers change only once the simplification succeeded.
+    rad::RadianceSimplificationResult result;
+    try {
+        result = rad::simplifyRadianceMesh(std::move(plain), options);
+    } catch (const rad::SimplificationError& e) {
+        errorMessage = QString::fromStdString(e.what());
+        return false;
+    } catch (const std::invalid_argument& e) {
+        errorMessage = QString::fromStdString(e.what());
+        return false;
+    }
+    const rad::ProgressiveRadianceMesh& progressive = result.progressive;
+    const std::size_t targetSteps = progressive.stepsForFaceCount(targetFaces);
+    const rad::RadianceMesh target = progressive.extract(targetSteps);
+    const double targetCost = targetSteps > 0 ? progressive.steps[targetSteps - 1].cost : 0.0;
+    std::vector<std::pair<double, rad::RadianceMesh>> levels;
+    for (double r : lodRatios)
+        levels.emplace_back(r, progressive.extract(progressive.stepsForFaceCount(std::floor(r * faces))));
+    if (!progressivePath.isEmpty()) {
+        const QString base = progressivePath.left(progressivePath.size() - 4) + "_base.rply";
+        try {
+            rad::writeProgressiveMesh(progressivePath.toStdString(), base.toStdString(), progressive);
+        } catch (const std::exception& e) {
+            errorMessage = QString("Could not write the progressive mesh: %1").arg(e.what());
+            return false;
+        }
+    }
+
+    if (cb) cb(97, "Updating layers");
+    const int mask = radml::importPlainMesh(target, m.cm);
+    m.Enable(mask);
+    m.UpdateBoxAndNormals();
+    const QString label = QFileInfo(m.label()).completeBaseName();
+    for (const auto& [ratio, level] : levels) {
+        MeshModel* layer = md.addNewMesh("", QString("%1_LOD%2").arg(label).arg(100.0 * ratio), false);
+        layer->Enable(radml::importPlainMesh(level, layer->cm));
+        layer->UpdateBoxAndNormals();
+        Log("Level of detail %.4g %%: %zu vertices, %zu faces (layer '%s')", 100.0 * ratio, level.vertexCount(),
+            level.faceCount(), qUtf8Printable(layer->label()));
+    }
+    if (cb) cb(100, "Done");
+    const rad::EdgeCollapseResult& r = result.collapse;
+    Log("Simplified %zu -> %zu faces (%zu vertices) with the %s metric, %s collapse: %zu collapses in %.2f s "
+        "(%zu to this layer), cost of its last collapse %.4g; coarsest level %zu faces, last cost %.4g (%s)%s",
+        faces, target.faceCount(), target.vertexCount(), rad::describe(options.metric).c_str(),
+        options.collapse.kind == rad::CollapseKind::Full ? "full edge" : "half-edge", r.collapses, result.seconds,
+        targetSteps, targetCost, r.finalFaceCount, r.lastCost, rad::describe(r.stop).c_str(),
+        progressivePath.isEmpty() ? "" : qUtf8Printable(", progressive mesh written to " + progressivePath));
+    if (target.faceCount() > static_cast<std::size_t>(targetFaces))
+        Log(GLLogStream::WARNING, "Stopped at %zu faces above the target of %lld: %s (boundary, valence or normal "
+                                  "constraints forbid further collapses).",
+            target.faceCount(), targetFaces, rad::describe(r.stop).c_str());
+    Log("Total time %.2f s", timer.elapsed() / 1000.0);
+    return true;
+}

@@ -1,0 +1,77 @@
+#!/usr/bin/env bash
+# "Radiance-Aware Simplification" on bad input, through the real meshlabserver: a clear message in
+# the log, no crash, and the layer saved unchanged:
+#  - a mesh without radiance data (radiance metric); - a target not below the face count;
+#  - a non-manifold edge (three faces on one edge); - duplicate faces; - a point cloud.
+source "$(dirname "$0")/lib.sh"
+CHECK="python3 $RADIANCE_SOURCE_DIR/tests/integration/check_radiance_ply.py"
+TOOLS="$RADIANCE_BUILD_DIR/tools"
+WRITE_MLX="bash $RADIANCE_SOURCE_DIR/scripts/write_simplify_mlx.sh"
+
+"$MAKE_SCENE" sphere --level 2 -o "$WORK/sphere.ply"
+"$TOOLS/make_radiance_mesh" "$WORK/sphere.ply" --basis PB2 --no-shadows -o "$WORK/sphere.rply" >/dev/null 2>&1 \
+    || fail "make_radiance_mesh failed"
+$WRITE_MLX "$WORK/half.mlx" 0.5
+
+# expect_refusal NAME MESSAGE MESH [MLX]: the filter fails with MESSAGE and the layer is saved unchanged.
+expect_refusal() {
+    local name="$1" message="$2" mesh="$3" mlx="${4:-$WORK/half.mlx}"
+    local ext="${mesh##*.}"
+    run_meshlabserver "$WORK/$name.ref.log" -i "$mesh" -o "$WORK/$name.ref.$ext" || fail "$name: cannot save the reference"
+    run_meshlabserver "$WORK/$name.log" -i "$mesh" -s "$mlx" -o "$WORK/$name.out.$ext" || true
+    grep -qF "$message" "$WORK/$name.log" || { cat "$WORK/$name.log" >&2; fail "$name: no message '$message'"; }
+    if [ -e "$WORK/$name.out.$ext" ]; then
+        $CHECK same "$WORK/$name.ref.$ext" "$WORK/$name.out.$ext" || fail "$name: layer changed by a refused filter"
+    fi
+    note "$name refused: $(grep -F "$message" "$WORK/$name.log" | head -n 1)"
+}
+
+expect_refusal no_radiance "The current mesh has no radiance data" "$WORK/sphere.ply"
+$WRITE_MLX "$WORK/everything.mlx" 0.999999
+python3 - "$WORK/target.mlx" "$WORK/half.mlx" <<'PY'
+import sys
+text = open(sys.argv[2]).read()
+text = text.replace('name="targetFaces" value="0"', 'name="targetFaces" value="100000"')
+text = text.replace('name="targetPercentage" value="0.5"', 'name="targetPercentage" value="0"')
+open(sys.argv[1], "w").write(text)
+PY
+expect_refusal target_too_large "is not below the layer's" "$WORK/sphere.rply" "$WORK/target.mlx"
+
+# ASCII PLY variants of the radiance-free sphere (geometry-only metric, so radiance is not the issue).
+$WRITE_MLX "$WORK/geometry.mlx" 0.5 3
+python3 - "$WORK" <<'PY'
+import sys
+work = sys.argv[1]
+def write(name, vertices, faces):
+    with open(f"{work}/{name}.ply", "w") as f:
+        f.write("ply\nformat ascii 1.0\nelement vertex %d\nproperty float x\nproperty float y\nproperty float z\n"
+                % len(vertices))
+        f.write("element face %d\nproperty list uchar int vertex_indices\nend_header\n" % len(faces))
+        for v in vertices:
+            f.write("%g %g %g\n" % v)
+        for t in faces:
+            f.write("3 %d %d %d\n" % t)
+# A 2 x 8 grid of quads (7 interior vertices), then two more faces on the edge (0, 1): three faces
+# on one edge, a non-manifold edge.
+verts = [(x, y, 0.0) for y in (0, 1, 2) for x in range(9)]
+faces = []
+for y in range(2):
+    for x in range(8):
+        a, b, c, d = 9 * y + x, 9 * y + x + 1, 9 * (y + 1) + x + 1, 9 * (y + 1) + x
+        faces += [(a, b, c), (a, c, d)]
+write("strip", verts, faces)
+write("nonmanifold", verts + [(0.5, -0.5, 1.0), (0.5, -0.5, -1.0)], faces + [(1, 0, 27), (0, 1, 28)])
+write("duplicate", verts, faces + [faces[3]])
+write("points", verts, [])
+PY
+expect_refusal nonmanifold "non-manifold edge" "$WORK/nonmanifold.ply" "$WORK/geometry.mlx"
+expect_refusal duplicate "duplicate face" "$WORK/duplicate.ply" "$WORK/geometry.mlx"
+expect_refusal point_cloud "has no faces" "$WORK/points.ply" "$WORK/geometry.mlx"
+# The clean strip (with boundary) simplifies as far as its boundary allows.
+run_meshlabserver "$WORK/strip.log" -i "$WORK/strip.ply" -s "$WORK/geometry.mlx" -o "$WORK/strip.out.ply" \
+    || { cat "$WORK/strip.log" >&2; fail "clean strip failed"; }
+# Its 7 interior vertices go; the 20 boundary vertices stay (boundary preserved), and the log says
+# why the target of 16 faces was not reached.
+grep -qF "Simplified 32 -> 18 faces (20 vertices)" "$WORK/strip.log" || { cat "$WORK/strip.log" >&2; fail "no summary for the strip"; }
+grep -qF "Stopped at 18 faces above the target of 16" "$WORK/strip.log" || { cat "$WORK/strip.log" >&2; fail "no warning for the unreached target"; }
+note "refusals ok"
