@@ -1,6 +1,8 @@
 // Argument parsing shared by the command-line tools: strict numbers with messages naming the option.
 #pragma once
 #include <cmath>
+#include <exception>
+#include <iostream>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -39,6 +41,22 @@ inline std::vector<double> numberList(const std::string& key, const std::string&
     std::string item;
     while (std::getline(in, item, sep)) out.push_back(toNumber(key, item));
     return out;
+}
+
+// A tool's main(): run(argc, argv); a UsageError prints the message and the usage (exit 2), any
+// other exception its message (exit 1), each prefixed with the tool's name.
+template <typename Run, typename Usage>
+int runTool(const char* name, int argc, char** argv, Run run, Usage usage) {
+    try {
+        return run(argc, argv);
+    } catch (const UsageError& e) {
+        std::cerr << name << ": " << e.what() << "\n";
+        usage(std::cerr);
+        return 2;
+    } catch (const std::exception& e) {
+        std::cerr << name << ": " << e.what() << "\n";
+        return 1;
+    }
 }
 
 }  // namespace radtools

@@ -205,15 +205,4 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-    try {
-        return run(argc, argv);
-    } catch (const UsageError& e) {
-        std::cerr << "compare_radiance_meshes: " << e.what() << "\n";
-        usage(std::cerr);
-        return 2;
-    } catch (const std::exception& e) {
-        std::cerr << "compare_radiance_meshes: " << e.what() << "\n";
-        return 1;
-    }
-}
+int main(int argc, char** argv) { return radtools::runTool("compare_radiance_meshes", argc, argv, run, usage); }

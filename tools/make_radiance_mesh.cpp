@@ -110,15 +110,4 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-    try {
-        return run(argc, argv);
-    } catch (const UsageError& e) {
-        std::cerr << "make_radiance_mesh: " << e.what() << "\n";
-        usage(std::cerr);
-        return 2;
-    } catch (const std::exception& e) {
-        std::cerr << "make_radiance_mesh: " << e.what() << "\n";
-        return 1;
-    }
-}
+int main(int argc, char** argv) { return radtools::runTool("make_radiance_mesh", argc, argv, run, usage); }

@@ -161,15 +161,4 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-    try {
-        return run(argc, argv);
-    } catch (const UsageError& e) {
-        std::cerr << "render_radiance: " << e.what() << "\n";
-        usage(std::cerr);
-        return 2;
-    } catch (const std::exception& e) {
-        std::cerr << "render_radiance: " << e.what() << "\n";
-        return 1;
-    }
-}
+int main(int argc, char** argv) { return radtools::runTool("render_radiance", argc, argv, run, usage); }

@@ -5,6 +5,7 @@
 // Ratios are fractions of the input's FACE count (as MeshLab's decimation filter); on a closed
 // mesh the vertex count follows (V ~ F / 2). Level files: PREFIX_<ratio in per mille>.rply.
 #include "io/radiance_ply.h"
+#include "simplify/directional_reduction.h"
 #include "simplify/progressive_mesh.h"
 #include "simplify/radiance_simplification.h"
 
@@ -39,7 +40,9 @@ void usage(std::ostream& out) {
            "  --eager                  re-price touched vertices at once instead of lazily\n"
            "  --max-normal-change DEG  largest rotation of a face's normal by a collapse [90]\n"
            "  --progressive OUT.rpm    also write the progressive mesh (and OUT_base.rply beside it)\n"
-           "  --threads N              worker threads [all]\n";
+           "  --threads N              worker threads [all]\n"
+           "  --reduce PB2|SH3|...     instead: directional reduction (every vertex kept, RF projected onto\n"
+           "                           the lower degree), written to PREFIX_<basis>.rply\n";
 }
 
 double peakMemoryMb() {
@@ -55,7 +58,7 @@ std::string levelPath(const std::string& prefix, double ratio) {
 }
 
 int run(int argc, char** argv) {
-    std::string input, prefix, metricName = "radiance", collapseName = "half", progressivePath;
+    std::string input, prefix, metricName = "radiance", collapseName = "half", progressivePath, reduceTo;
     std::vector<double> ratios = {0.5, 0.25, 0.1};
     rad::RadianceSimplificationOptions options;
     for (int i = 1; i < argc; ++i) {
@@ -88,6 +91,7 @@ int run(int argc, char** argv) {
         else if (a == "--max-normal-change") options.collapse.maxNormalDeviationDegrees = toNumber(a, v);
         else if (a == "--threads") options.collapse.threads = toInt(a, v);
         else if (a == "--progressive") progressivePath = v;
+        else if (a == "--reduce") reduceTo = v;
         else if (a == "--valence") {
             const std::vector<double> bounds = radtools::numberList(a, v, ',');
             if (bounds.size() != 2) throw UsageError("--valence needs MIN,MAX");
@@ -110,6 +114,18 @@ int run(int argc, char** argv) {
     else throw UsageError("--collapse needs half or full, got '" + collapseName + "'");
 
     const auto t0 = std::chrono::steady_clock::now();
+    if (!reduceTo.empty()) {
+        const auto lower = rad::BasisSpec::parse(reduceTo);
+        if (!lower) throw UsageError("--reduce needs a basis such as PB2 or SH3, got '" + reduceTo + "'");
+        rad::RadianceMesh mesh = rad::readRadiancePly(input);
+        if (!mesh.radiance) throw std::runtime_error(input + " has no radiance functions to reduce");
+        mesh.radiance = rad::reduceDirectionalDegree(*mesh.radiance, *lower);
+        const std::string path = prefix + "_" + lower->name() + ".rply";
+        rad::writeRadiancePly(path, mesh);
+        std::printf("directional reduction to %s: %zu vertices -> %s\n", lower->name().c_str(), mesh.vertexCount(),
+                    path.c_str());
+        return 0;
+    }
     rad::ProgressiveRadianceMesh progressive;
     if (radtools::lower(std::filesystem::path(input).extension().string()) == ".rpm") {
         progressive = rad::readProgressiveMesh(input);
@@ -154,15 +170,4 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-    try {
-        return run(argc, argv);
-    } catch (const UsageError& e) {
-        std::cerr << "simplify_radiance: " << e.what() << "\n";
-        usage(std::cerr);
-        return 2;
-    } catch (const std::exception& e) {
-        std::cerr << "simplify_radiance: " << e.what() << "\n";
-        return 1;
-    }
-}
+int main(int argc, char** argv) { return radtools::runTool("simplify_radiance", argc, argv, run, usage); }
