@@ -141,10 +141,6 @@ bool RadianceFilterPlugin::simplifyRadiance(MeshDocument& md, MeshModel& m, cons
                        " Or choose the geometry-only metric.";
         return false;
     }
-    if (const std::string bad = rad::checkSimplificationInput(plain, options.metric, options.collapse.kind); !bad.empty()) {
-        errorMessage = QString::fromStdString(bad);
-        return false;
-    }
     const std::size_t faces = plain.faceCount();
     const double percentage = par.getFloat("targetPercentage");
     if (!(percentage >= 0.0 && percentage < 1.0)) {
@@ -153,7 +149,8 @@ bool RadianceFilterPlugin::simplifyRadiance(MeshDocument& md, MeshModel& m, cons
     }
     const long long targetFaces =
         percentage > 0.0 ? static_cast<long long>(std::floor(percentage * faces)) : par.getInt("targetFaces");
-    if (targetFaces < 0 || static_cast<std::size_t>(targetFaces) >= faces) {
+    // (A layer without faces is refused by the core's input check, with a message saying so.)
+    if (faces > 0 && (targetFaces < 0 || static_cast<std::size_t>(targetFaces) >= faces)) {
         errorMessage = QString("The target of %1 faces is not below the layer's %2 faces: choose a smaller target.")
                            .arg(targetFaces)
                            .arg(faces);
@@ -172,7 +169,9 @@ bool RadianceFilterPlugin::simplifyRadiance(MeshDocument& md, MeshModel& m, cons
         return true;
     };
 
-    // Everything is computed aside; the layers change only once the simplification succeeded.
+    // Everything is computed aside; the layers change only once the simplification succeeded. The
+    // core checks the input first (manifold, duplicates, degenerate faces...) and throws
+    // SimplificationError with a message for the log.
     rad::RadianceSimplificationResult result;
     try {
         result = rad::simplifyRadianceMesh(std::move(plain), options);

@@ -44,15 +44,19 @@ inline std::vector<double> numberList(const std::string& key, const std::string&
 }
 
 // A tool's main(): run(argc, argv); a UsageError prints the message and the usage (exit 2), any
-// other exception its message (exit 1), each prefixed with the tool's name.
+// other exception its message (exit 1), each prefixed with the tool's name. Tools whose generators
+// refuse parameters with std::invalid_argument pass invalidArgumentIsUsage: exit 2, no usage.
 template <typename Run, typename Usage>
-int runTool(const char* name, int argc, char** argv, Run run, Usage usage) {
+int runTool(const char* name, int argc, char** argv, Run run, Usage usage, bool invalidArgumentIsUsage = false) {
     try {
         return run(argc, argv);
     } catch (const UsageError& e) {
         std::cerr << name << ": " << e.what() << "\n";
         usage(std::cerr);
         return 2;
+    } catch (const std::invalid_argument& e) {
+        std::cerr << name << ": " << e.what() << "\n";
+        return invalidArgumentIsUsage ? 2 : 1;
     } catch (const std::exception& e) {
         std::cerr << name << ": " << e.what() << "\n";
         return 1;

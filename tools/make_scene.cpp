@@ -184,17 +184,6 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    try {
-        return run(argc, argv);
-    } catch (const UsageError& e) {
-        std::cerr << "make_scene: " << e.what() << "\n";
-        usage(std::cerr);
-        return 2;
-    } catch (const std::invalid_argument& e) {  // parameters refused by the generators
-        std::cerr << "make_scene: " << e.what() << "\n";
-        return 2;
-    } catch (const std::exception& e) {
-        std::cerr << "make_scene: " << e.what() << "\n";
-        return 1;
-    }
+    // Parameters refused by the generators (std::invalid_argument) exit with 2, as usage errors.
+    return radtools::runTool("make_scene", argc, argv, run, usage, /*invalidArgumentIsUsage=*/true);
 }

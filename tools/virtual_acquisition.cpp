@@ -317,17 +317,5 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    try {
-        return run(argc, argv);
-    } catch (const UsageError& e) {
-        std::cerr << "virtual_acquisition: " << e.what() << "\n";
-        usage(std::cerr);
-        return 2;
-    } catch (const std::invalid_argument& e) {
-        std::cerr << "virtual_acquisition: " << e.what() << "\n";
-        return 2;
-    } catch (const std::exception& e) {
-        std::cerr << "virtual_acquisition: " << e.what() << "\n";
-        return 1;
-    }
+    return radtools::runTool("virtual_acquisition", argc, argv, run, usage, /*invalidArgumentIsUsage=*/true);
 }

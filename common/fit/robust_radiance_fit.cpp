@@ -284,17 +284,7 @@ VertexFitResult RobustRadianceFitter::fit(const Frame& frame, const DirectionalS
         const double len = w.norm();
         if (!(len > 0.0)) continue;
         double x = frame.t.dot(w) / len, y = frame.b.dot(w) / len, z = frame.n.dot(w) / len;
-        if (z < 0.0) {  // border direction with the same azimuth (paper 000 sec. 7)
-            const double r = std::sqrt(x * x + y * y);
-            if (r < 1e-12) {
-                x = 1.0;
-                y = 0.0;
-            } else {
-                x /= r;
-                y /= r;
-            }
-            z = 0.0;
-        }
+        borderExtendLocal(x, y, z);  // paper 000 sec. 7
         local[3 * n] = x;
         local[3 * n + 1] = y;
         local[3 * n + 2] = z;

@@ -8,9 +8,6 @@
 namespace rad {
 
 namespace {
-// |w - (n.w) n| below which w is taken as the opposite pole (see the header).
-constexpr double kPoleRadius = 1e-12;
-
 // Evaluates the stored function C at basisDirection(w, reflectArgument). This is the single code
 // path behind L and L~:
 //   plain storage:     L(w) = C(w),          L~(w) = C(R_n w)
@@ -38,7 +35,7 @@ Eigen::Vector3d borderExtendedDirection(const Frame& frame, const Eigen::Vector3
     if (h >= 0.0) return w;
     const Eigen::Vector3d p = w - h * frame.n;
     const double r = p.norm();
-    if (r < kPoleRadius) return frame.t;
+    if (r < kOppositePoleRadius) return frame.t;
     return p / r;
 }
 
@@ -46,21 +43,11 @@ Eigen::Vector3d basisDirection(const BasisSpec& basis, const Frame& frame, const
                                bool reflectedStorage) {
     if (basis.usesLocalFrame()) {
         double x = frame.t.dot(w), y = frame.b.dot(w), z = frame.n.dot(w);
-        if (z < 0.0) {  // border direction with the same azimuth (local (x, y, 0) normalised)
-            const double r = std::sqrt(x * x + y * y);
-            if (r < kPoleRadius) {
-                x = 1.0;
-                y = 0.0;
-            } else {
-                x /= r;
-                y /= r;
-            }
-            z = 0.0;
-        }
+        borderExtendLocal(x, y, z);
         if (reflectedStorage) return {-x, -y, z};  // R_n in the local frame: (x, y, z) -> (-x, -y, z)
         return {x, y, z};
     }
-    const Eigen::Vector3d d = frame.n.dot(w) < 0.0 ? borderExtendedDirection(frame, w) : w;
+    const Eigen::Vector3d d = borderExtendedDirection(frame, w);
     return reflectedStorage ? reflect(frame.n, d) : d;
 }
 

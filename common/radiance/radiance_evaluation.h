@@ -26,6 +26,7 @@
 
 #include <Eigen/Core>
 
+#include <cmath>
 #include <cstddef>
 
 namespace rad {
@@ -47,6 +48,25 @@ struct VertexRadianceT {
 };
 using VertexRadiance = VertexRadianceT<float>;
 using VertexRadianceD = VertexRadianceT<double>;
+
+// |w - (n.w) n| below which w is taken as the opposite pole (where border() is the tangent t).
+inline constexpr double kOppositePoleRadius = 1e-12;
+
+// border() of sec. 7 on the LOCAL coordinates (x, y, z) = (t.w, b.w, n.w) of a unit direction: for
+// z < 0 the direction becomes (x, y, 0) normalised, or the tangent (1, 0, 0) at the opposite pole;
+// unchanged for z >= 0. The flat-array kernels (fit, collapse pricing) call it per direction.
+inline void borderExtendLocal(double& x, double& y, double& z) {
+    if (z >= 0.0) return;
+    const double r = std::sqrt(x * x + y * y);
+    if (r < kOppositePoleRadius) {
+        x = 1.0;
+        y = 0.0;
+    } else {
+        x /= r;
+        y /= r;
+    }
+    z = 0.0;
+}
 
 // View on vertex v of the field (frame re-orthonormalised in double, see frameFromStored).
 VertexRadiance vertexRadiance(const RadianceField& field, std::size_t v);

@@ -36,21 +36,26 @@ ImageErrors accumulate(std::size_t pixels, const std::vector<std::uint8_t>& mask
             sumCode += dc * dc;
         }
     }
+    if (count == 0) return imageErrorsFromMeanSquares(0.0, 0.0, 0);
+    return imageErrorsFromMeanSquares(sumLinear / (3.0 * count), sumCode / (3.0 * count), count);
+}
+
+}  // namespace
+
+ImageErrors imageErrorsFromMeanSquares(double meanSquareLinear, double meanSquareSrgb8, std::size_t pixelCount) {
     ImageErrors e;
-    e.pixelCount = count;
-    if (count == 0) {
+    e.pixelCount = pixelCount;
+    if (pixelCount == 0) {
         const double nan = std::numeric_limits<double>::quiet_NaN();
         e.rmseLinear = e.psnrLinear = e.rmseSrgb8 = e.psnrSrgb8 = nan;
         return e;
     }
-    e.rmseLinear = std::sqrt(sumLinear / (3.0 * count));
-    e.rmseSrgb8 = std::sqrt(sumCode / (3.0 * count));
+    e.rmseLinear = std::sqrt(meanSquareLinear);
+    e.rmseSrgb8 = std::sqrt(meanSquareSrgb8);
     e.psnrLinear = psnrFromRmse(e.rmseLinear, 1.0);
     e.psnrSrgb8 = psnrFromRmse(e.rmseSrgb8, 255.0);
     return e;
 }
-
-}  // namespace
 
 double psnrFromRmse(double rmse, double peak) {
     if (rmse == 0.0) return std::numeric_limits<double>::infinity();

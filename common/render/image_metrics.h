@@ -31,6 +31,10 @@ struct ImageErrors {
 // PSNR in dB of an RMSE for a peak value: 20 log10(peak / rmse); +inf for rmse = 0.
 double psnrFromRmse(double rmse, double peak);
 
+// The figures from the mean squared differences over `pixelCount` pixels (linear and 8-bit sRGB
+// units): RMSE = sqrt(mean square), PSNR with peaks 1 and 255; NaN when pixelCount is 0.
+ImageErrors imageErrorsFromMeanSquares(double meanSquareLinear, double meanSquareSrgb8, std::size_t pixelCount);
+
 // A mask selects pixel i (row-major, rows top to bottom) when mask[i] != 0; an empty vector
 // selects every pixel. Throws std::invalid_argument when the sizes differ.
 ImageErrors compareImages(const ImageF& a, const ImageF& b, const std::vector<std::uint8_t>& mask = {});

@@ -69,20 +69,6 @@ std::string viewTag(int view, int viewCount) {
     return "view" + std::string(digits - std::min<int>(digits, static_cast<int>(s.size())), '0') + s;
 }
 
-ImageErrors pooledErrors(double sumSqLinear, double sumSqSrgb8, std::size_t pixels) {
-    ImageErrors e;
-    e.pixelCount = pixels;
-    if (pixels == 0) {
-        const double nan = std::numeric_limits<double>::quiet_NaN();
-        e.rmseLinear = e.psnrLinear = e.rmseSrgb8 = e.psnrSrgb8 = nan;
-        return e;
-    }
-    e.rmseLinear = std::sqrt(sumSqLinear / static_cast<double>(pixels));
-    e.rmseSrgb8 = std::sqrt(sumSqSrgb8 / static_cast<double>(pixels));
-    e.psnrLinear = psnrFromRmse(e.rmseLinear, 1.0);
-    e.psnrSrgb8 = psnrFromRmse(e.rmseSrgb8, 255.0);
-    return e;
-}
 
 // Running sums of one comparison over the views.
 struct Accumulator {
@@ -280,7 +266,10 @@ std::vector<ImageSpaceError> compareRadianceMeshes(const RadianceMesh& original,
         r.meanPsnrLinear = acc.used ? acc.sumPsnrLinear / n : nan;
         r.meanRmseSrgb8 = acc.used ? acc.sumRmseSrgb8 / n : nan;
         r.meanPsnrSrgb8 = acc.used ? acc.sumPsnrSrgb8 / n : nan;
-        r.pooled = pooledErrors(acc.sumSqLinear, acc.sumSqSrgb8, acc.pixels);
+        r.pooled = acc.pixels == 0 ? imageErrorsFromMeanSquares(0.0, 0.0, 0)
+                                    : imageErrorsFromMeanSquares(acc.sumSqLinear / static_cast<double>(acc.pixels),
+                                                                 acc.sumSqSrgb8 / static_cast<double>(acc.pixels),
+                                                                 acc.pixels);
     }
     return results;
 }

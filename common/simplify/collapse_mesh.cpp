@@ -67,18 +67,22 @@ int CollapseMesh::edgeFaceCount(std::uint32_t u, std::uint32_t v) const {
     return count;
 }
 
-bool CollapseMesh::onBoundary(std::uint32_t v) const {
-    // Every edge (v, u) of a closed manifold star appears in exactly two faces: once as the 'a'
-    // and once as the 'b' of a StarFace. Count occurrences per neighbour.
-    const auto& fs = vertexFaces_[v];
-    for (std::uint32_t f : fs) {
-        const std::uint32_t* t = face(f);
-        for (int k = 0; k < 3; ++k) {
-            if (t[k] == v) continue;
-            if (edgeFaceCount(v, t[k]) != 2) return true;
+bool CollapseMesh::isOpenStar(const std::vector<StarFace>& star) {
+    for (const StarFace& f : star) {
+        int asB = 0, asA = 0;
+        for (const StarFace& g : star) {
+            asB += g.b == f.a;
+            asA += g.a == f.b;
         }
+        if (asB != 1 || asA != 1) return true;
     }
     return false;
+}
+
+bool CollapseMesh::onBoundary(std::uint32_t v) const {
+    std::vector<StarFace> around;
+    star(v, around);
+    return isOpenStar(around);
 }
 
 void CollapseMesh::collapse(std::uint32_t v0, std::uint32_t v1, std::vector<std::uint32_t>* killedFaces) {

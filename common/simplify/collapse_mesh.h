@@ -54,6 +54,9 @@ public:
     int edgeFaceCount(std::uint32_t u, std::uint32_t v) const;
     // True when v lies on a boundary edge (an edge with exactly one face) or a non-manifold edge.
     bool onBoundary(std::uint32_t v) const;
+    // The same test on a star already at hand: the fan is closed when every neighbour appears once
+    // as an 'a' and once as a 'b'.
+    static bool isOpenStar(const std::vector<StarFace>& star);
 
     // Replaces v0 by v1 in every face around v0, kills the faces that contained both, kills v0.
     // Used for half-edge collapses (v1 keeps its position) and full ones (the caller moves v1

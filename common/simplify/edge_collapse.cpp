@@ -58,19 +58,6 @@ bool contains(const std::vector<std::uint32_t>& list, std::uint32_t v) {
     return std::find(list.begin(), list.end(), v) != list.end();
 }
 
-// A vertex is inside a closed fan when every neighbour appears once as an 'a' and once as a 'b'.
-bool starIsOpen(const std::vector<StarFace>& star) {
-    for (const StarFace& f : star) {
-        int asB = 0, asA = 0;
-        for (const StarFace& g : star) {
-            asB += g.b == f.a;
-            asA += g.a == f.b;
-        }
-        if (asB != 1 || asA != 1) return true;
-    }
-    return false;
-}
-
 class Simplifier {
 public:
     Simplifier(CollapseMesh& mesh, CollapseMetric* metric, const EdgeCollapseOptions& options)
@@ -145,7 +132,7 @@ private:
         const bool needStar1 = full || !options_.preserveBoundary;
         if (needStar1) {
             mesh_.star(v1, w.star1);
-            const bool open1 = starIsOpen(w.star1);
+            const bool open1 = CollapseMesh::isOpenStar(w.star1);
             if (options_.preserveBoundary ? (open0 || open1) : (open0 && open1 && edgeFaceCount != 1))
                 return false;  // boundary kept, or an interior edge between two boundary vertices would pinch
         } else if (open0) {
@@ -183,7 +170,7 @@ private:
         if (!mesh_.vertexAlive(v0) || mesh_.incidentFaces(v0).empty()) return best;
         Workspace& w = workspace();
         mesh_.star(v0, w.star0);
-        const bool open0 = starIsOpen(w.star0);
+        const bool open0 = CollapseMesh::isOpenStar(w.star0);
         if (open0 && options_.preserveBoundary) return best;
         neighboursFromStar(w.star0, w.neighbours0);
         w.targets = w.neighbours0;
@@ -221,6 +208,7 @@ private:
     struct Placement {
         Eigen::Vector3d position;
         double s;
+        double geometricError;  // the memoryless QEM of both stars at `position`
     };
     Placement placeEdge(std::uint32_t v0, std::uint32_t v1) const {
         Quadric q = vertexQuadric(mesh_, v0);
@@ -229,7 +217,7 @@ private:
         const Eigen::Vector3d p = optimalPosition(q, p0, p1);
         const double length2 = (p1 - p0).squaredNorm();
         const double s = length2 > 0.0 ? std::clamp((p - p0).dot(p1 - p0) / length2, 0.0, 1.0) : 0.5;
-        return {p, s};
+        return {p, s, std::max(0.0, q.evaluate(p))};
     }
 
     // Full mode: the cost of collapsing edge (v0, v1) into slot v1, +inf when not allowed.
@@ -239,12 +227,10 @@ private:
         Workspace& w = workspace();
         mesh_.star(v0, w.star0);
         neighboursFromStar(w.star0, w.neighbours0);
-        const bool open0 = starIsOpen(w.star0);
+        const bool open0 = CollapseMesh::isOpenStar(w.star0);
         const Placement place = placeEdge(v0, v1);
         if (!collapseAllowed(v0, v1, open0, place.position, true, w)) return entry;
-        Quadric q = vertexQuadric(mesh_, v0);
-        q += vertexQuadric(mesh_, v1);
-        double cost = options_.geometryWeight * std::max(0.0, q.evaluate(place.position));
+        double cost = options_.geometryWeight * place.geometricError;
         if (useMetric_) {
             EdgeQuery query = edgeQuery(v0, v1, place, w);
             cost += options_.attributeWeight * metric_->priceEdge(mesh_, query);
@@ -280,7 +266,7 @@ private:
         mesh_.star(e.a, w.star0);
         neighboursFromStar(w.star0, w.neighbours0);
         if (!contains(w.neighbours0, e.b)) return false;
-        const bool open0 = starIsOpen(w.star0);
+        const bool open0 = CollapseMesh::isOpenStar(w.star0);
         if (options_.kind == CollapseKind::HalfEdge) return collapseAllowed(e.a, e.b, open0, mesh_.position(e.b), false, w);
         return collapseAllowed(e.a, e.b, open0, placeEdge(e.a, e.b).position, true, w);
     }

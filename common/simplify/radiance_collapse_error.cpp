@@ -18,10 +18,6 @@ namespace rad {
 
 namespace {
 
-// |w - (n.w) n| below which w is the opposite pole; the same threshold as radiance_evaluation.cpp,
-// so that the border extension (sec. 7) picks the same direction as evaluateReflectedRadiance.
-constexpr double kPoleRadius = 1e-12;
-
 template <typename T>
 T* grow(std::vector<T>& buffer, std::size_t n) {
     if (buffer.size() < n) buffer.resize(n);
@@ -100,17 +96,8 @@ void sampleReflected(const BasisSpec& basis, const Frame& frame, bool storedRefl
                 const double wx = dx[j0 + j], wy = dy[j0 + j], wz = dz[j0 + j];
                 double x = f.t.x() * wx + f.t.y() * wy + f.t.z() * wz;
                 double y = f.b.x() * wx + f.b.y() * wy + f.b.z() * wz;
-                const double z = f.n.x() * wx + f.n.y() * wy + f.n.z() * wz;
-                if (z < 0.0) {
-                    const double r = std::sqrt(x * x + y * y);
-                    if (r < kPoleRadius) {
-                        x = 1.0;
-                        y = 0.0;
-                    } else {
-                        x /= r;
-                        y /= r;
-                    }
-                }
+                double z = f.n.x() * wx + f.n.y() * wy + f.n.z() * wz;
+                borderExtendLocal(x, y, z);
                 u[j] = flip * x;
                 v[j] = flip * y;
             }
@@ -137,12 +124,7 @@ void sampleReflected(const BasisSpec& basis, const Frame& frame, bool storedRefl
     // re-evaluated at their border direction.
     double* y = grow(s.sh, K);
     const auto column = [&](int j0, int j, Eigen::Vector3d d) {
-        const double h = f.n.dot(d);
-        if (h < 0.0) {
-            const Eigen::Vector3d p = d - h * f.n;
-            const double r = p.norm();
-            d = r < kPoleRadius ? f.t : Eigen::Vector3d(p / r);
-        }
+        d = borderExtendedDirection(f, d);
         if (!storedReflected) d = reflect(f.n, d);
         evaluateSphericalHarmonics(basis.degree, d.x(), d.y(), d.z(), y);
         const double w = sqrtWeights[j0 + j];
@@ -231,6 +213,15 @@ void loadCoefficients(const RadianceField& field, std::uint32_t v, double* out) 
     for (int k = 0; k < count; ++k) out[k] = static_cast<double>(src[k]);
 }
 
+// Vertex v's reflected RF sampled at the prepared directions (sampleReflected with its stored
+// coefficients and frame); `coef` is scratch for the coefficients.
+void sampleVertex(const RadianceField& field, std::uint32_t v, const double* directions, const double* sqrtWeights,
+                  int P, Scratch& s, double* coef, double* out) {
+    loadCoefficients(field, v, coef);
+    sampleReflected(field.basis, frameFromStored(field.frame(v)), field.reflected, coef, directions, sqrtWeights, P, s,
+                    out);
+}
+
 double triangleArea(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
     return 0.5 * (b - a).cross(c - a).norm();
 }
@@ -298,13 +289,10 @@ void RadianceCollapseMetric::priceHalfEdges(const CollapseMesh& mesh, const Half
     const double* directions = s.directions.data();
     double* values = grow(s.values, static_cast<std::size_t>(rows) * (m + 1));
     double* coef = grow(s.coefficients, static_cast<std::size_t>(kColorChannels) * K);
-    loadCoefficients(field_, v0, coef);
-    sampleReflected(field_.basis, frame0, field_.reflected, coef, directions, sqrtWeights_.data(), P, s, values);
-    for (int i = 0; i < m; ++i) {
-        loadCoefficients(field_, ids[i], coef);
-        sampleReflected(field_.basis, frameFromStored(field_.frame(ids[i])), field_.reflected, coef, directions,
-                        sqrtWeights_.data(), P, s, values + static_cast<std::size_t>(i + 1) * rows);
-    }
+    sampleVertex(field_, v0, directions, sqrtWeights_.data(), P, s, coef, values);
+    for (int i = 0; i < m; ++i)
+        sampleVertex(field_, ids[i], directions, sqrtWeights_.data(), P, s, coef,
+                     values + static_cast<std::size_t>(i + 1) * rows);
     double* gram = grow(s.gram, static_cast<std::size_t>(m) * m);
     differenceGram(values, rows, m, gram);
 
@@ -380,15 +368,12 @@ double RadianceCollapseMetric::priceEdge(const CollapseMesh& mesh, const EdgeQue
         const double* directions = s.directions.data();
         double* values = grow(s.values, static_cast<std::size_t>(rows) * (m + 1));
         double* coef = grow(s.coefficients, static_cast<std::size_t>(count));
-        loadCoefficients(field_, vt, coef);
-        sampleReflected(field_.basis, frameT, field_.reflected, coef, directions, sqrtWeights_.data(), P, s, values);
+        sampleVertex(field_, vt, directions, sqrtWeights_.data(), P, s, coef, values);
         sampleReflected(field_.basis, frameV, true, interpolated, directions, sqrtWeights_.data(), P, s,
                         values + rows);
-        for (int i = 0; i < ring; ++i) {
-            loadCoefficients(field_, ids[i], coef);
-            sampleReflected(field_.basis, frameFromStored(field_.frame(ids[i])), field_.reflected, coef, directions,
-                            sqrtWeights_.data(), P, s, values + static_cast<std::size_t>(i + 2) * rows);
-        }
+        for (int i = 0; i < ring; ++i)
+            sampleVertex(field_, ids[i], directions, sqrtWeights_.data(), P, s, coef,
+                         values + static_cast<std::size_t>(i + 2) * rows);
         double* gram = grow(s.gram, static_cast<std::size_t>(m) * m);
         differenceGram(values, rows, m, gram);
         const Eigen::Vector3d pt = mesh.position(vt);

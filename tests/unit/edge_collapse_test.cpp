@@ -1,6 +1,7 @@
 #include "simplify/edge_collapse.h"
 
 #include "geometry/primitive_meshes.h"
+#include "test_support.h"
 
 #include <gtest/gtest.h>
 
@@ -20,17 +21,10 @@ CollapseMesh toCollapseMesh(const rad::TriangleMesh& m) {
     return CollapseMesh(m.positions.data(), m.vertexCount(), m.faces.data(), m.faceCount());
 }
 
-// A regular n x n grid of squares in z = 0, split into triangles, counter-clockwise seen from +z.
+// A regular n x n grid of squares over [0, 1]^2 in z = 0, counter-clockwise seen from +z.
 rad::TriangleMesh grid(int n) {
     rad::TriangleMesh m;
-    for (int j = 0; j <= n; ++j)
-        for (int i = 0; i <= n; ++i) m.positions.insert(m.positions.end(), {float(i) / n, float(j) / n, 0.0f});
-    auto id = [n](int i, int j) { return static_cast<std::uint32_t>(j * (n + 1) + i); };
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            m.faces.insert(m.faces.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-            m.faces.insert(m.faces.end(), {id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-        }
+    radtest::addGrid(m, n + 1, 0.0f, 1.0f);
     return m;
 }
 

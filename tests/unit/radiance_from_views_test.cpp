@@ -61,19 +61,6 @@ rad::Image8 paintedImage(int w, int h) {
     return image;
 }
 
-void addGrid(rad::TriangleMesh& mesh, int n) {
-    const std::uint32_t base = static_cast<std::uint32_t>(mesh.vertexCount());
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            mesh.positions.insert(mesh.positions.end(), {-1.0f + 2.0f * i / (n - 1), -1.0f + 2.0f * j / (n - 1), 0.0f});
-            mesh.normals.insert(mesh.normals.end(), {0.0f, 0.0f, 1.0f});
-        }
-    for (int j = 0; j + 1 < n; ++j)
-        for (int i = 0; i + 1 < n; ++i) {
-            const std::uint32_t a = base + j * n + i, b = a + 1, c = a + n + 1, d = a + n;
-            mesh.faces.insert(mesh.faces.end(), {a, b, c, a, c, d});
-        }
-}
 
 void addSquare(rad::TriangleMesh& mesh, float x0, float x1, float y0, float y1, float z, float nz) {
     const std::uint32_t base = static_cast<std::uint32_t>(mesh.vertexCount());
@@ -103,7 +90,7 @@ struct SmallScene {
 
 SmallScene smallScene() {
     SmallScene s;
-    addGrid(s.mesh, 5);
+    radtest::addGrid(s.mesh, 5);
     s.image = paintedImage(40, 30);
     s.camera = rad::PinholeCamera::lookAt(Vector3d(0.1, 0.2, 4), Vector3d(0, 0, 0), Vector3d(0, 1, 0), 60, 40, 30);
     return s;
@@ -366,7 +353,7 @@ TEST(RadianceFromViews, UnseenVerticesAreFilledRingByRingAndIsolatedOnesLeft) {
     // above: the grid vertices in the square's shadow are unseen but connected to seen ones; a
     // triangle facing away from the camera is a component nobody sees.
     rad::TriangleMesh mesh;
-    addGrid(mesh, 21);
+    radtest::addGrid(mesh, 21);
     addSquare(mesh, -0.41f, 0.23f, -0.37f, 0.19f, 0.6f, 1.0f);
     const std::uint32_t t0 = static_cast<std::uint32_t>(mesh.vertexCount());
     mesh.positions.insert(mesh.positions.end(), {2.0f, 2.0f, -0.5f, 2.5f, 2.0f, -0.5f, 2.0f, 2.5f, -0.5f});
@@ -478,7 +465,7 @@ TEST(RadianceFromViews, UnseenVerticesAreFilledRingByRingAndIsolatedOnesLeft) {
 
 TEST(RadianceFromViews, PointCloudIsSampledWithoutOcclusionAndWarned) {
     rad::TriangleMesh cloud;
-    addGrid(cloud, 5);
+    radtest::addGrid(cloud, 5);
     addSquare(cloud, -0.5f, 0.5f, -0.5f, 0.5f, 0.5f, 1.0f);  // would occlude, but faces are dropped below
     cloud.faces.clear();
     const rad::Image8 image = paintedImage(40, 30);
@@ -494,7 +481,7 @@ TEST(RadianceFromViews, PointCloudIsSampledWithoutOcclusionAndWarned) {
 
 TEST(RadianceFromViews, AdjacencyListsEachNeighbourOnce) {
     rad::TriangleMesh mesh;
-    addGrid(mesh, 3);
+    radtest::addGrid(mesh, 3);
     const rad::VertexAdjacency adj = rad::buildVertexAdjacency(mesh);
     ASSERT_EQ(adj.offsets.size(), 10u);
     // Centre vertex 4 of the 3x3 grid (diagonals a-c of each cell): 6 neighbours.

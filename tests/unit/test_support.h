@@ -84,6 +84,23 @@ inline void addQuad(rad::TriangleMesh& m, float x0, float x1, float y0, float y1
     m.faces.insert(m.faces.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
 }
 
+// Appends a grid of n x n vertices over [lo, hi]^2 at z = 0, normals +z, each square split along
+// its diagonal into two triangles counter-clockwise from +z.
+inline void addGrid(rad::TriangleMesh& mesh, int n, float lo = -1.0f, float hi = 1.0f) {
+    const auto base = static_cast<std::uint32_t>(mesh.vertexCount());
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            mesh.positions.insert(mesh.positions.end(),
+                                  {lo + (hi - lo) * i / (n - 1), lo + (hi - lo) * j / (n - 1), 0.0f});
+            mesh.normals.insert(mesh.normals.end(), {0.0f, 0.0f, 1.0f});
+        }
+    for (int j = 0; j + 1 < n; ++j)
+        for (int i = 0; i + 1 < n; ++i) {
+            const std::uint32_t a = base + j * n + i, b = a + 1, c = a + n + 1, d = a + n;
+            mesh.faces.insert(mesh.faces.end(), {a, b, c, a, c, d});
+        }
+}
+
 // Whole files as bytes (for tests that truncate or corrupt files).
 inline std::vector<char> readBytes(const std::string& path) {
     std::ifstream in(path, std::ios::binary);

@@ -25,20 +25,6 @@ namespace {
 using Eigen::Vector3d;
 constexpr double kPi = 3.14159265358979323846;
 
-// Grid of n x n vertices over [-1, 1]^2 at z = 0, normals +z, counter-clockwise from +z.
-void addGrid(rad::TriangleMesh& mesh, int n) {
-    const std::uint32_t base = static_cast<std::uint32_t>(mesh.vertexCount());
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            mesh.positions.insert(mesh.positions.end(), {-1.0f + 2.0f * i / (n - 1), -1.0f + 2.0f * j / (n - 1), 0.0f});
-            mesh.normals.insert(mesh.normals.end(), {0.0f, 0.0f, 1.0f});
-        }
-    for (int j = 0; j + 1 < n; ++j)
-        for (int i = 0; i + 1 < n; ++i) {
-            const std::uint32_t a = base + j * n + i, b = a + 1, c = a + n + 1, d = a + n;
-            mesh.faces.insert(mesh.faces.end(), {a, b, c, a, c, d});
-        }
-}
 
 // A square [x0, x1] x [y0, y1] at height z (two triangles, normals +z): the occluder.
 void addSquare(rad::TriangleMesh& mesh, float x0, float x1, float y0, float y1, float z) {
@@ -116,7 +102,7 @@ struct Scene {
 // a camera whose frame cuts the grid (some vertices out of frame or in the margin).
 Scene makeScene() {
     Scene s;
-    addGrid(s.mesh, 41);
+    radtest::addGrid(s.mesh, 41);
     addSquare(s.mesh, -0.337f, 0.061f, -0.283f, 0.117f, 0.5f);
     s.camera = rad::PinholeCamera::lookAt(Vector3d(0.4, -0.3, 3.0), Vector3d(0.1, 0.05, 0), Vector3d(0, 1, 0), 34.0, 96, 72);
     s.image = paintedImage(96, 72);
@@ -209,7 +195,7 @@ TEST(ViewSampling, OccluderHidesTheVertexBehindIt) {
     // A vertex straight below a square that sits between it and the camera: no sample; removing the
     // square's faces (same vertices) gives the sample back; a square beyond the camera does not hide.
     rad::TriangleMesh mesh;
-    addGrid(mesh, 3);  // vertex 4 is the centre (0, 0, 0)
+    radtest::addGrid(mesh, 3);  // vertex 4 is the centre (0, 0, 0)
     const rad::PinholeCamera cam =
         rad::PinholeCamera::lookAt(Vector3d(0, 0, 4), Vector3d(0, 0, 0), Vector3d(0, 1, 0), 60.0, 40, 30);
     const rad::Image8 image = paintedImage(40, 30);
@@ -226,7 +212,7 @@ TEST(ViewSampling, OccluderHidesTheVertexBehindIt) {
 
 TEST(ViewSampling, SeveralViewsInOrderWithTheirIndices) {
     rad::TriangleMesh mesh;
-    addGrid(mesh, 5);
+    radtest::addGrid(mesh, 5);
     const rad::Image8 a = paintedImage(50, 40), b = paintedImage(60, 30);
     const rad::PinholeCamera ca = rad::PinholeCamera::lookAt(Vector3d(0.5, 0, 4), Vector3d(0, 0, 0), Vector3d(0, 1, 0), 60, 50, 40);
     const rad::PinholeCamera cb = rad::PinholeCamera::lookAt(Vector3d(0, 0, -4), Vector3d(0, 0, 0), Vector3d(0, 1, 0), 60, 60, 30);
@@ -246,7 +232,7 @@ TEST(ViewSampling, SeveralViewsInOrderWithTheirIndices) {
 TEST(ViewSampling, FourBytePixelsWithSwappedChannelsReadTheSameColours) {
     // The MeshLab adapter views QImage's 32-bit pixels (B, G, R, A bytes): same samples.
     rad::TriangleMesh mesh;
-    addGrid(mesh, 9);
+    radtest::addGrid(mesh, 9);
     const rad::Image8 rgb = paintedImage(64, 48);
     std::vector<std::uint8_t> bgra(64 * 48 * 4);
     for (int i = 0; i < 64 * 48; ++i) {
@@ -272,7 +258,7 @@ TEST(ViewSampling, FourBytePixelsWithSwappedChannelsReadTheSameColours) {
 
 TEST(ViewSampling, UnusableViewsAndMeshesAreRefused) {
     rad::TriangleMesh mesh;
-    addGrid(mesh, 3);
+    radtest::addGrid(mesh, 3);
     const rad::Image8 image = paintedImage(40, 30);
     const rad::PinholeCamera cam = rad::PinholeCamera::lookAt(Vector3d(0, 0, 4), Vector3d(0, 0, 0), Vector3d(0, 1, 0), 60, 40, 30);
     EXPECT_EQ(rad::checkView({cam, image.view()}), "");
