@@ -10,7 +10,7 @@
 //      simplification has the lower image error at comparable memory.
 // Every render: 16 views around the object, 512 x 512, per-fragment eq. 8 shading, error over the
 // pixels either mesh covers (render/image_space_error.h).
-//   bench_simplify_quality [--views N] [--size S] [--lazy 0|1] [--only fig8|fig7]
+//   bench_simplify_quality [--views N] [--size S] [--lazy 0|1] [--level L (fig. 8 icosphere, 5)] [--only fig8|fig7]
 #include "acquisition/scene_radiance_field.h"
 #include "acquisition/virtual_scene.h"
 #include "geometry/mesh_normals.h"
@@ -35,7 +35,7 @@ namespace {
 
 rad::ImageSpaceOptions imageOptions;
 bool lazy = true;
-int sphereLevel = 4;
+int sphereLevel = 5;  // 10,242 vertices; --level L for others
 
 rad::RadianceMesh radianceMesh(rad::TriangleMesh mesh, rad::SampleMaterial material, rad::BasisSpec basis,
                                const Eigen::Vector3d& up, bool shadows) {
