@@ -1,0 +1,105 @@
+// Adaptive subdivision of a mesh with per-vertex PRT transfer vectors under a triangle budget,
+// paper 001 (Krivanek, Pattanaik, Zara) sec. 3.2, Fig. 2 and Fig. 3:
+//   - every triangle whose error estimate (transfer_error_estimate.h) exceeds the threshold enters a
+//     max-priority queue;
+//   - while the budget is not reached and the queue is not empty: pop the worst triangle, split it
+//     regularly 1-to-4 at its edge midpoints (Fig. 3a), ray-cast the transfer vectors of the NEW
+//     vertices through the oracle (never interpolated), estimate the four children and push those
+//     above the threshold;
+//   - post-process: T-vertices are removed by splitting each unsplit triangle that has hanging
+//     midpoints on its edges (Fig. 3b: one hanging vertex -> 2 triangles, two -> 3 (the quad cut
+//     along its shorter diagonal), three -> the regular 4), so the output is conforming.
+// Neighbour levels differ by at most one (a triangle whose neighbour across an edge is one level
+// coarser forces that neighbour's split first, "1-irregular" refinement), so every edge carries at
+// most one hanging vertex and the Fig. 3b cases are exhaustive. Forced splits count against the
+// budget like any other.
+// Budget: the face count AFTER T-vertex removal never exceeds the budget (each unsplit triangle
+// contributes 1 + its hanging-vertex count; an operation that would pass the budget is not done
+// and ends the loop).
+// Edges are matched by vertex POSITION (exact equality), not by index, so attribute seams
+// (vertices duplicated with different normals, e.g. the rim of paper 001's column) are split on
+// both sides and leave no geometric T-junction; a midpoint vertex is created per side (each side's
+// midpoint normal is normalize(n_a + n_b) of that side's end vertices) and the oracle is asked once
+// per created vertex.
+// Positions of midpoints: exact averages, so the surface does not change (flat triangles stay
+// flat); every output face lies inside one input face (originFace) — the evaluation relies on it.
+#pragma once
+
+#include "prt/transfer_error_estimate.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace rad {
+
+// Transfer vectors of new vertices: positions and normals 3 floats each, `count` points; writes
+// count * width floats to out. Called with small batches (the new vertices of one split operation)
+// during the adaptive loop and with one large batch by the uniform subdivision.
+using TransferOracle =
+    std::function<void(const float* positions, const float* normals, std::size_t count, float* out)>;
+
+// A mesh with unit per-vertex normals and `width` transfer floats per vertex.
+struct PrtMesh {
+    std::vector<float> positions;       // 3 per vertex
+    std::vector<float> normals;         // 3 per vertex, unit
+    std::vector<std::uint32_t> faces;   // 3 per triangle, counter-clockwise
+    int width = 0;                      // floats per vertex in transfer
+    std::vector<float> transfer;        // width per vertex
+
+    std::size_t vertexCount() const { return positions.size() / 3; }
+    std::size_t faceCount() const { return faces.size() / 3; }
+};
+
+struct AdaptiveSubdivisionOptions {
+    TransferErrorMeasure measure = TransferErrorMeasure::NormalDivergence;
+    double alpha = kDefaultNormalDivergenceAlpha;  // eq. 4 only
+    double threshold = 0.0;                        // triangles at or below it are never split
+    std::size_t triangleBudget = 0;                // max output faces (after T-vertex removal)
+    // Fraction done in [0, 1] (faces created / budget); returning false cancels (throws
+    // SubdivisionCancelled). May be empty.
+    std::function<bool(double)> progress;
+};
+
+struct SubdivisionCancelled : std::runtime_error {
+    SubdivisionCancelled() : std::runtime_error("the subdivision was cancelled") {}
+};
+
+enum class SubdivisionStop { BudgetReached, QueueEmpty };
+
+struct SubdivisionResult {
+    PrtMesh mesh;
+    std::vector<float> faceError;              // per output face: its error estimate (same measure)
+    std::vector<std::uint32_t> originFace;     // per output face: the input face containing it
+    std::size_t regularSplits = 0;             // 1-to-4 splits (forced ones included)
+    std::size_t forcedSplits = 0;              // of which done to keep neighbours 1-irregular
+    std::size_t tVertexFixes = 0;              // triangles split by the Fig. 3b post-process
+    std::size_t newVertices = 0;
+    SubdivisionStop stop = SubdivisionStop::QueueEmpty;
+    double largestRemainingError = 0.0;        // top of the queue when stopped (0 if empty)
+};
+
+// Throws std::invalid_argument when the mesh is invalid (sizes, indices, non-finite values, no
+// faces), width < 1, the budget is below the input face count, or the threshold/alpha is negative
+// or not finite. Input triangles must be non-degenerate and edge-manifold (checked by the caller,
+// see checkPrtSubdivisionInput).
+SubdivisionResult subdivideAdaptively(const PrtMesh& input, const TransferOracle& oracle,
+                                      const AdaptiveSubdivisionOptions& options);
+
+// Baseline: regular 1-to-4 subdivision of EVERY triangle, as many levels L as fit the budget
+// (faces * 4^L <= budget, L >= 0), new vertices ray-cast through the oracle, normals
+// normalize(n_a + n_b) at midpoints. faceError filled with the same measure/alpha for comparison.
+SubdivisionResult subdivideUniformly(const PrtMesh& input, const TransferOracle& oracle, std::size_t triangleBudget,
+                                     TransferErrorMeasure measure = TransferErrorMeasure::NormalDivergence,
+                                     double alpha = kDefaultNormalDivergenceAlpha);
+
+// Empty string when the mesh can be subdivided; otherwise a sentence saying what is wrong and how
+// to fix it in MeshLab: no faces, zero-area or repeated-vertex faces, non-manifold edges (an
+// undirected position-edge used by more than two faces), missing or zero normals, non-finite
+// values, transfer width mismatch.
+std::string checkPrtSubdivisionInput(const PrtMesh& mesh);
+
+}  // namespace rad

@@ -1,0 +1,74 @@
+// Relighting error of interpolated PRT (paper 001 eq. 1, measured instead of estimated): at dense
+// sample points x inside every triangle, the exact shading L(x, l) = <t(x), l> with t(x) ray-cast AT
+// x, against the interpolated shading L_int(x, l) = <sum_i b_i t_vi, l> (b_i the barycentrics of x in
+// the triangle of the evaluated mesh that contains x), over many lightings l.
+//
+// Weber-law normalisation (paper 001 eq. 1: relative error, "according to the Weber law"):
+//     e(x, l) = |L(x, l) - L_int(x, l)| / max(L(x, l), floor(l)),
+// with floor(l) = kWeberFloorFraction times the area-weighted mean of L(., l) over the samples. The
+// floor stands for the eye's adaptation level: Weber's law holds above it and fails toward black
+// (de Vries-Rose region), where a ratio to a near-zero luminance would only measure noise.
+// Luminance: Rec. 709 Y of the RGB shading (0.2126, 0.7152, 0.0722).
+//
+// Sample points live on the INPUT (unsubdivided) mesh, so the same points judge every
+// subdivision of it (subdivision does not move the surface, adaptive_subdivision.h): per input face,
+// points stratified in area (count proportional to the face's area, at least one), each then
+// located in the subdivided mesh through SubdivisionResult::originFace.
+#pragma once
+
+#include "prt/adaptive_subdivision.h"
+#include "prt/transfer_vectors.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace rad {
+
+constexpr double kWeberFloorFraction = 0.01;
+
+struct RelightingSamples {
+    std::vector<std::uint32_t> inputFace;  // per sample
+    std::vector<float> positions;          // 3 per sample
+    std::vector<float> normals;            // 3 per sample (interpolated input vertex normals, unit)
+    std::vector<float> weights;            // per sample: area it stands for (sums to the mesh area)
+    std::vector<float> groundTruth;        // per sample: width floats, ray-cast at the sample
+    int width = 0;
+    std::size_t count() const { return inputFace.size(); }
+};
+
+// About `targetCount` samples over the input mesh (deterministic for a given seed); the ground
+// truth is filled by the oracle (one large batch).
+RelightingSamples makeRelightingSamples(const PrtMesh& input, std::size_t targetCount, const TransferOracle& oracle,
+                                        unsigned seed = 1);
+
+struct RelightingErrorStats {
+    double meanRelativeError = 0.0;   // area-weighted mean of e over samples (and lightings, when aggregated)
+    double p95RelativeError = 0.0;    // area-weighted 95th percentile
+    double rmsRelativeError = 0.0;
+};
+
+// Interpolated transfer of every sample in `mesh` (a subdivision of `input` with its originFace),
+// width floats per sample. Throws std::invalid_argument when a sample lies in no sub-face of its
+// input face (tolerance 1e-5 in barycentrics; the nearest sub-face is used within it).
+std::vector<float> interpolateAtSamples(const RelightingSamples& samples, const PrtMesh& input,
+                                        const SubdivisionResult& mesh);
+
+// Errors for one lighting (3 * K doubles, prt_lighting.h), `channels` and `degree` those of the
+// transfer fields.
+RelightingErrorStats relightingError(const RelightingSamples& samples, const std::vector<float>& interpolated,
+                                     int degree, int channels, const std::vector<double>& lighting,
+                                     int lightingDegree);
+
+// Over many lightings: per-lighting stats and the aggregate (mean of means, p95 over all
+// (sample, lighting) pairs with weights).
+struct RelightingErrorReport {
+    std::vector<RelightingErrorStats> perLighting;
+    RelightingErrorStats overall;
+};
+RelightingErrorReport relightingErrorOverLightings(const RelightingSamples& samples,
+                                                   const std::vector<float>& interpolated, int degree, int channels,
+                                                   const std::vector<std::vector<double>>& lightings,
+                                                   int lightingDegree);
+
+}  // namespace rad

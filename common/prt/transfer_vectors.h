@@ -1,0 +1,112 @@
+// Shadowed diffuse transfer vectors of precomputed radiance transfer (PRT):
+//   P.-P. Sloan, J. Kautz, J. Snyder, "Precomputed radiance transfer for real-time rendering in
+//   dynamic, low-frequency lighting environments", SIGGRAPH 2002, sec. 5 ("shadowed diffuse").
+// At a surface point x with unit normal n the transfer vector is
+//     t_k(x) = (1 / pi) * integral over the sphere of V(x, w) max(0, n.w) Y_k(w) dw,
+// k < (degree + 1)^2, Y_k the real spherical harmonics of radiance/spherical_harmonics.h (global
+// frame), V(x, w) = 1 when the ray from x toward w escapes the scene. The exit radiance of a white
+// Lambertian surface under a distant lighting with SH coefficients l_k is then
+//     L(x) = <t(x), l>                          (paper 001 sec. 3.3, L(x, l) = <t_x | l>)
+// so a constant unit lighting on an unoccluded point gives L = 1. Albedo (per channel) multiplies
+// t; it is applied by the caller (TransferField::channels == 3 then), not here.
+//
+// Paper 001 uses "SH of order 6" = 36 coefficients, i.e. degree 5 in our convention (order =
+// degree + 1): kDefaultTransferDegree.
+//
+// Estimator: N cosine-weighted directions (pdf = max(0, n.w) / pi), so
+//     t_k(x) ~= (1 / N) * sum_i V(x, w_i) Y_k(w_i).
+// The directions are a fixed low-discrepancy set in the vertex's LOCAL frame (Hammersley points
+// mapped by Shirley-Chiu's concentric disc map and lifted to the hemisphere: Malley's method), the
+// same for every point, so neighbouring points with similar normals see correlated sample patterns
+// and the differences of their transfer vectors (what paper 001's error estimates measure) carry
+// little Monte-Carlo noise. The local frame (tangent, bitangent, normal) is built from n alone by
+// Duff et al., "Building an orthonormal basis, revisited", JCGT 6(1) 2017 (continuous except at
+// n = -z exactly, where it is still orthonormal).
+// Speed: Y_k of the local directions is tabulated once; per point the visible rows are summed in
+// the local frame and the sum is rotated to the global frame once with radiance/sh_rotation.h, so
+// the cost per point is the rays (Embree, 16-wide packets) plus O(N K + degree^3).
+//
+// Rays: origin x + offset * n, tNear = offset (offset = TransferOptions::relativeRayOffset times
+// the scene's bounding-box diagonal): no self-hit on the point's own triangles. Directions below
+// the geometric horizon of a curved surface may hit the point's own neighbourhood: that is
+// self-shadowing, and correct.
+#pragma once
+
+#include "raycast/ray_scene.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+namespace rad {
+
+constexpr int kDefaultTransferDegree = 5;        // 36 coefficients, paper 001's "order 6"
+constexpr int kDefaultTransferRayCount = 256;
+
+struct TransferOptions {
+    int degree = kDefaultTransferDegree;         // 0 .. kMaxHarmonicDegree
+    int rayCount = kDefaultTransferRayCount;     // directions per point, >= 1
+    double relativeRayOffset = 1e-4;             // times the scene diagonal, > 0
+    int threads = 0;                             // 0: all cores (OpenMP)
+    // Called from the calling thread with the fraction done in [0, 1]; returning false cancels
+    // (computeTransferVectors then throws TransferCancelled). May be empty.
+    std::function<bool(double)> progress;
+};
+
+struct TransferCancelled : std::runtime_error {
+    TransferCancelled() : std::runtime_error("the transfer computation was cancelled") {}
+};
+
+// Per-vertex transfer vectors, flat: values[(v * channels + c) * coefficientCount() + k].
+// channels is 1 (white albedo: the transfer of the geometry alone) or 3 (times an RGB albedo).
+struct TransferField {
+    int degree = kDefaultTransferDegree;
+    int channels = 1;
+    std::vector<float> values;
+
+    int coefficientCount() const { return (degree + 1) * (degree + 1); }
+    int width() const { return channels * coefficientCount(); }  // floats per vertex
+    std::size_t vertexCount() const { return width() > 0 ? values.size() / width() : 0; }
+    const float* vertex(std::size_t v) const { return values.data() + v * width(); }
+    float* vertex(std::size_t v) { return values.data() + v * width(); }
+};
+
+// The fixed local direction set and its SH table; immutable, shared by threads.
+class TransferEstimator {
+public:
+    // scene: the occluders (the mesh itself, or all visible layers); sceneDiagonal > 0 sets the
+    // ray offset. Throws std::invalid_argument on bad options.
+    TransferEstimator(const RayScene& scene, float sceneDiagonal, const TransferOptions& options);
+
+    int degree() const;
+    int coefficientCount() const;
+    int rayCount() const;
+
+    // out[0 .. coefficientCount()) = t(x) for one point (single-threaded, thread-safe).
+    // The normal need not be unit (normalised here); a zero or non-finite normal gives all zeros.
+    void computeAt(const float position[3], const float normal[3], float* out) const;
+
+    // Rays shot so far by this estimator (all threads), for the rays-per-second figures.
+    std::uint64_t raysCast() const;
+
+    // ... implementation-defined private members (the helper owns them)
+private:
+    struct Impl;
+    std::shared_ptr<const Impl> impl_;
+};
+
+// Transfer vectors of `count` points (positions and normals: 3 floats each), both cores busy
+// (OpenMP, dynamic schedule), out resized to count * coefficientCount(). Progress from the calling
+// thread. Throws TransferCancelled when progress returns false.
+void computeTransferVectors(const TransferEstimator& estimator, const float* positions, const float* normals,
+                            std::size_t count, std::vector<float>& out,
+                            const std::function<bool(double)>& progress = {}, int threads = 0);
+
+// Multiplies a 1-channel field by per-vertex RGB albedos (3 floats per vertex, linear) into a
+// 3-channel field. Throws std::invalid_argument on size mismatch or a field that is not 1-channel.
+TransferField multiplyByAlbedo(const TransferField& geometryTransfer, const std::vector<float>& rgbAlbedo);
+
+}  // namespace rad
