@@ -113,6 +113,7 @@ bool RadianceFilterPlugin::fitFromRasters(MeshDocument& md, MeshModel& m, const 
     rad::RadianceMesh plain;
     std::string why;
     radml::ExportChoice choice;
+    choice.transfer = false;  // not used here (and not required to cover every vertex)
     choice.colors = choice.quality = choice.radiance = false;
     if (!radml::exportPlainMesh(m.cm, choice, plain, why)) {
         errorMessage = QString::fromStdString(why);

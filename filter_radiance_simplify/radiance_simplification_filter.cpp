@@ -131,6 +131,7 @@ bool RadianceFilterPlugin::simplifyRadiance(MeshDocument& md, MeshModel& m, cons
     rad::RadianceMesh plain;
     std::string problem;
     radml::ExportChoice choice;
+    choice.transfer = false;  // not used here (and not required to cover every vertex)
     choice.radiance = radml::hasRadiance(m.cm);
     if (!radml::exportPlainMesh(m.cm, choice, plain, problem)) {
         errorMessage = QString::fromStdString(problem);

@@ -2,6 +2,7 @@
 
 #include "mesh_conversion.h"
 #include "radiance_attribute.h"
+#include "transfer_attribute.h"
 
 #include <wrap/io_trimesh/io_mask.h>
 
@@ -44,11 +45,19 @@ bool RadianceIOPlugin::open(const QString& format, const QString& fileName, Mesh
         if (cb) cb(5, "Reading radiance PLY");
         const rad::RadianceMesh plain = rad::readRadiancePly(fileName.toStdString());
         if (cb) cb(60, "Building the mesh");
-        mask = radml::importPlainMesh(plain, m.cm);
+        std::string transferWarning;
+        mask = radml::importPlainMesh(plain, m.cm, &transferWarning);
         m.Enable(mask);
         if (plain.radiance)
             Log("Loaded %zu vertices with %s radiance functions%s", plain.vertexCount(),
                 plain.radiance->basis.name().c_str(), plain.radiance->reflected ? " (reflected)" : "");
+        if (const rad::TransferField* transfer = radml::storedTransferField(m.cm))
+            Log("Loaded PRT transfer vectors: SH degree %d (%d coefficients), %d channel(s)", transfer->degree,
+                transfer->coefficientCount(), transfer->channels);
+        if (!transferWarning.empty()) {
+            Log(GLLogStream::WARNING, "%s", transferWarning.c_str());
+            std::fprintf(stderr, "%s\n", transferWarning.c_str());
+        }
         if (cb) cb(100, "Done");
         return true;
     } catch (const std::exception& e) {
@@ -84,6 +93,8 @@ bool RadianceIOPlugin::save(const QString& format, const QString& fileName, Mesh
         rad::writeRadiancePly(fileName.toStdString(), plain);
         if (!plain.radiance)
             Log("Saved %s without radiance data (the mesh has none)", qUtf8Printable(fileName));
+        if (!plain.extraBlocks.empty())
+            Log("Saved the PRT transfer vectors with %s", qUtf8Printable(fileName));
         if (cb) cb(100, "Done");
         return true;
     } catch (const std::exception& e) {

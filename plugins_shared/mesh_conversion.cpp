@@ -1,6 +1,7 @@
 #include "mesh_conversion.h"
 
 #include "radiance_attribute.h"
+#include "transfer_attribute.h"
 
 #include <vcg/complex/allocate.h>
 #include <wrap/io_trimesh/io_mask.h>
@@ -44,10 +45,15 @@ bool exportPlainMesh(CMeshO& mesh, const ExportChoice& choice, rad::RadianceMesh
             for (int k = 0; k < 3; ++k) out.normals[3 * v + k] = field.frame(v)[3 + k];
         out.radiance = std::move(field);
     }
+    if (choice.transfer && hasTransfer(mesh)) {
+        StoredTransfer transfer;
+        if (!gatherTransfer(mesh, transfer, why)) return false;
+        out.extraBlocks.push_back(blockFromTransfer(transfer));
+    }
     return true;
 }
 
-int importPlainMesh(const rad::RadianceMesh& in, CMeshO& mesh) {
+int importPlainMesh(const rad::RadianceMesh& in, CMeshO& mesh, std::string* warning) {
     mesh.Clear();
     const std::size_t n = in.vertexCount();
     int mask = vcg::tri::io::Mask::IOM_VERTCOORD | vcg::tri::io::Mask::IOM_FACEINDEX;
@@ -69,7 +75,20 @@ int importPlainMesh(const rad::RadianceMesh& in, CMeshO& mesh) {
     auto fi = vcg::tri::Allocator<CMeshO>::AddFaces(mesh, faceCount);
     for (std::size_t f = 0; f < faceCount; ++f, ++fi)
         for (int k = 0; k < 3; ++k) fi->V(k) = &mesh.vert[in.faces[3 * f + k]];
-    if (in.radiance) attachRadiance(mesh, *in.radiance);
+    // Clear() keeps vcg's attributes: drop the old data unless `in` brings its own.
+    if (in.radiance)
+        attachRadiance(mesh, *in.radiance);
+    else
+        removeRadiance(mesh);
+    removeTransfer(mesh);
+    for (const rad::NamedVertexBlock& block : in.extraBlocks) {
+        if (block.prefix != kTransferBlockPrefix) continue;
+        std::string why;
+        if (auto transfer = transferFromBlock(block, why))
+            attachTransfer(mesh, std::move(*transfer));
+        else if (warning)
+            *warning = "The PRT transfer vectors were not loaded: " + why + ".";
+    }
     return mask;
 }
 

@@ -14,14 +14,16 @@ struct ExportChoice {
     bool colors = true;
     bool quality = true;
     bool radiance = true;
+    bool transfer = true;  // PRT transfer vectors as the extra block "prt" (transfer_attribute.h)
 };
 
 // Copies the live vertices/faces of `mesh` (deleted elements skipped, indices compacted) into `out`.
 // Returns false with `why` when the radiance data is requested but inconsistent with the mesh.
 bool exportPlainMesh(CMeshO& mesh, const ExportChoice& choice, rad::RadianceMesh& out, std::string& why);
 
-// Replaces the content of `mesh` with `in` (positions, normals, colours, quality, faces, radiance).
-// Returns the vcg::tri::io::Mask bits describing what was loaded.
-int importPlainMesh(const rad::RadianceMesh& in, CMeshO& mesh);
+// Replaces the content of `mesh` with `in` (positions, normals, colours, quality, faces, radiance,
+// the PRT transfer block "prt"). Returns the vcg::tri::io::Mask bits describing what was loaded.
+// A "prt" block that does not describe a transfer field is skipped with a sentence in `warning`.
+int importPlainMesh(const rad::RadianceMesh& in, CMeshO& mesh, std::string* warning = nullptr);
 
 }  // namespace radml

@@ -1,10 +1,8 @@
 // The radiance data of a MeshLab layer (CMeshO), shared by every plugin of ours.
 //
 // The coefficients live in one contiguous rad::RadianceField held by a per-mesh attribute; each
-// vertex carries a per-vertex attribute with its row in that field. vcg keeps per-vertex attributes
-// in step with the vertex vector (compaction, deletion, append), so any MeshLab filter that deletes
-// or reorders vertices keeps the association right; a vertex created by another filter (e.g. a
-// subdivision) gets row -1, "no radiance", which gatherRadiance() reports instead of inventing data.
+// vertex carries its row in that field (row_indexed_attribute.h: MeshLab's own delete/compact
+// filters keep the association; vertices created by other filters have no radiance).
 #pragma once
 
 #include "radiance/radiance_field.h"
@@ -19,11 +17,6 @@ namespace radml {
 
 inline constexpr const char* kRadianceFieldAttributeName = "radiance_field";
 inline constexpr const char* kRadianceRowAttributeName = "radiance_row";
-
-// Per-vertex attribute value; the default (-1) is what vertices created by other filters get.
-struct RadianceRow {
-    std::int32_t row = -1;
-};
 
 // Whether the mesh carries radiance data at all.
 bool hasRadiance(CMeshO& mesh);

@@ -73,9 +73,32 @@ echo "[main] image-space comparison (16 views, 512x512, per-fragment shading)"
     --up 0,1,0 --heatmaps "$SIMP/heatmaps" | tee "$OUT_DIR/simplification_errors.txt"
 python3 "$REPO/scripts/plot_error_vs_memory.py" "$OUT_DIR/simplification_errors.txt" \
     "$OUT_DIR/simplification_error_vs_memory.svg" "Fitted bunny: image error against memory"
+# Precomputed radiance transfer (paper 001): the column on a plane through our filters in
+# meshlabserver (transfer, adaptive subdivision with the error estimate as face colour, relighting),
+# then adaptive against uniform subdivision at the same triangle count on the column and on the
+# (simplified) bunny scan standing on a plane: relighting error over 32 directional lights and four
+# HDR maps in four rotations each, pictures against a per-pixel ray-cast reference.
+echo "[main] PRT: column on a plane through meshlabserver (transfer, adaptive subdivision, relighting)"
+PRT="$OUT_DIR/prt"
+mkdir -p "$PRT"
+"$BUILD_DIR/tools/make_scene" column -o "$PRT/column.ply"
+bash "$REPO/scripts/write_prt_mlx.sh" "$PRT/column.mlx" transfer:6:256 adaptive:4 relight-dir:1:0.3:0.8:3
+server -i "$PRT/column.ply" -s "$PRT/column.mlx" -o "$PRT/column_adaptive.rply" -m vc vn \
+    -o "$PRT/column_adaptive_error.ply" -m fc fq >"$PRT/column.log" 2>&1
+grep -h "^LOG: .*\(Computed PRT\|Adaptive PRT\|Relit\)" "$PRT/column.log" | sed 's/^LOG: [0-9] /[main] /'
+HDRS=()
+for map in city courtyard forest studio; do HDRS+=(--hdr "$DATA/hdr/$map.exr"); done
+echo "[main] PRT: adaptive vs uniform subdivision, column scene (paper 001 Fig. 1)"
+"$BUILD_DIR/tools/evaluate_prt" --scene column --levels 2 "${HDRS[@]}" --out "$PRT/column" \
+    | tee "$OUT_DIR/prt_column_errors.txt"
+echo "[main] PRT: adaptive vs uniform subdivision, bunny scan (simplified to 2000 faces) on a plane"
+"$BUILD_DIR/tools/evaluate_prt" --mesh "$DATA/meshes/bunny00.off" --up y --simplify-to 2000 --levels 2 \
+    "${HDRS[@]}" --out "$PRT/bunny" | tee "$OUT_DIR/prt_bunny_errors.txt"
 echo "[main] outputs:"
 ls -l "$OUT_DIR"/*.rply "$OUT_DIR"/*.png "$OUT_DIR"/*.svg
 echo "[main] picture (photograph | fitted radiance | 4x difference): $OUT_DIR/bunny_photo_vs_fit_view07.png"
 echo "[main] simplification: $OUT_DIR/simplification_errors.txt, $OUT_DIR/simplification_error_vs_memory.svg,"
 echo "       heat maps in $SIMP/heatmaps (radiance_100 vs color_100: 10 % of the faces)"
+echo "[main] PRT: $OUT_DIR/prt_column_errors.txt, $OUT_DIR/prt_bunny_errors.txt; pictures in $PRT/column and"
+echo "       $PRT/bunny (reference.png = per-pixel transfer; input/uniform/adaptive.png = interpolated)"
 echo "[main] open the fit with: $PREFIX/bin/meshlab $OUT_DIR/bunny_radiance.rply"

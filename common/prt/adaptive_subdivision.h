@@ -38,7 +38,9 @@ namespace rad {
 
 // Transfer vectors of new vertices: positions and normals 3 floats each, `count` points; writes
 // count * width floats to out. Called with small batches (the new vertices of one split operation)
-// during the adaptive loop and with one large batch by the uniform subdivision.
+// during the adaptive loop and with one large batch by the uniform subdivision; never with count 0
+// (an operation that creates no vertex, e.g. splitting a triangle whose three edges are already
+// split, does not call it).
 using TransferOracle =
     std::function<void(const float* positions, const float* normals, std::size_t count, float* out)>;
 
@@ -57,7 +59,9 @@ struct PrtMesh {
 struct AdaptiveSubdivisionOptions {
     TransferErrorMeasure measure = TransferErrorMeasure::NormalDivergence;
     double alpha = kDefaultNormalDivergenceAlpha;  // eq. 4 only
-    double threshold = 0.0;                        // triangles at or below it are never split
+    // Triangles at or below it never enter the queue (a forced split, done to keep a finer neighbour
+    // 1-irregular, may still split one).
+    double threshold = 0.0;
     std::size_t triangleBudget = 0;                // max output faces (after T-vertex removal)
     // Fraction done in [0, 1] (faces created / budget); returning false cancels (throws
     // SubdivisionCancelled). May be empty.
@@ -83,15 +87,20 @@ struct SubdivisionResult {
 };
 
 // Throws std::invalid_argument when the mesh is invalid (sizes, indices, non-finite values, no
-// faces), width < 1, the budget is below the input face count, or the threshold/alpha is negative
-// or not finite. Input triangles must be non-degenerate and edge-manifold (checked by the caller,
-// see checkPrtSubdivisionInput).
+// faces), width < 1, the budget is below the input face count or above 2^30, the threshold/alpha is
+// negative or not finite, or the oracle is empty. Input triangles must be non-degenerate and
+// edge-manifold (checked by the caller, see checkPrtSubdivisionInput); the two cases that would
+// break the refinement (a face with two corners at the same position, a position-edge of more than
+// two faces) also throw std::invalid_argument. Zero-area faces with distinct corners are refined
+// like any other.
 SubdivisionResult subdivideAdaptively(const PrtMesh& input, const TransferOracle& oracle,
                                       const AdaptiveSubdivisionOptions& options);
 
 // Baseline: regular 1-to-4 subdivision of EVERY triangle, as many levels L as fit the budget
 // (faces * 4^L <= budget, L >= 0), new vertices ray-cast through the oracle, normals
 // normalize(n_a + n_b) at midpoints. faceError filled with the same measure/alpha for comparison.
+// Edges are matched by position as in the adaptive case. Throws like subdivideAdaptively (a budget
+// below the input face count included); stop is BudgetReached. The oracle is not called when L = 0.
 SubdivisionResult subdivideUniformly(const PrtMesh& input, const TransferOracle& oracle, std::size_t triangleBudget,
                                      TransferErrorMeasure measure = TransferErrorMeasure::NormalDivergence,
                                      double alpha = kDefaultNormalDivergenceAlpha);

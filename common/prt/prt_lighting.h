@@ -19,11 +19,16 @@
 
 namespace rad {
 
-// Windowed SH of a directional light of colour `rgb` toward the (unit or not) direction `toLight`.
+// Windowed SH of a directional light of colour `rgb` toward the (unit or not) direction `toLight`:
+// l[ch * K + k] = rgb[ch] h_l Y_k(toLight / |toLight|). Throws std::invalid_argument for a zero or
+// non-finite direction, std::out_of_range for a degree outside [0, kMaxHarmonicDegree].
 std::vector<double> directionalLightSH(int degree, const Eigen::Vector3d& toLight, const Eigen::Vector3d& rgb);
 
 // SH of an environment map rotated by rotationAboutZ(radians) (environment_map.h conventions),
-// truncated to `degree` (no window: the map's own projection).
+// truncated to `degree` (no window: the map's own projection). The turn composes with the map's
+// own rotation R: the result is the projection of the map with rotation rotationAboutZ(radians) * R
+// (the map itself is not modified; with R = identity, the map turned by `radians` about +Z).
+// Throws std::out_of_range for a degree outside [0, kMaxHarmonicDegree].
 std::vector<double> environmentLightSH(const EnvironmentMap& map, int degree, double rotationRadians);
 
 // Exit radiance per vertex and channel: out[3 v + ch] = <t_v(channel), l(ch)>, where a 1-channel

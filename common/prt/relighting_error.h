@@ -12,8 +12,9 @@
 //
 // Sample points live on the INPUT (unsubdivided) mesh, so the same points judge every
 // subdivision of it (subdivision does not move the surface, adaptive_subdivision.h): per input face,
-// points stratified in area (count proportional to the face's area, at least one), each then
-// located in the subdivided mesh through SubdivisionResult::originFace.
+// points stratified in area (count proportional to the face's area, at least one; zero-area faces
+// cover no surface and get none), each then located in the subdivided mesh through
+// SubdivisionResult::originFace.
 #pragma once
 
 #include "prt/adaptive_subdivision.h"
@@ -38,7 +39,11 @@ struct RelightingSamples {
 };
 
 // About `targetCount` samples over the input mesh (deterministic for a given seed); the ground
-// truth is filled by the oracle (one large batch).
+// truth is filled by the oracle (one large batch). Per face of area A_f: n_f = max(1,
+// round(targetCount A_f / A)) points, one uniformly jittered in each of n_f equal-area strata (equal
+// cells of the unit square mapped by Heitz's area-preserving square-to-triangle map), each of
+// weight A_f / n_f. Throws std::invalid_argument on an invalid mesh (sizes, indices, non-finite
+// positions, missing normals, width < 1, zero total area) or an empty oracle.
 RelightingSamples makeRelightingSamples(const PrtMesh& input, std::size_t targetCount, const TransferOracle& oracle,
                                         unsigned seed = 1);
 
@@ -50,18 +55,28 @@ struct RelightingErrorStats {
 
 // Interpolated transfer of every sample in `mesh` (a subdivision of `input` with its originFace),
 // width floats per sample. Throws std::invalid_argument when a sample lies in no sub-face of its
-// input face (tolerance 1e-5 in barycentrics; the nearest sub-face is used within it).
+// input face (tolerance 1e-5 in the input face's barycentrics, i.e. the distance outside the
+// sub-face in the chart where the input face is the unit right triangle, widened by what float
+// rounding of the coordinates can amount to for small faces far from the origin; within it the
+// nearest sub-face is used, at its nearest point), and on size, index or width mismatches
+// (originFace must have one entry per output face). Sub-faces are found through a per-input-face
+// list built once and a small uniform grid per input face: linear in samples + faces.
 std::vector<float> interpolateAtSamples(const RelightingSamples& samples, const PrtMesh& input,
                                         const SubdivisionResult& mesh);
 
 // Errors for one lighting (3 * K doubles, prt_lighting.h), `channels` and `degree` those of the
-// transfer fields.
+// transfer fields. The weighted 95th percentile is the smallest e whose cumulative weight (of the
+// errors <= e) reaches 0.95 of the total (exact: no binning error). Throws std::invalid_argument on
+// size mismatches, non-finite values, negative weights, or a lighting whose mean luminance over
+// the samples is not positive (no adaptation level, so no Weber normalisation).
 RelightingErrorStats relightingError(const RelightingSamples& samples, const std::vector<float>& interpolated,
                                      int degree, int channels, const std::vector<double>& lighting,
                                      int lightingDegree);
 
-// Over many lightings: per-lighting stats and the aggregate (mean of means, p95 over all
-// (sample, lighting) pairs with weights).
+// Over many lightings: per-lighting stats and the aggregate (mean of means, RMS of the per-lighting
+// mean squares, p95 over all (sample, lighting) pairs with weights). The (sample, lighting) errors
+// are never all stored: two passes over the samples (OpenMP), the first locating each quantile in
+// a histogram (lightings x 8k bins per thread), the second keeping only the errors of that bin.
 struct RelightingErrorReport {
     std::vector<RelightingErrorStats> perLighting;
     RelightingErrorStats overall;

@@ -19,7 +19,10 @@ enum class TransferErrorMeasure {
     NormalDivergence,  // eq. 4 (default, with alpha)
 };
 
-constexpr double kDefaultNormalDivergenceAlpha = 1.0;  // per radian; see docs/prt-subdivision.md
+// Per radian. The paper leaves alpha to the user; 4 halves the error of a triangle whose normals
+// spread ~0.25 rad from n1 (a coarse curved tessellation, e.g. paper 001's 16-segment column) and
+// never divides by more than 1 + 4 pi/2 ~ 7.3. Reasoning in docs/prt-subdivision.md.
+constexpr double kDefaultNormalDivergenceAlpha = 4.0;
 
 double triangleTransferError(TransferErrorMeasure measure, double alpha, const float* t1, const float* t2,
                              const float* t3, int width, const float n1[3], const float n2[3], const float n3[3]);

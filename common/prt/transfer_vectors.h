@@ -20,8 +20,14 @@
 // same for every point, so neighbouring points with similar normals see correlated sample patterns
 // and the differences of their transfer vectors (what paper 001's error estimates measure) carry
 // little Monte-Carlo noise. The local frame (tangent, bitangent, normal) is built from n alone by
-// Duff et al., "Building an orthonormal basis, revisited", JCGT 6(1) 2017 (continuous except at
-// n = -z exactly, where it is still orthonormal).
+// Duff et al., "Building an orthonormal basis, revisited", JCGT 6(1) 2017, listing 3: orthonormal
+// and right-handed for every unit n (no singularity at n = -z, unlike Frisvad's original), smooth
+// on each hemisphere n.z > 0 and n.z < 0 but discontinuous across the plane n.z = 0 (the
+// copysign): two neighbours whose normals straddle it get unrelated sample patterns. Some
+// discontinuity is unavoidable (no continuous tangent field on the sphere); this is where it is.
+// The direction set: the N cell-centred Hammersley points ((i + 1/2) / N, radicalInverse2(i) +
+// 1/(2N)), which keeps every sample off the square's border, so no direction lies exactly on the
+// horizon.
 // Speed: Y_k of the local directions is tabulated once; per point the visible rows are summed in
 // the local frame and the sum is rotated to the global frame once with radiance/sh_rotation.h, so
 // the cost per point is the rays (Embree, 16-wide packets) plus O(N K + degree^3).
@@ -50,9 +56,11 @@ struct TransferOptions {
     int degree = kDefaultTransferDegree;         // 0 .. kMaxHarmonicDegree
     int rayCount = kDefaultTransferRayCount;     // directions per point, >= 1
     double relativeRayOffset = 1e-4;             // times the scene diagonal, > 0
-    int threads = 0;                             // 0: all cores (OpenMP)
+    int threads = 0;                             // 0: all cores (OpenMP), >= 0
     // Called from the calling thread with the fraction done in [0, 1]; returning false cancels
     // (computeTransferVectors then throws TransferCancelled). May be empty.
+    // threads and progress are the defaults of computeTransferVectors (its own arguments win when
+    // given: threads > 0, a non-empty progress).
     std::function<bool(double)> progress;
 };
 
@@ -74,33 +82,54 @@ struct TransferField {
     float* vertex(std::size_t v) { return values.data() + v * width(); }
 };
 
+// The local frame of a point, columns of the local -> world rotation R = [tangent bitangent normal].
+struct TransferFrame {
+    float tangent[3], bitangent[3], normal[3];
+};
+
+// Normalises `normal` and completes it to a right-handed orthonormal frame (Duff et al. 2017).
+// Returns false (frame untouched) when the normal is zero or not finite.
+bool makeTransferFrame(const float normal[3], TransferFrame& frame);
+
 // The fixed local direction set and its SH table; immutable, shared by threads.
 class TransferEstimator {
 public:
-    // scene: the occluders (the mesh itself, or all visible layers); sceneDiagonal > 0 sets the
-    // ray offset. Throws std::invalid_argument on bad options.
+    // scene: the occluders (the mesh itself, or all visible layers); it is referenced, not copied,
+    // and must outlive the estimator. sceneDiagonal > 0 sets the ray offset.
+    // Throws std::invalid_argument on bad options.
     TransferEstimator(const RayScene& scene, float sceneDiagonal, const TransferOptions& options);
 
     int degree() const;
     int coefficientCount() const;
     int rayCount() const;
+    // Ray i of a point x with frame F: origin x + rayOffset() * n, direction
+    // d_x t + d_y b + d_z n with (d_x, d_y, d_z) = localDirections()[3i .. 3i+2] (unit, d_z > 0),
+    // t in [rayOffset(), +inf). For benchmarks and tests that shoot the same rays.
+    const float* localDirections() const;
+    float rayOffset() const;
+    const TransferOptions& options() const;
 
     // out[0 .. coefficientCount()) = t(x) for one point (single-threaded, thread-safe).
-    // The normal need not be unit (normalised here); a zero or non-finite normal gives all zeros.
+    // The normal need not be unit (normalised here); a zero or non-finite normal, or a non-finite
+    // position, gives all zeros (and casts no ray).
     void computeAt(const float position[3], const float normal[3], float* out) const;
 
     // Rays shot so far by this estimator (all threads), for the rays-per-second figures.
     std::uint64_t raysCast() const;
 
-    // ... implementation-defined private members (the helper owns them)
 private:
+    // Shares the per-point worker without its per-call atomic update (rays are counted per chunk).
+    friend void computeTransferVectors(const TransferEstimator&, const float*, const float*, std::size_t,
+                                       std::vector<float>&, const std::function<bool(double)>&, int);
     struct Impl;
     std::shared_ptr<const Impl> impl_;
 };
 
 // Transfer vectors of `count` points (positions and normals: 3 floats each), both cores busy
 // (OpenMP, dynamic schedule), out resized to count * coefficientCount(). Progress from the calling
-// thread. Throws TransferCancelled when progress returns false.
+// thread. Throws TransferCancelled when progress returns false (out is then incomplete).
+// Empty progress / threads == 0: those of the estimator's options. Every point's result is
+// independent of the thread count and of the schedule (bitwise identical to computeAt).
 void computeTransferVectors(const TransferEstimator& estimator, const float* positions, const float* normals,
                             std::size_t count, std::vector<float>& out,
                             const std::function<bool(double)>& progress = {}, int threads = 0);

@@ -137,4 +137,38 @@ bool RayScene::occluded(const Eigen::Vector3f& origin, const Eigen::Vector3f& di
     return ray.tfar == -std::numeric_limits<float>::infinity();
 }
 
+std::uint32_t RayScene::occluded16(const RayPacket16& rays, std::uint32_t activeMask) const {
+    static_assert(RayPacket16::kSize == 16, "one RTCRay16 per packet");
+    alignas(64) int valid[16];
+    RTCRay16 packet;  // RTC_ALIGN(64) in rtcore_ray.h, as rtcOccluded16 requires
+    std::uint32_t live = 0;
+    for (int i = 0; i < 16; ++i) {
+        // Same rule as occluded(): an empty or NaN interval holds nothing (and Embree would leave
+        // its tfar as given, read below as a hit when tFar = -inf).
+        const bool on = ((activeMask >> i) & 1u) && rays.tNear[i] <= rays.tFar[i];
+        valid[i] = on ? -1 : 0;
+        live |= std::uint32_t(on) << i;
+        packet.org_x[i] = rays.originX[i];
+        packet.org_y[i] = rays.originY[i];
+        packet.org_z[i] = rays.originZ[i];
+        packet.tnear[i] = rays.tNear[i];
+        packet.dir_x[i] = rays.directionX[i];
+        packet.dir_y[i] = rays.directionY[i];
+        packet.dir_z[i] = rays.directionZ[i];
+        packet.time[i] = 0.0f;
+        packet.tfar[i] = rays.tFar[i];
+        packet.mask[i] = std::numeric_limits<unsigned>::max();
+        packet.id[i] = static_cast<unsigned>(i);
+        packet.flags[i] = 0;
+    }
+    if (live == 0) return 0;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rtcOccluded16(valid, static_cast<RTCScene>(scene_), &context, &packet);
+    std::uint32_t hit = 0;
+    for (int i = 0; i < 16; ++i)
+        hit |= std::uint32_t(packet.tfar[i] == -std::numeric_limits<float>::infinity()) << i;
+    return hit & live;
+}
+
 }  // namespace rad

@@ -2,8 +2,8 @@
 // place that talks to Embree, used for visibility in the fitting, shadows and primary rays in the
 // virtual acquisition and the CPU renderers, and later PRT transfer and normal-map baking.
 //
-// Every query is const and thread-safe (Embree allows concurrent rtcIntersect1/rtcOccluded1 on a
-// committed scene); the scene holds its own copy of the geometry.
+// Every query is const and thread-safe (Embree allows concurrent rtcIntersect1/rtcOccluded1/
+// rtcOccluded16 on a committed scene); the scene holds its own copy of the geometry.
 #pragma once
 #include <Eigen/Core>
 #include <cstddef>
@@ -17,6 +17,17 @@ struct RayHit {
     float distance = 0.0f;      // t along the (unit or not) ray direction
     std::uint32_t face = 0;     // triangle index in the input face array
     float u = 0.0f, v = 0.0f;   // barycentrics: point = (1 - u - v) a + u b + v c of face (a, b, c)
+};
+
+// Up to 16 rays in structure-of-arrays layout, the input of RayScene::occluded16. Aligned like
+// Embree's RTCRay16 so that the copy into it is a few aligned vector moves. Ray i is
+// origin_i + t * direction_i for t in [tNear_i, tFar_i]; lanes not in the active mask are ignored
+// (need not be initialised).
+struct alignas(64) RayPacket16 {
+    static constexpr int kSize = 16;
+    float originX[kSize], originY[kSize], originZ[kSize];
+    float directionX[kSize], directionY[kSize], directionZ[kSize];
+    float tNear[kSize], tFar[kSize];
 };
 
 struct RayCastError : std::runtime_error {
@@ -36,6 +47,13 @@ public:
     RayHit intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, float tNear, float tFar) const;
     // Whether anything is hit for t in [tNear, tFar] (any hit, faster than intersect).
     bool occluded(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, float tNear, float tFar) const;
+
+    // Packet form of occluded(): one Embree packet query (rtcOccluded16) for the rays of `rays`
+    // whose bit is set in activeMask (bit i = lane i, bits >= 16 ignored). Returns the mask of the
+    // active rays that are occluded; lane by lane the same answer as occluded() (an empty or NaN
+    // interval is never occluded). Cheaper per ray than occluded() when the 16 rays are coherent
+    // (e.g. one origin, a hemisphere of directions: PRT transfer).
+    std::uint32_t occluded16(const RayPacket16& rays, std::uint32_t activeMask) const;
 
     std::size_t faceCount() const { return faceCount_; }
 

@@ -1,7 +1,8 @@
 // Tests of raycast/ray_scene.h on hand-made geometry whose hits are worked out by hand (a triangle
 // and a quad in planes z = const, so the hit distance is a difference of z over the direction's z
 // and the barycentrics are affine coordinates in the plane), the [tNear, tFar] limits of both
-// queries, and concurrent OpenMP queries against serial ones on an icosphere.
+// queries, concurrent OpenMP queries against serial ones on an icosphere, and the 16-ray packet
+// query against the single-ray one (random rays, partial masks).
 #include "geometry/primitive_meshes.h"
 #include "raycast/ray_scene.h"
 #include "test_support.h"
@@ -206,6 +207,86 @@ TEST(RayScene, ConcurrentQueriesMatchSerialOnes) {
     }
     EXPECT_GT(hits, n / 4);
     EXPECT_LT(hits, n);
+}
+
+// Random rays on an icosphere, 16 per packet under random active masks: every active lane gets
+// the single-ray answer, every inactive lane 0, whatever garbage it holds.
+TEST(RayScene, PacketQueryAgreesWithSingleRaysUnderRandomMasks) {
+    const rad::TriangleMesh mesh = rad::makeIcosphere(3, 1.0f);
+    const rad::RayScene scene(mesh.positions.data(), mesh.vertexCount(), mesh.faces.data(), mesh.faceCount());
+    std::mt19937 rng(77);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    std::uniform_int_distribution<std::uint32_t> bits(0, 0xffffffffu);
+    int occludedLanes = 0, activeLanes = 0;
+    for (int p = 0; p < 400; ++p) {
+        rad::RayPacket16 packet;
+        // Masks: full, empty, single lanes, random (bits above 15 set too: they must be ignored).
+        const std::uint32_t mask = p == 0 ? 0xffffu : p == 1 ? 0u : p < 18 ? 1u << (p - 2) : bits(rng);
+        for (int i = 0; i < 16; ++i) {
+            // Inside and outside the sphere; some rays end before the surface; a few empty intervals.
+            const Eigen::Vector3f o = (radtest::randomUnit(rng) * (0.3 + 2.0 * unit(rng))).cast<float>();
+            const Eigen::Vector3f d = radtest::randomUnit(rng).cast<float>();
+            const float tNear = unit(rng) < 0.5f ? 0.0f : 0.5f * unit(rng);
+            const float tFar = unit(rng) < 0.1f ? tNear - 0.1f : unit(rng) < 0.5f ? kInf : 3.0f * unit(rng);
+            packet.originX[i] = o.x();
+            packet.originY[i] = o.y();
+            packet.originZ[i] = o.z();
+            packet.directionX[i] = d.x();
+            packet.directionY[i] = d.y();
+            packet.directionZ[i] = d.z();
+            packet.tNear[i] = tNear;
+            packet.tFar[i] = tFar;
+            if (!((mask >> i) & 1u) && unit(rng) < 0.5f) packet.originX[i] = std::nanf("");  // ignored
+        }
+        const std::uint32_t result = scene.occluded16(packet, mask);
+        for (int i = 0; i < 16; ++i) {
+            const bool active = (mask >> i) & 1u;
+            const bool got = (result >> i) & 1u;
+            if (!active) {
+                EXPECT_FALSE(got) << "packet " << p << " lane " << i;
+                continue;
+            }
+            const bool single = scene.occluded({packet.originX[i], packet.originY[i], packet.originZ[i]},
+                                               {packet.directionX[i], packet.directionY[i], packet.directionZ[i]},
+                                               packet.tNear[i], packet.tFar[i]);
+            EXPECT_EQ(got, single) << "packet " << p << " lane " << i;
+            ++activeLanes;
+            occludedLanes += got;
+        }
+        EXPECT_EQ(result >> 16, 0u);
+    }
+    // Both answers are well represented.
+    EXPECT_GT(occludedLanes, activeLanes / 5);
+    EXPECT_LT(occludedLanes, activeLanes * 4 / 5);
+}
+
+TEST(RayScene, PacketQueryOnTheHandMadeScene) {
+    HandScene s;
+    rad::RayPacket16 packet;
+    for (int i = 0; i < 16; ++i) {
+        // Lane i: straight down from above (0.2, 0.3), i.e. through the triangle (t = 1) and the
+        // quad (t = 3), with tFar = 0.25 i + 0.1: occluded from lane 4 on (tFar > 1).
+        packet.originX[i] = 0.2f;
+        packet.originY[i] = 0.3f;
+        packet.originZ[i] = 1.0f;
+        packet.directionX[i] = 0.0f;
+        packet.directionY[i] = 0.0f;
+        packet.directionZ[i] = -1.0f;
+        packet.tNear[i] = 0.0f;
+        packet.tFar[i] = 0.25f * i + 0.1f;
+    }
+    EXPECT_EQ(s.scene.occluded16(packet, 0xffffu), 0xfff0u);
+    EXPECT_EQ(s.scene.occluded16(packet, 0x00ffu), 0x00f0u);
+    EXPECT_EQ(s.scene.occluded16(packet, 0x000fu), 0u);
+    EXPECT_EQ(s.scene.occluded16(packet, 0u), 0u);
+    // Between the two surfaces (tNear 1.5, tFar 2.5) nothing; an empty interval neither.
+    packet.tNear[5] = 1.5f, packet.tFar[5] = 2.5f;
+    packet.tNear[6] = 2.0f, packet.tFar[6] = 1.0f;
+    packet.tFar[7] = -kInf;
+    EXPECT_EQ(s.scene.occluded16(packet, 0xffffu), 0xff10u);
+    // The empty scene: nothing is ever occluded.
+    const rad::RayScene nothing(nullptr, 0, nullptr, 0);
+    EXPECT_EQ(nothing.occluded16(packet, 0xffffu), 0u);
 }
 
 }  // namespace

@@ -1,0 +1,105 @@
+// SH lightings for PRT relighting and the relit colour L = <t, l> of paper 001 sec. 3.3 (the
+// shading whose interpolation error eq. 1 measures); see prt_lighting.h for the conventions, the
+// Hanning window (Sloan, "Stupid Spherical Harmonics Tricks", GDC 2008) and the layout.
+#include "prt/prt_lighting.h"
+
+#include "radiance/basis.h"
+#include "radiance/sh_rotation.h"
+#include "radiance/spherical_harmonics.h"
+
+#include <cmath>
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+
+namespace rad {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+void checkDegree(const char* who, int degree) {
+    if (degree < 0 || degree > kMaxHarmonicDegree)
+        throw std::out_of_range(std::string(who) + ": degree " + std::to_string(degree) + " outside [0, " +
+                                std::to_string(kMaxHarmonicDegree) + "]");
+}
+
+}  // namespace
+
+std::vector<double> directionalLightSH(int degree, const Eigen::Vector3d& toLight, const Eigen::Vector3d& rgb) {
+    checkDegree("directionalLightSH", degree);
+    const double length = toLight.norm();
+    if (!(length > 0.0) || !std::isfinite(length))
+        throw std::invalid_argument("directionalLightSH: the light direction must be non-zero and finite");
+    if (!rgb.allFinite()) throw std::invalid_argument("directionalLightSH: the light colour must be finite");
+    const Eigen::Vector3d d = toLight / length;
+
+    const int K = (degree + 1) * (degree + 1);
+    std::vector<double> y(K);
+    evaluateSphericalHarmonics(degree, d.x(), d.y(), d.z(), y.data());
+    // Windowing band by band keeps the delta's rotational symmetry about d (a zonal filter), so
+    // the windowed light is still "a light from d", only blurred.
+    for (int l = 0; l <= degree; ++l) {
+        const double window = 0.5 * (1.0 + std::cos(kPi * l / (degree + 1)));
+        for (int m = -l; m <= l; ++m) y[harmonicIndex(l, m)] *= window;
+    }
+    std::vector<double> coefficients(static_cast<std::size_t>(kColorChannels) * K);
+    for (int ch = 0; ch < kColorChannels; ++ch)
+        for (int k = 0; k < K; ++k) coefficients[static_cast<std::size_t>(ch) * K + k] = rgb[ch] * y[k];
+    return coefficients;
+}
+
+std::vector<double> environmentLightSH(const EnvironmentMap& map, int degree, double rotationRadians) {
+    checkDegree("environmentLightSH", degree);
+    if (!std::isfinite(rotationRadians)) throw std::invalid_argument("environmentLightSH: the rotation must be finite");
+    // Projecting a copy of the map with rotation rotationAboutZ(a) * R would copy every texel;
+    // environment_map.h guarantees projection(map with R' R) = ShRotation(R') of projection(map
+    // with R) exactly (rotations map each band onto itself), so rotating the projection's
+    // coefficients is the same result at O(degree^3) instead of O(W H).
+    std::vector<double> coefficients = projectOntoSphericalHarmonics(map, degree);
+    const ShRotation turn(degree, rotationAboutZ(rotationRadians));
+    const int K = (degree + 1) * (degree + 1);
+    for (int ch = 0; ch < kColorChannels; ++ch) {
+        double* channel = coefficients.data() + static_cast<std::size_t>(ch) * K;
+        turn.apply(channel, channel);
+    }
+    return coefficients;
+}
+
+std::vector<float> relightVertices(const float* transfer, std::size_t vertexCount, int transferDegree, int channels,
+                                   const std::vector<double>& lighting, int lightingDegree) {
+    checkDegree("relightVertices (transfer)", transferDegree);
+    checkDegree("relightVertices (lighting)", lightingDegree);
+    if (channels != 1 && channels != kColorChannels)
+        throw std::invalid_argument("relightVertices: the transfer has " + std::to_string(channels) +
+                                    " channels, expected 1 or 3");
+    if (lightingDegree < transferDegree)
+        throw std::invalid_argument("relightVertices: the lighting's degree " + std::to_string(lightingDegree) +
+                                    " is below the transfer's " + std::to_string(transferDegree));
+    const int K = (transferDegree + 1) * (transferDegree + 1);
+    const int lightingK = (lightingDegree + 1) * (lightingDegree + 1);
+    if (lighting.size() != static_cast<std::size_t>(kColorChannels) * lightingK)
+        throw std::invalid_argument("relightVertices: the lighting has " + std::to_string(lighting.size()) +
+                                    " coefficients, expected 3 x " + std::to_string(lightingK));
+    if (vertexCount > 0 && transfer == nullptr) throw std::invalid_argument("relightVertices: no transfer values");
+
+    std::vector<float> out(vertexCount * kColorChannels);
+    const int width = channels * K;
+    const auto count = static_cast<std::ptrdiff_t>(vertexCount);
+    // Bands below transferDegree sit at the same indices l*l + l + m in both vectors, so the
+    // truncated dot product needs no re-indexing.
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t v = 0; v < count; ++v) {
+        const float* t = transfer + static_cast<std::size_t>(v) * width;
+        for (int ch = 0; ch < kColorChannels; ++ch) {
+            const float* tc = t + (channels == 1 ? 0 : ch * K);
+            const double* lc = lighting.data() + static_cast<std::size_t>(ch) * lightingK;
+            double sum = 0.0;
+            for (int k = 0; k < K; ++k) sum += static_cast<double>(tc[k]) * lc[k];
+            out[static_cast<std::size_t>(v) * kColorChannels + ch] = static_cast<float>(sum);
+        }
+    }
+    return out;
+}
+
+}  // namespace rad
