@@ -91,3 +91,18 @@ fit_mlx() {
 }
 
 VIRTUAL_ACQUISITION="$RADIANCE_BUILD_DIR/tools/virtual_acquisition"
+
+# expect_refusal NAME MESSAGE MESH MLX: running MLX on MESH fails with MESSAGE in the log (no crash),
+# and the layer, saved after the refusal, is identical to the mesh saved without the script.
+expect_refusal() {
+    local name="$1" message="$2" mesh="$3" mlx="$4"
+    local ext="${mesh##*.}"
+    run_meshlabserver "$WORK/$name.ref.log" -i "$mesh" -o "$WORK/$name.ref.$ext" || fail "$name: cannot save the reference"
+    run_meshlabserver "$WORK/$name.log" -i "$mesh" -s "$mlx" -o "$WORK/$name.out.$ext" || true
+    grep -qF "$message" "$WORK/$name.log" || { cat "$WORK/$name.log" >&2; fail "$name: no message '$message'"; }
+    if [ -e "$WORK/$name.out.$ext" ]; then
+        python3 "$RADIANCE_SOURCE_DIR/tests/integration/check_radiance_ply.py" same "$WORK/$name.ref.$ext" \
+            "$WORK/$name.out.$ext" || fail "$name: layer changed by a refused filter"
+    fi
+    note "$name refused: $(grep -F "$message" "$WORK/$name.log" | head -n 1)"
+}
