@@ -1,5 +1,6 @@
 #include "geometry/triangle_mesh.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -37,6 +38,18 @@ std::string TriangleMesh::validate() const {
             return why.str();
         }
     return {};
+}
+
+std::size_t countNonManifoldEdges(std::vector<std::uint64_t>& undirectedEdgeKeys) {
+    std::sort(undirectedEdgeKeys.begin(), undirectedEdgeKeys.end());
+    std::size_t nonManifold = 0;
+    for (std::size_t i = 0; i < undirectedEdgeKeys.size();) {
+        std::size_t j = i;
+        while (j < undirectedEdgeKeys.size() && undirectedEdgeKeys[j] == undirectedEdgeKeys[i]) ++j;
+        if (j - i > 2) ++nonManifold;
+        i = j;
+    }
+    return nonManifold;
 }
 
 }  // namespace rad

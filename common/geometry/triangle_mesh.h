@@ -29,4 +29,13 @@ struct TriangleMesh {
     std::string validate() const;
 };
 
+// Key of the undirected edge {a, b}: the same for (a, b) and (b, a), ordered like (min, max).
+inline std::uint64_t undirectedEdgeKey(std::uint64_t a, std::uint64_t b) {
+    return a < b ? (a << 32) | b : (b << 32) | a;
+}
+
+// Number of distinct edges whose key appears more than twice (an edge on more than two faces: the
+// input checks' "non-manifold edge"). Sorts the keys in place.
+std::size_t countNonManifoldEdges(std::vector<std::uint64_t>& undirectedEdgeKeys);
+
 }  // namespace rad

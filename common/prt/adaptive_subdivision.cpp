@@ -15,6 +15,8 @@
 //     (one level coarser; 1-irregularity excludes anything else).
 #include "prt/adaptive_subdivision.h"
 
+#include "geometry/triangle_mesh.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -107,7 +109,7 @@ public:
                 if (a == b)
                     throw std::invalid_argument("adaptive subdivision: face " + std::to_string(f) +
                                                 " has two corners at the same position (zero area)");
-                halfEdges[3 * f + k] = {(std::min(a, b) << 32) | std::max(a, b), static_cast<std::uint32_t>(3 * f + k)};
+                halfEdges[3 * f + k] = {undirectedEdgeKey(a, b), static_cast<std::uint32_t>(3 * f + k)};
             }
         }
         std::sort(halfEdges.begin(), halfEdges.end());
@@ -568,9 +570,9 @@ std::string checkPrtSubdivisionInput(const PrtMesh& mesh) {
         }
         const float cross[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
         if (cross[0] == 0.0f && cross[1] == 0.0f && cross[2] == 0.0f) ++zeroArea;
-        edges.push_back((std::min(a, b) << 32) | std::max(a, b));
-        edges.push_back((std::min(b, c) << 32) | std::max(b, c));
-        edges.push_back((std::min(c, a) << 32) | std::max(c, a));
+        edges.push_back(undirectedEdgeKey(a, b));
+        edges.push_back(undirectedEdgeKey(b, c));
+        edges.push_back(undirectedEdgeKey(c, a));
     }
     if (repeated > 0)
         return "the mesh has " + plural(repeated, "face") +
@@ -579,14 +581,7 @@ std::string checkPrtSubdivisionInput(const PrtMesh& mesh) {
     if (zeroArea > 0)
         return "the mesh has " + plural(zeroArea, "face") +
                " of zero area: run Filters > Cleaning and Repairing > Remove Zero Area Faces and try again";
-    std::sort(edges.begin(), edges.end());
-    std::size_t nonManifold = 0;
-    for (std::size_t i = 0; i < edges.size();) {
-        std::size_t j = i;
-        while (j < edges.size() && edges[j] == edges[i]) ++j;
-        nonManifold += j - i > 2;
-        i = j;
-    }
+    const std::size_t nonManifold = countNonManifoldEdges(edges);
     if (nonManifold > 0)
         return "the mesh has " + plural(nonManifold, "non-manifold edge") +
                " (shared by more than two faces, vertices at the same position counted as one): run Filters > "

@@ -1,5 +1,6 @@
 #include "simplify/radiance_simplification.h"
 
+#include "geometry/triangle_mesh.h"
 #include "io/radiance_ply.h"
 #include "radiance/material_radiance.h"
 #include "simplify/color_quadric.h"
@@ -70,10 +71,7 @@ std::string checkSimplificationInput(const RadianceMesh& mesh, SimplificationMet
         std::array<std::uint32_t, 3> s{t[0], t[1], t[2]};
         std::sort(s.begin(), s.end());
         sortedFaces[f] = s;
-        for (int k = 0; k < 3; ++k) {
-            const std::uint64_t u = std::min(t[k], t[(k + 1) % 3]), v = std::max(t[k], t[(k + 1) % 3]);
-            edges.push_back((u << 32) | v);
-        }
+        for (int k = 0; k < 3; ++k) edges.push_back(undirectedEdgeKey(t[k], t[(k + 1) % 3]));
     }
     if (repeated > 0)
         return "the mesh has " + plural(repeated, "face") +
@@ -88,14 +86,7 @@ std::string checkSimplificationInput(const RadianceMesh& mesh, SimplificationMet
     if (distinctFaces != nf)
         return "the mesh has " + plural(nf - distinctFaces, "duplicate face") +
                ": run 'Cleaning and Repairing: Remove Duplicate Faces' and try again";
-    std::sort(edges.begin(), edges.end());
-    std::size_t nonManifold = 0;
-    for (std::size_t i = 0; i < edges.size();) {
-        std::size_t j = i;
-        while (j < edges.size() && edges[j] == edges[i]) ++j;
-        if (j - i > 2) ++nonManifold;
-        i = j;
-    }
+    const std::size_t nonManifold = countNonManifoldEdges(edges);
     if (nonManifold > 0)
         return "the mesh has " + plural(nonManifold, "non-manifold edge") +
                " (shared by more than two faces): run 'Cleaning and Repairing: Repair non Manifold Edges' and try again";
