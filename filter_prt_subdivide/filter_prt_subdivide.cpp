@@ -8,7 +8,6 @@
 #include "prt/adaptive_subdivision.h"
 #include "prt/prt_lighting.h"
 #include "prt/transfer_vectors.h"
-#include "radiance/sh_rotation.h"
 #include "radiance/view_colors.h"
 #include "raycast/ray_scene.h"
 
@@ -561,11 +560,8 @@ bool PrtFilterPlugin::relight(MeshModel& m, const RichParameterList& par, vcg::C
         errorMessage = "The exposure must be a finite number >= 0.";
         return false;
     }
-    // World from the map/light frame: the zenith (+Z) goes to the chosen up axis.
-    Eigen::Matrix3d up = Eigen::Matrix3d::Identity();
-    const int upAxis = par.getEnum("upAxis");
-    if (upAxis == 1) up << 0, 1, 0, 0, 0, 1, 1, 0, 0;        // z -> y (x -> z, y -> x): a rotation
-    else if (upAxis == 2) up << 0, 0, 1, 1, 0, 0, 0, 1, 0;   // z -> x
+    // World from the map/light frame: the zenith (+Z) goes to the chosen up axis (enum +Z, +Y, +X).
+    const Eigen::Matrix3d up = rad::zenithToAxis(2 - par.getEnum("upAxis"));
     std::vector<double> lighting;
     QString description;
     if (par.getEnum("lighting") == kLightEnvironment) {
@@ -584,9 +580,7 @@ bool PrtFilterPlugin::relight(MeshModel& m, const RichParameterList& par, vcg::C
         }
         const double radians = par.getFloat("rotation") * M_PI / 180.0;
         lighting = rad::environmentLightSH(map, degree, radians);
-        const rad::ShRotation toWorld(degree, up);
-        const int k = (degree + 1) * (degree + 1);
-        for (int ch = 0; ch < 3; ++ch) toWorld.apply(lighting.data() + ch * k, lighting.data() + ch * k);
+        rad::rotateLighting(lighting, degree, up);
         description = QString("environment map %1 (%2 x %3), rotated %4 degrees")
                           .arg(path)
                           .arg(map.width())

@@ -102,4 +102,19 @@ std::vector<float> relightVertices(const float* transfer, std::size_t vertexCoun
     return out;
 }
 
+Eigen::Matrix3d zenithToAxis(int upAxis) {
+    Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+    if (upAxis == 1) R << 0, 1, 0, 0, 0, 1, 1, 0, 0;       // z -> y (x -> z, y -> x)
+    else if (upAxis == 0) R << 0, 0, 1, 1, 0, 0, 0, 1, 0;  // z -> x (x -> y, y -> z)
+    else if (upAxis != 2) throw std::invalid_argument("zenithToAxis: the up axis must be 0 (X), 1 (Y) or 2 (Z)");
+    return R;
+}
+
+void rotateLighting(std::vector<double>& lighting, int degree, const Eigen::Matrix3d& R) {
+    const std::size_t k = static_cast<std::size_t>((degree + 1) * (degree + 1));
+    if (lighting.size() != 3 * k) throw std::invalid_argument("rotateLighting: the lighting does not have 3 (degree + 1)^2 coefficients");
+    const ShRotation rotation(degree, R);
+    for (int ch = 0; ch < 3; ++ch) rotation.apply(lighting.data() + ch * k, lighting.data() + ch * k);
+}
+
 }  // namespace rad

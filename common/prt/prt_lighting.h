@@ -31,6 +31,14 @@ std::vector<double> directionalLightSH(int degree, const Eigen::Vector3d& toLigh
 // Throws std::out_of_range for a degree outside [0, kMaxHarmonicDegree].
 std::vector<double> environmentLightSH(const EnvironmentMap& map, int degree, double rotationRadians);
 
+// The rotation taking the lighting frame's zenith (+Z, as in environment_map.h) to the world axis
+// `upAxis` (0 = X, 1 = Y, 2 = Z; Z gives the identity): X -> Y -> Z cyclic permutations, proper
+// rotations. Throws std::invalid_argument for another axis.
+Eigen::Matrix3d zenithToAxis(int upAxis);
+
+// Rotates SH lighting coefficients (3 * (degree + 1)^2, channel-major) in place by R (sh_rotation.h).
+void rotateLighting(std::vector<double>& lighting, int degree, const Eigen::Matrix3d& R);
+
 // Exit radiance per vertex and channel: out[3 v + ch] = <t_v(channel), l(ch)>, where a 1-channel
 // transfer field is shared by the three channels. degree of `lighting` must be >= the field's
 // (extra coefficients of the lighting are ignored). Throws std::invalid_argument on mismatch.

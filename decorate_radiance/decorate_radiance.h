@@ -1,0 +1,42 @@
+// MeshLab decoration "Radiance Field": draws the current mesh's radiance functions per vertex or per
+// fragment (paper 000 sec. 5, eq. 8), or its PRT transfer relit by a light, over MeshLab's own
+// rendering. A thin adapter: the drawing is render_gl/radiance_gl_renderer.h, the relighting
+// prt/prt_lighting.h; this file reads parameters, gathers the layer's data, logs and writes the
+// optional view file (docs/decorate-radiance.md).
+#pragma once
+
+#include <QObject>
+#include <common/interfaces.h>
+
+#include <map>
+#include <memory>
+#include <utility>
+
+class DecorateRadiancePlugin : public QObject, public MeshDecorateInterface {
+    Q_OBJECT
+    MESHLAB_PLUGIN_IID_EXPORTER(MESH_DECORATE_INTERFACE_IID)
+    Q_INTERFACES(MeshDecorateInterface)
+
+public:
+    enum { DP_RADIANCE_FIELD };
+
+    DecorateRadiancePlugin();
+    ~DecorateRadiancePlugin() override;
+    QString pluginName() const override { return "DecorateRadiance"; }
+    QString decorationName(FilterIDType id) const override;
+    QString decorationInfo(FilterIDType id) const override;
+    int getDecorationClass(QAction*) const override { return MeshDecorateInterface::PerMesh; }
+    bool isDecorationApplicable(QAction* action, const MeshModel& m, QString& message) const override;
+    void initGlobalParameterSet(QAction* action, RichParameterList& parset) override;
+    bool startDecorate(QAction* action, MeshModel& m, const RichParameterList* par, GLArea* gla) override;
+    void decorateMesh(QAction* action, MeshModel& m, const RichParameterList* par, GLArea* gla, QPainter* painter,
+                      GLLogStream& log) override;
+    void decorateDoc(QAction*, MeshDocument&, const RichParameterList*, GLArea*, QPainter*, GLLogStream&) override {}
+    void endDecorate(QAction* action, MeshModel& m, const RichParameterList* par, GLArea* gla) override;
+
+    struct MeshView;  // per (view, layer): the GL renderer and what it was built from
+
+private:
+    using Key = std::pair<const GLArea*, int>;
+    std::map<Key, std::unique_ptr<MeshView>> views_;
+};
