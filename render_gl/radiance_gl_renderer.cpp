@@ -95,6 +95,12 @@ void RadianceGlRenderer::buildPrograms() {
         glAttachShader(p.id, vs);
         glAttachShader(p.id, fs);
         glBindAttribLocation(p.id, 1, "aLinear");
+        if (shading == GlShading::PerVertex) {
+            // The per-vertex colours are evaluated once per vertex into a buffer (transform
+            // feedback over GL_POINTS) instead of once per triangle corner: see draw().
+            const char* varyings[] = {"vLinear"};
+            glTransformFeedbackVaryings(p.id, 1, varyings, GL_INTERLEAVED_ATTRIBS);
+        }
         glLinkProgram(p.id);
         glDeleteShader(vs);
         glDeleteShader(fs);
@@ -144,6 +150,8 @@ void RadianceGlRenderer::releaseRadiance() {
     deleteTexture(faceTexture_);
     deleteBuffer(frameBuffer_);
     deleteBuffer(coefficientBuffer_);
+    deleteBuffer(feedbackBuffer_);
+    feedbackValid_ = false;
     gpuRadiance_ = false;
     radianceVertexCount_ = 0;
     cpuField_ = rad::RadianceField();
@@ -314,6 +322,7 @@ void RadianceGlRenderer::draw(GlShading shading, const rad::ToneMapping& toneMap
         }
     } else if (gpuRadiance_) {
         program = mode == GlShading::PerVertex ? &perVertex_ : &perFragment_;
+        if (mode == GlShading::PerVertex && !vertexColours_.id) program = nullptr;  // cannot happen: same GLSL
     } else if (radianceVertexCount_ > 0) {
         // CPU per-vertex path: re-evaluate when the eye or the tone mapping changed.
         if (byteContent_ != ByteContent::CpuRadiance || byteEye_ != eyeObject ||
@@ -354,28 +363,58 @@ void RadianceGlRenderer::draw(GlShading shading, const rad::ToneMapping& toneMap
     glDisableClientState(GL_TEXTURE_COORD_ARRAY);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, indexBuffer_);
 
+    auto bindRadiance = [&](const Program& p) {
+        glUseProgram(p.id);
+        glActiveTexture(GL_TEXTURE0);
+        glBindTexture(GL_TEXTURE_BUFFER, frameTexture_);
+        glActiveTexture(GL_TEXTURE1);
+        glBindTexture(GL_TEXTURE_BUFFER, coefficientTexture_);
+        glActiveTexture(GL_TEXTURE2);
+        glBindTexture(GL_TEXTURE_BUFFER, faceTexture_);
+        glUniform1i(p.frames, 0);
+        glUniform1i(p.coefficients, 1);
+        if (p.faces >= 0) glUniform1i(p.faces, 2);
+        glUniform1i(p.basisKind, basis_.kind == rad::BasisKind::SphericalHarmonics ? 1 : 0);
+        glUniform1i(p.degree, basis_.degree);
+        glUniform1i(p.coefficientCount, basis_.coefficientCount());
+        if (p.shNorm >= 0) glUniform1fv(p.shNorm, static_cast<GLsizei>(shNorm_.size()), shNorm_.data());
+        glUniform3f(p.eye, static_cast<float>(eyeObject.x()), static_cast<float>(eyeObject.y()),
+                    static_cast<float>(eyeObject.z()));
+    };
+    unsigned colourBuffer = linearColourBuffer_;
+    if (program == &perVertex_) {
+        // Per-vertex RF: evaluate each vertex once toward the eye into feedbackBuffer_ (only when the
+        // eye moved), then draw the triangles with those linear colours. Indexed triangles would run
+        // the vertex shader once per corner (about 6 times per vertex on a software rasteriser).
+        if (!feedbackBuffer_) {
+            feedbackBuffer_ = makeBuffer(GL_ARRAY_BUFFER, nullptr, 3 * vertexCount_ * sizeof(float), GL_DYNAMIC_COPY);
+            gpuBytes_ += 3 * vertexCount_ * sizeof(float);
+            feedbackValid_ = false;
+        }
+        if (!feedbackValid_ || feedbackEye_ != eyeObject) {
+            bindRadiance(perVertex_);
+            glEnable(GL_RASTERIZER_DISCARD);
+            glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, feedbackBuffer_);
+            glBeginTransformFeedback(GL_POINTS);
+            glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(vertexCount_));
+            glEndTransformFeedback();
+            glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, 0);
+            glDisable(GL_RASTERIZER_DISCARD);
+            feedbackValid_ = true;
+            feedbackEye_ = eyeObject;
+        }
+        program = &vertexColours_;
+        colourBuffer = feedbackBuffer_;
+    }
+    const bool colourProgram = program == &vertexColours_;
     if (program) {
-        glUseProgram(program->id);
-        if (mode != GlShading::VertexColors) {
-            glActiveTexture(GL_TEXTURE0);
-            glBindTexture(GL_TEXTURE_BUFFER, frameTexture_);
-            glActiveTexture(GL_TEXTURE1);
-            glBindTexture(GL_TEXTURE_BUFFER, coefficientTexture_);
-            glActiveTexture(GL_TEXTURE2);
-            glBindTexture(GL_TEXTURE_BUFFER, faceTexture_);
-            glUniform1i(program->frames, 0);
-            glUniform1i(program->coefficients, 1);
-            if (program->faces >= 0) glUniform1i(program->faces, 2);
-            glUniform1i(program->basisKind, basis_.kind == rad::BasisKind::SphericalHarmonics ? 1 : 0);
-            glUniform1i(program->degree, basis_.degree);
-            glUniform1i(program->coefficientCount, basis_.coefficientCount());
-            if (program->shNorm >= 0) glUniform1fv(program->shNorm, static_cast<GLsizei>(shNorm_.size()), shNorm_.data());
-            glUniform3f(program->eye, static_cast<float>(eyeObject.x()), static_cast<float>(eyeObject.y()),
-                        static_cast<float>(eyeObject.z()));
-        } else {
-            glBindBuffer(GL_ARRAY_BUFFER, linearColourBuffer_);
+        if (colourProgram) {
+            glUseProgram(program->id);
+            glBindBuffer(GL_ARRAY_BUFFER, colourBuffer);
             glEnableVertexAttribArray(1);
             glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+        } else {
+            bindRadiance(*program);
         }
         glUniform1f(program->exposureScale, static_cast<float>(std::exp2(toneMapping.exposureStops)));
         glUniform1i(program->toneCurve, toneMapping.curve == rad::ToneCurve::Reinhard ? 1 : 0);
@@ -388,14 +427,11 @@ void RadianceGlRenderer::draw(GlShading shading, const rad::ToneMapping& toneMap
 
     glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(3 * faceCount_), GL_UNSIGNED_INT, nullptr);
 
-    if (program) {
-        if (mode == GlShading::VertexColors) {
-            glDisableVertexAttribArray(1);
-        } else {
-            for (GLenum unit : {GL_TEXTURE2, GL_TEXTURE1, GL_TEXTURE0}) {
-                glActiveTexture(unit);
-                glBindTexture(GL_TEXTURE_BUFFER, 0);
-            }
+    if (colourProgram) glDisableVertexAttribArray(1);
+    if (gpuRadiance_ && mode != GlShading::VertexColors) {
+        for (GLenum unit : {GL_TEXTURE2, GL_TEXTURE1, GL_TEXTURE0}) {
+            glActiveTexture(unit);
+            glBindTexture(GL_TEXTURE_BUFFER, 0);
         }
     }
     glUseProgram(static_cast<GLuint>(previousProgram));

@@ -101,6 +101,9 @@ private:
     std::size_t radianceVertexCount_ = 0;
     rad::BasisSpec basis_;
     std::vector<float> shNorm_;
+    unsigned feedbackBuffer_ = 0;  // per-vertex mode: linear colours toward feedbackEye_
+    bool feedbackValid_ = false;
+    Eigen::Vector3d feedbackEye_{0, 0, 0};
     unsigned frameBuffer_ = 0, frameTexture_ = 0, coefficientBuffer_ = 0, coefficientTexture_ = 0,
              faceTexture_ = 0;
 

@@ -20,3 +20,19 @@ add_test(NAME gui.make_input COMMAND bash "${PROJECT_SOURCE_DIR}/tests/gui/make_
   "${PROJECT_BINARY_DIR}/tests/gui-input")
 set_tests_properties(gui.make_input PROPERTIES ENVIRONMENT "${_integration_env}" LABELS gui
   FIXTURES_SETUP gui_input TIMEOUT 300)
+
+# The "Radiance Field" decoration against the CPU reference renderer (tests/gui/gui_decoration.sh:
+# INPUT MODE BOUND [EXPOSURE TONEMAP]); bounds in 8-bit levels, proposed before measuring.
+foreach(_case per_vertex:0:3 per_fragment:1:3 reinhard_exposure:1:3:1:1)
+  string(REPLACE ":" ";" _case "${_case}")
+  list(GET _case 0 _name)
+  list(SUBLIST _case 1 -1 _args)
+  add_test(NAME gui.decoration_${_name} COMMAND bash "${PROJECT_SOURCE_DIR}/tests/gui/gui_decoration.sh"
+    "${PROJECT_BINARY_DIR}/tests/gui-input/sphere.rply" ${_args})
+  set_tests_properties(gui.decoration_${_name} PROPERTIES ENVIRONMENT "${_integration_env}" LABELS gui
+    TIMEOUT 300 FIXTURES_REQUIRED gui_input RUN_SERIAL TRUE)
+endforeach()
+# Paper 000 Fig. 6 in MeshLab: highlight inside the quad per fragment, none per vertex.
+add_test(NAME gui.fig6_highlight COMMAND bash "${PROJECT_SOURCE_DIR}/tests/gui/gui_fig6_highlight.sh")
+set_tests_properties(gui.fig6_highlight PROPERTIES ENVIRONMENT "${_integration_env}" LABELS gui TIMEOUT 300
+  RUN_SERIAL TRUE)
