@@ -9,14 +9,17 @@
 #     floats and rasterisation against the ray caster's doubles; to be set from measurements),
 #   - the decoration drew in the requested mode (the settings were read),
 #   - MeshLab's log has no "GL error" and has the decoration's "Radiance Field ..." start line.
-# Usage: gui_decoration.sh INPUT.rply MODE(0=per vertex|1=per fragment) BOUND [EXPOSURE_STOPS] [TONEMAP(0|1)]
+# Mode 2 (PRT relighting) needs transfer vectors in INPUT; the reference relights them with the
+# decoration's default light (directional, toward (0, 1, 1), intensity 1, no rotation).
+# Usage: gui_decoration.sh INPUT.rply MODE(0=per vertex|1=per fragment|2=PRT) BOUND [EXPOSURE_STOPS] [TONEMAP(0|1)]
 source "$(dirname "$0")/../integration/lib.sh"
 source "$(dirname "$0")/gui_lib.sh"
-input="$1"; mode="$2"; bound="$3"; exposure="${4:-0}"; tone="${5:-0}"
+input="$1"; mode="$2"; bound="$3"; exposure="${4:-0}"; tone="${5:-0}"; extra=()
 case "$mode" in
 0) mode_name=per-vertex ;;
 1) mode_name=per-fragment ;;
-*) fail "MODE must be 0 (per vertex) or 1 (per fragment), got '$mode'" ;;
+2) mode_name=prt; extra=(--vertex-colors-from-prt 0,1,1,1) ;;
+*) fail "MODE must be 0 (per vertex), 1 (per fragment) or 2 (PRT), got '$mode'" ;;
 esac
 [ -s "$input" ] || fail "no input $input"
 
@@ -28,7 +31,7 @@ check_decoration_log decoration
 check_view_mode decoration "$mode_name"
 
 out="$("$COMPARE_DECORATION_VIEW" --mesh "$input" --view "$WORK/decoration.view-at-shot.txt" \
-    --screenshot "$WORK/decoration.png" --shading "$mode_name" --erode 2 --exclude-bottom "$INFO_PANEL_ROWS" \
+    --screenshot "$WORK/decoration.png" --shading "$mode_name" "${extra[@]}" --erode 2 --exclude-bottom "$INFO_PANEL_ROWS" \
     --out-diff "$WORK/diff.png" --out-reference "$WORK/reference.png" --out-crop "$WORK/crop.png")" \
     || { echo "$out" >&2; fail "compare_decoration_view failed (see above)"; }
 echo "$out"

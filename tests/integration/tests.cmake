@@ -22,8 +22,9 @@ set_tests_properties(gui.make_input PROPERTIES ENVIRONMENT "${_integration_env}"
   FIXTURES_SETUP gui_input TIMEOUT 300)
 
 # The "Radiance Field" decoration against the CPU reference renderer (tests/gui/gui_decoration.sh:
-# INPUT MODE BOUND [EXPOSURE TONEMAP]); bounds in 8-bit levels, proposed before measuring.
-foreach(_case per_vertex:0:3 per_fragment:1:3 reinhard_exposure:1:3:1:1)
+# INPUT MODE BOUND [EXPOSURE TONEMAP]); bounds in 8-bit levels. Measured on the sphere: 0.004-0.005
+# (max 1 level); a one-pixel misregistration alone gives 0.65, hence 0.5.
+foreach(_case per_vertex:0:0.5 per_fragment:1:0.5 reinhard_exposure:1:0.5:1:1)
   string(REPLACE ":" ";" _case "${_case}")
   list(GET _case 0 _name)
   list(SUBLIST _case 1 -1 _args)
@@ -32,6 +33,13 @@ foreach(_case per_vertex:0:3 per_fragment:1:3 reinhard_exposure:1:3:1:1)
   set_tests_properties(gui.decoration_${_name} PROPERTIES ENVIRONMENT "${_integration_env}" LABELS gui
     TIMEOUT 300 FIXTURES_REQUIRED gui_input RUN_SERIAL TRUE)
 endforeach()
+# PRT relighting of the column on its ground: 99 % of the pixels are exact; the rest is the ring where
+# the column's top occludes the ground (rasterisation and ray casting disagree on which surface an
+# edge pixel shows; the coverage erosion does not see depth edges): measured rmse 2.8, max 120.
+add_test(NAME gui.decoration_prt COMMAND bash "${PROJECT_SOURCE_DIR}/tests/gui/gui_decoration.sh"
+  "${PROJECT_BINARY_DIR}/tests/gui-input/column_prt.rply" 2 5)
+set_tests_properties(gui.decoration_prt PROPERTIES ENVIRONMENT "${_integration_env}" LABELS gui
+  TIMEOUT 300 FIXTURES_REQUIRED gui_input RUN_SERIAL TRUE)
 # Paper 000 Fig. 6 in MeshLab: highlight inside the quad per fragment, none per vertex.
 add_test(NAME gui.fig6_highlight COMMAND bash "${PROJECT_SOURCE_DIR}/tests/gui/gui_fig6_highlight.sh")
 set_tests_properties(gui.fig6_highlight PROPERTIES ENVIRONMENT "${_integration_env}" LABELS gui TIMEOUT 300
