@@ -24,6 +24,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -112,8 +113,9 @@ int main(int argc, char** argv) {
         prepass.draw(radgl::GlShading::VertexColors, {}, eye);
         glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     };
-    const Mode depthOnly{"depth-only pass (MeshLab's own draw)", radgl::GlShading::VertexColors, false};
-    {
+    // Frame times (seconds, sorted) of `frames` frames orbiting the mesh; the first frame is dropped
+    // (shader compilation, caches).
+    auto orbitFrameTimes = [&](const std::function<void(const Eigen::Vector3d&)>& drawFrame) {
         std::vector<double> times;
         for (int f = 0; f <= frames; ++f) {
             const double angle = 2.0 * 3.14159265358979 * f / frames;
@@ -123,13 +125,16 @@ int main(int argc, char** argv) {
             const auto a = std::chrono::steady_clock::now();
             context.beginFrame(camera, 0.1, 10.0, 40);
             meshlabPass(eye);
+            drawFrame(eye);
             context.finish();
             if (f > 0) times.push_back(seconds(a, std::chrono::steady_clock::now()));
         }
         std::sort(times.begin(), times.end());
-        std::printf("%-34s frame median %7.1f ms (included in every line below)\n", depthOnly.name,
-                    1e3 * times[times.size() / 2]);
-    }
+        return times;
+    };
+    const std::vector<double> depthOnly = orbitFrameTimes([](const Eigen::Vector3d&) {});
+    std::printf("%-34s frame median %7.1f ms (included in every line below)\n", "depth-only pass (MeshLab's own draw)",
+                1e3 * depthOnly[depthOnly.size() / 2]);
     for (const Mode& mode : modes) {
         radgl::GlCapabilities modeCaps = caps;
         if (mode.cpu) radgl::capGlVersion(modeCaps, 2, 1);
@@ -146,26 +151,12 @@ int main(int argc, char** argv) {
         }
         context.finish();
         const auto t1 = std::chrono::steady_clock::now();
-        std::vector<double> times;
-        for (int f = 0; f <= frames; ++f) {
-            const double angle = 2.0 * 3.14159265358979 * f / frames;
-            const Eigen::Vector3d eye(3.0 * std::sin(angle), 0.8, 3.0 * std::cos(angle));
-            const rad::PinholeCamera camera =
-                rad::PinholeCamera::lookAt(eye, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitY(), 45.0, width, height);
-            const auto a = std::chrono::steady_clock::now();
-            context.beginFrame(camera, 0.1, 10.0, 40);
-            meshlabPass(eye);
-            renderer.draw(mode.shading, {}, eye);
-            context.finish();
-            const auto b = std::chrono::steady_clock::now();
-            if (f > 0) times.push_back(seconds(a, b));  // the first frame compiles/warms caches
-        }
+        const std::vector<double> sorted =
+            orbitFrameTimes([&](const Eigen::Vector3d& eye) { renderer.draw(mode.shading, {}, eye); });
         const std::string errors = renderer.takeGlErrors();
-        std::vector<double> sorted = times;
-        std::sort(sorted.begin(), sorted.end());
         double mean = 0;
-        for (double t : times) mean += t;
-        mean /= times.size();
+        for (double t : sorted) mean += t;
+        mean /= sorted.size();
         std::printf("%-34s upload %6.2f s  frame median %7.1f ms  mean %7.1f ms  (%.1f fps)  GPU memory %.0f MB%s%s\n",
                     mode.name, seconds(t0, t1), 1e3 * sorted[sorted.size() / 2], 1e3 * mean, 1.0 / sorted[sorted.size() / 2],
                     renderer.gpuBytes() / 1048576.0, errors.empty() ? "" : "  ", errors.c_str());

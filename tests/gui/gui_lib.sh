@@ -3,7 +3,7 @@
 # tests/integration/lib.sh): an Xvfb server, Debian's meshlab from the private prefix with private
 # settings, the keys that show the decoration, and a screenshot taken while the view file the
 # decoration writes (docs/decorate-radiance.md) is known to describe what is on screen.
-# Shape of gui_smoke.sh; its Xvfb start is the same.
+# gui_smoke.sh uses the same Xvfb and meshlab start.
 
 COMPARE_DECORATION_VIEW="$RADIANCE_BUILD_DIR/tools/compare_decoration_view"
 PROBE_DECORATION_VIEW="$RADIANCE_BUILD_DIR/tools/probe_decoration_view"
