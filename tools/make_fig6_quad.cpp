@@ -19,7 +19,6 @@
 #include "geometry/primitive_meshes.h"
 #include "io/radiance_ply.h"
 #include "radiance/material_radiance.h"
-#include "radiance/view_colors.h"
 
 #include <cmath>
 #include <cstdio>
@@ -28,6 +27,7 @@
 #include <vector>
 
 #include "command_line.h"
+#include "scene_setup.h"
 
 namespace {
 
@@ -105,13 +105,7 @@ int run(int argc, char** argv) {
     out.faces = quad.faces;
     out.radiance = rad::makeMaterialRadiance(quad.positions.data(), quad.normals.data(), quad.vertexCount(), material,
                                              lighting, options);
-    std::vector<float> mean(3 * out.vertexCount());
-    rad::meanHemisphereColors(*out.radiance, mean.data());
-    out.colors.resize(4 * out.vertexCount());
-    for (std::size_t v = 0; v < out.vertexCount(); ++v) {
-        for (int c = 0; c < 3; ++c) out.colors[4 * v + c] = rad::encodeSrgb8(mean[3 * v + c]);
-        out.colors[4 * v + 3] = 255;
-    }
+    radtools::setMeanColors(out);
     rad::writeRadiancePly(output, out);
     std::printf("%s: Fig. 6 quad (tilt %g deg, half size %g), %s%s RF of Blinn-Phong e = %g, ks = %g, albedo %g under "
                 "a directional light along +z\n",

@@ -8,7 +8,6 @@
 #include "geometry/midpoint_subdivision.h"
 #include "io/radiance_ply.h"
 #include "radiance/material_radiance.h"
-#include "radiance/view_colors.h"
 
 #include <chrono>
 #include <cstdio>
@@ -92,14 +91,7 @@ int run(int argc, char** argv) {
     out.radiance = rad::sceneRadianceField(scene, *basis, reflected);
     out.positions = scene.mesh().positions;
     out.faces = scene.mesh().faces;
-    // Vertex colour = the RF's mean colour, as the fitting filter sets it (sRGB 8-bit).
-    std::vector<float> mean(3 * out.vertexCount());
-    rad::meanHemisphereColors(*out.radiance, mean.data());
-    out.colors.resize(4 * out.vertexCount());
-    for (std::size_t v = 0; v < out.vertexCount(); ++v) {
-        for (int c = 0; c < 3; ++c) out.colors[4 * v + c] = rad::encodeSrgb8(mean[3 * v + c]);
-        out.colors[4 * v + 3] = 255;
-    }
+    radtools::setMeanColors(out);
     rad::writeRadiancePly(output, out);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::printf("%s: %zu vertices, %zu faces, %s%s radiance of the %s material%s, %.1f s\n", output.c_str(),

@@ -5,6 +5,8 @@
 #include "geometry/triangle_mesh.h"
 #include "io/off_reader.h"
 #include "io/radiance_ply.h"
+#include "radiance/material_radiance.h"
+#include "radiance/view_colors.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -14,6 +16,7 @@
 #include <filesystem>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "command_line.h"
 
@@ -51,6 +54,18 @@ inline rad::TriangleMesh loadMesh(const std::string& path) {
 }
 
 // Bounding box and the radius of the bounding sphere around its centre.
+// Vertex colour := the RF's mean colour in 8-bit sRGB, opaque, as the fitting filter sets it (so any
+// PLY viewer shows the diffuse look). Precondition: out.radiance is set.
+inline void setMeanColors(rad::RadianceMesh& out) {
+    std::vector<float> mean(3 * out.vertexCount());
+    rad::meanHemisphereColors(*out.radiance, mean.data());
+    out.colors.resize(4 * out.vertexCount());
+    for (std::size_t v = 0; v < out.vertexCount(); ++v) {
+        for (int c = 0; c < 3; ++c) out.colors[4 * v + c] = rad::encodeSrgb8(mean[3 * v + c]);
+        out.colors[4 * v + 3] = 255;
+    }
+}
+
 inline void meshBounds(const rad::TriangleMesh& mesh, Eigen::AlignedBox3d& box, double& radius) {
     box.setEmpty();
     for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
