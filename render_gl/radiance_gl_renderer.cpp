@@ -185,6 +185,7 @@ void RadianceGlRenderer::setMesh(const float* positions, std::size_t vertexCount
     deleteBuffer(linearColourBuffer_);
     deleteBuffer(byteColourBuffer_);
     linearColours_.clear();
+    hasVertexColours_ = false;
     byteContent_ = ByteContent::None;
     vertexCount_ = vertexCount;
     faceCount_ = faceCount;
@@ -210,7 +211,8 @@ std::string RadianceGlRenderer::setRadiance(const rad::RadianceField& field) {
     const bool rgb = caps_.rgb32TextureBuffer;
     const std::size_t texelWidth = rgb ? 3 : 4;
     const long long coefficientTexels = static_cast<long long>(vertexCount_) * K;
-    if (!caps_.supportsShaders() || !perVertex_.id || !perFragment_.id) {
+    // The per-vertex mode draws through the vertex-colour program (transform feedback, see draw()).
+    if (!caps_.supportsShaders() || !perVertex_.id || !perFragment_.id || !vertexColours_.id) {
         why = shaderProblem_.empty() ? "no shader programs" : shaderProblem_;
     } else if (coefficientTexels > caps_.maxTextureBufferTexels ||
                static_cast<long long>(3 * vertexCount_) > caps_.maxTextureBufferTexels ||
@@ -263,17 +265,18 @@ std::string RadianceGlRenderer::setRadiance(const rad::RadianceField& field) {
 
 void RadianceGlRenderer::setVertexColors(const float* linearRgb) {
     if (vertexCount_ == 0) throw GlRendererError("no mesh to colour");
-    linearColours_.assign(linearRgb, linearRgb + 3 * vertexCount_);
+    hasVertexColours_ = true;
     if (byteContent_ == ByteContent::VertexColours) byteContent_ = ByteContent::None;
-    if (vertexColours_.id) {
-        if (!linearColourBuffer_) {
-            linearColourBuffer_ = makeBuffer(GL_ARRAY_BUFFER, linearRgb, 3 * vertexCount_ * sizeof(float), GL_DYNAMIC_DRAW);
-            gpuBytes_ += 3 * vertexCount_ * sizeof(float);
-        } else {
-            glBindBuffer(GL_ARRAY_BUFFER, linearColourBuffer_);
-            glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(3 * vertexCount_ * sizeof(float)), linearRgb);
-            glBindBuffer(GL_ARRAY_BUFFER, 0);
-        }
+    if (!vertexColours_.id) {
+        // No vertex-colour program: the colours are tone-mapped on the CPU at draw time, keep them.
+        linearColours_.assign(linearRgb, linearRgb + 3 * vertexCount_);
+    } else if (!linearColourBuffer_) {
+        linearColourBuffer_ = makeBuffer(GL_ARRAY_BUFFER, linearRgb, 3 * vertexCount_ * sizeof(float), GL_DYNAMIC_DRAW);
+        gpuBytes_ += 3 * vertexCount_ * sizeof(float);
+    } else {
+        glBindBuffer(GL_ARRAY_BUFFER, linearColourBuffer_);
+        glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(3 * vertexCount_ * sizeof(float)), linearRgb);
+        glBindBuffer(GL_ARRAY_BUFFER, 0);
     }
     checkGl("vertex colour upload");
 }
@@ -313,7 +316,7 @@ void RadianceGlRenderer::draw(GlShading shading, const rad::ToneMapping& toneMap
     const GlShading mode = activeShading(shading);
     const Program* program = nullptr;
     if (mode == GlShading::VertexColors) {
-        if (linearColours_.empty()) return;
+        if (!hasVertexColours_) return;
         if (vertexColours_.id) {
             program = &vertexColours_;
         } else if (byteContent_ != ByteContent::VertexColours || !sameToneMapping(byteToneMapping_, toneMapping)) {
@@ -322,7 +325,6 @@ void RadianceGlRenderer::draw(GlShading shading, const rad::ToneMapping& toneMap
         }
     } else if (gpuRadiance_) {
         program = mode == GlShading::PerVertex ? &perVertex_ : &perFragment_;
-        if (mode == GlShading::PerVertex && !vertexColours_.id) program = nullptr;  // cannot happen: same GLSL
     } else if (radianceVertexCount_ > 0) {
         // CPU per-vertex path: re-evaluate when the eye or the tone mapping changed.
         if (byteContent_ != ByteContent::CpuRadiance || byteEye_ != eyeObject ||

@@ -112,7 +112,8 @@ private:
     enum class ByteContent { None, VertexColours, CpuRadiance };
     void uploadBytes(const std::vector<float>& linear, const rad::ToneMapping& toneMapping);
     rad::RadianceField cpuField_;
-    std::vector<float> linearColours_;
+    bool hasVertexColours_ = false;
+    std::vector<float> linearColours_;  // only without the vertex-colour program
     unsigned linearColourBuffer_ = 0;  // floats, for the VertexColors program
     unsigned byteColourBuffer_ = 0;    // sRGB bytes, for the fixed-function path
     ByteContent byteContent_ = ByteContent::None;
