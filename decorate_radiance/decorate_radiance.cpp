@@ -123,6 +123,12 @@ rad::ToneMapping toneMapping(const RichParameterList& par) {
 
 Eigen::Vector3d axisVector(int upAxis) { return Eigen::Vector3d::Unit(upAxis < 0 || upAxis > 2 ? 1 : upAxis); }
 
+// What to do when a layer has neither radiance functions nor PRT transfer.
+std::string missingDataAdvice() {
+    return radml::missingRadianceAdvice() +
+           " (or compute PRT transfer with 'Radiance: Compute PRT Transfer' for the relighting mode)";
+}
+
 // RADIANCE_DECORATE_MAX_GL=2.1 pretends the context is older (to see the fallback in the GUI).
 void applyGlCap(radgl::GlCapabilities& caps) {
     const char* cap = std::getenv("RADIANCE_DECORATE_MAX_GL");
@@ -208,8 +214,7 @@ QString DecorateRadiancePlugin::decorationInfo(FilterIDType id) const {
 bool DecorateRadiancePlugin::isDecorationApplicable(QAction*, const MeshModel& m, QString& message) const {
     CMeshO& mesh = const_cast<CMeshO&>(m.cm);
     if (radml::hasRadiance(mesh) || radml::hasTransfer(mesh)) return true;
-    message = QString::fromStdString(radml::missingRadianceAdvice()) +
-              " (or compute PRT transfer with 'Radiance: Compute PRT Transfer' for the relighting mode)";
+    message = QString::fromStdString(missingDataAdvice());
     return false;
 }
 
@@ -292,8 +297,7 @@ bool DecorateRadiancePlugin::startDecorate(QAction*, MeshModel& m, const RichPar
     view->renderer = std::make_unique<radgl::RadianceGlRenderer>(view->caps);
     std::string why;
     if (!uploadLayer(*view, m.cm, why)) {
-        if (why.empty())
-            why = radml::missingRadianceAdvice() + " (or compute PRT transfer for the relighting mode)";
+        if (why.empty()) why = missingDataAdvice();
         Log(GLLogStream::WARNING, "Radiance Field: not started on layer '%s': %s", qUtf8Printable(m.label()), why.c_str());
         return false;
     }
@@ -337,7 +341,7 @@ void DecorateRadiancePlugin::decorateMesh(QAction*, MeshModel& m, const RichPara
         std::string why;
         if (!uploadLayer(view, m.cm, why)) {
             reportOnce(GLLogStream::WARNING, "the layer changed and can no longer be drawn: " +
-                                                 (why.empty() ? radml::missingRadianceAdvice() : why));
+                                                 (why.empty() ? missingDataAdvice() : why));
             return;
         }
     }
