@@ -1,0 +1,77 @@
+// Baking the full scan's normals (and colours) into a texture of the simplified mesh.
+//
+// Paper 004 (Granier et al.): a simplified mesh plus normal maps baked from the full-resolution
+// scan keeps the object's appearance. Per covered texel (texel_coverage.h), the point p and the
+// interpolated normal n of the target at the texel centre cast two rays, p + t n and p - t n for
+// t in [0, maxRayDistance] (Embree); the nearer hit gives the source point, and the source's
+// interpolated vertex normal (and colour) there is what is baked. When neither ray hits, the
+// closest point of the source to p is used instead (counted as a fallback).
+//
+// Normal spaces:
+//  - Object: the unit normal in the mesh's coordinates.
+//  - Tangent: (n . T, n . B, n . N) in the texel's frame: N = the target's interpolated normal
+//    (unit), T = the face's dP/du made orthogonal to N (Gram-Schmidt) and unit, B = s (N x T)
+//    with s = +1 when (dP/du, dP/dv, face normal) is right-handed and -1 otherwise (mirrored UVs).
+//    dP/du is constant per face (the UV derivatives of the face), which is also what a fragment
+//    shader gets from dFdx/dFdy of position and UV. "+Y up" (OpenGL) convention: B points to
+//    increasing v.
+// Either way a unit vector is stored; encodeNormal8/16 map [-1, 1] to the code range.
+#pragma once
+#include "geometry/triangle_mesh.h"
+
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+namespace rad {
+
+enum class NormalSpace { Object, Tangent };
+
+struct NormalBakeOptions {
+    int width = 1024, height = 1024;
+    NormalSpace space = NormalSpace::Object;
+    float maxRayDistance = 0.0f;       // <= 0: automaticRayDistance(target, source)
+    bool bakeColor = false;            // needs sourceColors
+    // Called now and then with the percentage done (0..100); return false to cancel (the bake
+    // then throws BakeCancelled). May be called from several threads, never concurrently.
+    std::function<bool(int)> progress;
+};
+
+struct BakeCancelled : std::runtime_error {
+    BakeCancelled() : std::runtime_error("cancelled") {}
+};
+
+struct NormalBakeResult {
+    int width = 0, height = 0;
+    std::vector<float> normals;        // 3 per texel, unit, in the requested space; 0 where not valid
+    std::vector<float> tangents;       // 3 per texel, object-space unit T of the frame above (LEAN needs it); 0 where not valid
+    std::vector<float> colors;         // 3 per texel when bakeColor (source colour units), else empty
+    std::vector<std::uint8_t> chart;   // 1 where the coverage has a face (the texel belongs to a chart)
+    std::vector<std::uint8_t> valid;   // 1 where a value was baked (chart texels whose source normal was usable)
+    float maxRayDistance = 0.0f;       // the distance used
+    std::size_t chartTexels = 0, rayHits = 0, closestPointFallbacks = 0, invalidTexels = 0;
+    double seconds = 0.0;
+};
+
+// Target: the simplified mesh (positions, unit vertex normals required, faces) with its wedge UVs
+// (texture_atlas.h). Source: the full scan; vertex normals used when present, else area-weighted
+// ones are computed. sourceColors: 3 floats per source vertex or nullptr. Throws BakeInputError
+// for empty meshes, missing target normals, mismatched arrays, NaN positions; BakeCancelled.
+// Parallel (OpenMP) over texel rows.
+NormalBakeResult bakeNormalMap(const TriangleMesh& target, const float* targetWedgeUv, const TriangleMesh& source,
+                               const float* sourceColors, const NormalBakeOptions& options);
+
+// The default ray length: twice the largest distance from the target's vertices and face
+// centroids to the source (closest point), and at least 0.5 % of the source's bounding-box
+// diagonal, so that every target point finds the surface it was simplified from.
+float automaticRayDistance(const TriangleMesh& target, const TriangleMesh& source);
+
+// Unit normal component in [-1, 1] -> code. 8 bit: round((x + 1) / 2 * 255); 16 bit: * 65535.
+std::uint8_t encodeNormal8(float component);
+std::uint16_t encodeNormal16(float component);
+float decodeNormal8(std::uint8_t code);
+float decodeNormal16(std::uint16_t code);
+
+}  // namespace rad
