@@ -24,7 +24,8 @@ std::string embreeErrorText(RTCDevice device) {
 // Copies the mesh into a new triangle geometry of `scene`. On failure releases the scene and the
 // device (the constructor is then left by the exception, so the destructor will not) and throws.
 void attachTriangles(RTCDevice device, RTCScene scene, const float* positions, std::size_t vertexCount,
-                     const std::uint32_t* faces, std::size_t faceCount) {
+                     const std::uint32_t* faces, std::size_t faceCount, const float*& verticesOut,
+                     const std::uint32_t*& indicesOut) {
     RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     // Embree may read 16 bytes past the last vertex: one spare float triple.
     auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0,
@@ -41,9 +42,76 @@ void attachTriangles(RTCDevice device, RTCScene scene, const float* positions, s
     std::memcpy(vertices, positions, vertexCount * 3 * sizeof(float));
     std::memset(vertices + vertexCount * 3, 0, 3 * sizeof(float));
     std::memcpy(indices, faces, faceCount * 3 * sizeof(std::uint32_t));
+    verticesOut = vertices;
+    indicesOut = indices;
     rtcCommitGeometry(geometry);
     rtcAttachGeometry(scene, geometry);
     rtcReleaseGeometry(geometry);
+}
+
+// Closest point of triangle (a, b, c) to p, with its barycentrics (u on b, v on c): Ericson,
+// Real-Time Collision Detection, sec. 5.1.5 (Voronoi regions of the vertices and edges).
+Eigen::Vector3f closestPointOnTriangle(const Eigen::Vector3f& p, const Eigen::Vector3f& a, const Eigen::Vector3f& b,
+                                       const Eigen::Vector3f& c, float& u, float& v) {
+    const Eigen::Vector3f ab = b - a, ac = c - a, ap = p - a;
+    const float d1 = ab.dot(ap), d2 = ac.dot(ap);
+    if (d1 <= 0.0f && d2 <= 0.0f) { u = 0.0f; v = 0.0f; return a; }
+    const Eigen::Vector3f bp = p - b;
+    const float d3 = ab.dot(bp), d4 = ac.dot(bp);
+    if (d3 >= 0.0f && d4 <= d3) { u = 1.0f; v = 0.0f; return b; }
+    const float vc = d1 * d4 - d3 * d2;
+    if (vc <= 0.0f && d1 >= 0.0f && d3 <= 0.0f) {
+        const float t = d1 / (d1 - d3);
+        u = t; v = 0.0f;
+        return a + t * ab;
+    }
+    const Eigen::Vector3f cp = p - c;
+    const float d5 = ab.dot(cp), d6 = ac.dot(cp);
+    if (d6 >= 0.0f && d5 <= d6) { u = 0.0f; v = 1.0f; return c; }
+    const float vb = d5 * d2 - d1 * d6;
+    if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f) {
+        const float t = d2 / (d2 - d6);
+        u = 0.0f; v = t;
+        return a + t * ac;
+    }
+    const float va = d3 * d6 - d5 * d4;
+    if (va <= 0.0f && (d4 - d3) >= 0.0f && (d5 - d6) >= 0.0f) {
+        const float t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        u = 1.0f - t; v = t;
+        return b + t * (c - b);
+    }
+    const float denominator = 1.0f / (va + vb + vc);
+    u = vb * denominator;
+    v = vc * denominator;
+    return a + u * ab + v * ac;
+}
+
+struct PointQueryState {
+    const float* vertices;
+    const std::uint32_t* indices;
+    ClosestPoint* best;
+};
+
+// Embree calls this for every triangle whose box is within the query's current radius; shrinking
+// the radius prunes the rest of the traversal.
+bool closestPointCallback(RTCPointQueryFunctionArguments* arguments) {
+    auto* state = static_cast<PointQueryState*>(arguments->userPtr);
+    const std::uint32_t* face = state->indices + 3 * std::size_t(arguments->primID);
+    const auto vertex = [&](std::uint32_t i) { return Eigen::Map<const Eigen::Vector3f>(state->vertices + 3 * std::size_t(i)); };
+    const Eigen::Vector3f query(arguments->query->x, arguments->query->y, arguments->query->z);
+    float u = 0.0f, v = 0.0f;
+    const Eigen::Vector3f point = closestPointOnTriangle(query, vertex(face[0]), vertex(face[1]), vertex(face[2]), u, v);
+    const float distance = (point - query).norm();
+    if (!(distance < arguments->query->radius)) return false;
+    arguments->query->radius = distance;
+    ClosestPoint& best = *state->best;
+    best.found = true;
+    best.distance = distance;
+    best.face = arguments->primID;
+    best.u = u;
+    best.v = v;
+    best.point = point;
+    return true;
 }
 
 }  // namespace
@@ -67,7 +135,7 @@ RayScene::RayScene(const float* positions, std::size_t vertexCount, const std::u
     rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
     // A mesh without faces (e.g. a point cloud) is a valid, empty scene that every ray misses;
     // Embree refuses zero-sized buffers, so no geometry is attached then.
-    if (faceCount > 0) attachTriangles(device, scene, positions, vertexCount, faces, faceCount);
+    if (faceCount > 0) attachTriangles(device, scene, positions, vertexCount, faces, faceCount, vertices_, indices_);
     rtcCommitScene(scene);
     if (rtcGetDeviceError(device) != RTC_ERROR_NONE) {
         const std::string why = embreeErrorText(device);
@@ -135,6 +203,22 @@ bool RayScene::occluded(const Eigen::Vector3f& origin, const Eigen::Vector3f& di
     rtcOccluded1(static_cast<RTCScene>(scene_), &context, &ray);
     // Embree sets tfar to -inf when the ray is occluded (and leaves it alone otherwise).
     return ray.tfar == -std::numeric_limits<float>::infinity();
+}
+
+ClosestPoint RayScene::closestPoint(const Eigen::Vector3f& query, float maxDistance) const {
+    ClosestPoint best;
+    if (faceCount_ == 0 || !query.allFinite() || !(maxDistance >= 0.0f)) return best;
+    RTCPointQuery pointQuery;
+    pointQuery.x = query.x();
+    pointQuery.y = query.y();
+    pointQuery.z = query.z();
+    pointQuery.time = 0.0f;
+    pointQuery.radius = maxDistance;
+    RTCPointQueryContext context;
+    rtcInitPointQueryContext(&context);
+    PointQueryState state{vertices_, indices_, &best};
+    rtcPointQuery(static_cast<RTCScene>(scene_), &pointQuery, &context, closestPointCallback, &state);
+    return best;
 }
 
 std::uint32_t RayScene::occluded16(const RayPacket16& rays, std::uint32_t activeMask) const {

@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <stdexcept>
 
 namespace rad {
@@ -30,6 +31,15 @@ struct alignas(64) RayPacket16 {
     float tNear[kSize], tFar[kSize];
 };
 
+// The point of the mesh nearest to a query point (RayScene::closestPoint).
+struct ClosestPoint {
+    bool found = false;
+    float distance = 0.0f;
+    std::uint32_t face = 0;
+    float u = 0.0f, v = 0.0f;   // barycentrics, as in RayHit
+    Eigen::Vector3f point = Eigen::Vector3f::Zero();
+};
+
 struct RayCastError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
@@ -48,6 +58,12 @@ public:
     // Whether anything is hit for t in [tNear, tFar] (any hit, faster than intersect).
     bool occluded(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, float tNear, float tFar) const;
 
+    // The nearest point of the mesh to `query` within maxDistance (Embree's BVH point query
+    // with an exact point-triangle distance, Ericson, Real-Time Collision Detection, 5.1.5).
+    // found = false when the mesh is empty or nothing lies within maxDistance.
+    ClosestPoint closestPoint(const Eigen::Vector3f& query,
+                              float maxDistance = std::numeric_limits<float>::infinity()) const;
+
     // Packet form of occluded(): one Embree packet query (rtcOccluded16) for the rays of `rays`
     // whose bit is set in activeMask (bit i = lane i, bits >= 16 ignored). Returns the mask of the
     // active rays that are occluded; lane by lane the same answer as occluded() (an empty or NaN
@@ -61,6 +77,8 @@ private:
     void* device_ = nullptr;  // RTCDevice
     void* scene_ = nullptr;   // RTCScene
     std::size_t faceCount_ = 0;
+    const float* vertices_ = nullptr;           // Embree's copy of the positions (3 floats each)
+    const std::uint32_t* indices_ = nullptr;    // Embree's copy of the faces
 };
 
 }  // namespace rad

@@ -11,6 +11,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -290,3 +291,64 @@ TEST(RayScene, PacketQueryOnTheHandMadeScene) {
 }
 
 }  // namespace
+
+TEST(RayScene, ClosestPointInTheVoronoiRegionsOfAHandMadeTriangle) {
+    // Triangle a = (0,0,0), b = (2,0,0), c = (0,2,0) in the z = 0 plane.
+    const float positions[] = {0, 0, 0, 2, 0, 0, 0, 2, 0};
+    const std::uint32_t faces[] = {0, 1, 2};
+    rad::RayScene scene(positions, 3, faces, 1);
+    // Above the interior: the foot of the perpendicular, barycentrics (0.25, 0.5).
+    rad::ClosestPoint inside = scene.closestPoint(Eigen::Vector3f(0.5f, 1.0f, 3.0f));
+    ASSERT_TRUE(inside.found);
+    EXPECT_NEAR(inside.distance, 3.0f, 1e-6f);
+    EXPECT_NEAR(inside.u, 0.25f, 1e-6f);
+    EXPECT_NEAR(inside.v, 0.5f, 1e-6f);
+    EXPECT_TRUE(inside.point.isApprox(Eigen::Vector3f(0.5f, 1.0f, 0.0f), 1e-6f));
+    // Beyond vertex b: b itself, at distance sqrt(1 + 1 + 1).
+    rad::ClosestPoint nearB = scene.closestPoint(Eigen::Vector3f(3.0f, -1.0f, 1.0f));
+    ASSERT_TRUE(nearB.found);
+    EXPECT_NEAR(nearB.distance, std::sqrt(3.0f), 1e-6f);
+    EXPECT_NEAR(nearB.u, 1.0f, 1e-6f);
+    EXPECT_NEAR(nearB.v, 0.0f, 1e-6f);
+    // Beyond the hypotenuse bc: its midpoint (1, 1, 0), distance sqrt(0.5 + 0.5).
+    rad::ClosestPoint nearBc = scene.closestPoint(Eigen::Vector3f(1.5f, 1.5f, 0.0f));
+    ASSERT_TRUE(nearBc.found);
+    EXPECT_NEAR(nearBc.distance, std::sqrt(0.5f), 1e-6f);
+    EXPECT_NEAR(nearBc.u, 0.5f, 1e-6f);
+    EXPECT_NEAR(nearBc.v, 0.5f, 1e-6f);
+    // The search radius limits the answer.
+    EXPECT_FALSE(scene.closestPoint(Eigen::Vector3f(0.5f, 1.0f, 3.0f), 2.9f).found);
+    EXPECT_TRUE(scene.closestPoint(Eigen::Vector3f(0.5f, 1.0f, 3.0f), 3.1f).found);
+}
+
+TEST(RayScene, ClosestPointAgreesWithDenseSamplingOfEveryTriangle) {
+    const rad::TriangleMesh sphere = rad::makeIcosphere(2, 1.0f);
+    rad::RayScene scene(sphere.positions.data(), sphere.vertexCount(), sphere.faces.data(), sphere.faceCount());
+    std::mt19937 random(7);
+    std::uniform_real_distribution<float> coordinate(-1.6f, 1.6f);
+    const int steps = 40;  // samples per triangle side
+    for (int q = 0; q < 20; ++q) {
+        const Eigen::Vector3f query(coordinate(random), coordinate(random), coordinate(random));
+        // Brute force: the nearest of a dense barycentric grid on every triangle. Its minimum is
+        // an upper bound of the true distance, and at most one grid cell's diameter above it.
+        float sampled = std::numeric_limits<float>::infinity();
+        float cellDiameter = 0.0f;
+        for (std::size_t f = 0; f < sphere.faceCount(); ++f) {
+            const auto vertex = [&](int k) {
+                return Eigen::Map<const Eigen::Vector3f>(&sphere.positions[3 * sphere.faces[3 * f + k]]);
+            };
+            const Eigen::Vector3f a = vertex(0), b = vertex(1), c = vertex(2);
+            cellDiameter = std::max(cellDiameter, std::max({(b - a).norm(), (c - a).norm(), (c - b).norm()}) / steps);
+            for (int i = 0; i <= steps; ++i)
+                for (int j = 0; i + j <= steps; ++j) {
+                    const Eigen::Vector3f p = a + (b - a) * (float(i) / steps) + (c - a) * (float(j) / steps);
+                    sampled = std::min(sampled, (p - query).norm());
+                }
+        }
+        const rad::ClosestPoint found = scene.closestPoint(query);
+        ASSERT_TRUE(found.found);
+        EXPECT_LE(found.distance, sampled + 1e-5f);
+        EXPECT_GE(found.distance, sampled - cellDiameter);
+        EXPECT_NEAR((found.point - query).norm(), found.distance, 1e-5f);
+    }
+}
