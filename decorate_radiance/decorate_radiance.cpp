@@ -5,8 +5,13 @@
 #include "transfer_attribute.h"
 
 #include "gl_capabilities.h"
+#include "normal_map_gl_renderer.h"
 #include "radiance_gl_renderer.h"
 
+#include "bake/bake_description.h"
+#include "bake/lean_maps.h"
+
+#include "image/rgb_image.h"
 #include "lighting/environment_map.h"
 #include "prt/prt_lighting.h"
 #include "render/tone_mapping.h"
@@ -20,7 +25,9 @@
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 
+#include <QDir>
 #include <QElapsedTimer>
+#include <QFileInfo>
 #include <QPainter>
 
 #include <cmath>
@@ -40,6 +47,12 @@ const char* const kPrtIntensity = "MeshLab::Decoration::RadiancePrtIntensity";
 const char* const kPrtMap = "MeshLab::Decoration::RadiancePrtMap";
 const char* const kPrtRotation = "MeshLab::Decoration::RadiancePrtRotation";
 const char* const kPrtUpAxis = "MeshLab::Decoration::RadiancePrtUpAxis";
+
+const char* const kNormalShading = "MeshLab::Decoration::NormalMapShading";
+const char* const kNormalShininess = "MeshLab::Decoration::NormalMapShininess";
+const char* const kNormalLight = "MeshLab::Decoration::NormalMapLightDirection";
+const char* const kNormalSpecular = "MeshLab::Decoration::NormalMapSpecular";
+const char* const kNormalAlbedo = "MeshLab::Decoration::NormalMapAlbedo";
 
 enum ShadingChoice { kPerVertex = 0, kPerFragment = 1, kPrtRelighting = 2 };
 enum LightChoice { kDirectional = 0, kEnvironment = 1 };
@@ -136,6 +149,31 @@ void applyGlCap(radgl::GlCapabilities& caps) {
     if (cap && std::sscanf(cap, "%d.%d", &major, &minor) == 2) radgl::capGlVersion(caps, major, minor);
 }
 
+
+// The bake description (<base>_bake.txt) of the layer's texture, resolved like MeshLab resolves
+// textures: an absolute name as it is, a relative one beside the layer's file, then in the working
+// directory. Empty with `why` when the layer has no baked normal map.
+std::string bakedMapOf(const MeshModel& m, std::string& why) {
+    const std::string advice = "run 'Bake Normal Map' (Filters > Texture) with this layer as the target first";
+    if (m.cm.fn == 0 || !m.hasDataMask(MeshModel::MM_WEDGTEXCOORD) || m.cm.textures.empty()) {
+        why = "the layer has no texture coordinates and texture: " + advice;
+        return {};
+    }
+    const QString name = QString::fromStdString(m.cm.textures.front());
+    QStringList candidates;
+    if (QFileInfo(name).isAbsolute()) candidates << name;
+    else {
+        if (!m.fullName().isEmpty()) candidates << QFileInfo(m.fullName()).absoluteDir().filePath(name);
+        candidates << QFileInfo(name).absoluteFilePath();
+    }
+    for (const QString& candidate : candidates) {
+        const std::string description = rad::bakeDescriptionPathFor(candidate.toStdString());
+        if (!description.empty() && QFileInfo::exists(QString::fromStdString(description))) return description;
+    }
+    why = "the layer's texture '" + name.toStdString() + "' has no bake description (…_bake.txt) beside it: " + advice;
+    return {};
+}
+
 }  // namespace
 
 struct DecorateRadiancePlugin::MeshView {
@@ -155,12 +193,19 @@ struct DecorateRadiancePlugin::MeshView {
     long long frame = 0;
 };
 
+struct DecorateRadiancePlugin::NormalMapView {
+    std::unique_ptr<radgl::NormalMapGlRenderer> renderer;
+    Fingerprint fingerprint;
+    rad::BakeDescription description;
+    std::set<std::string> reported;
+};
+
 DecorateRadiancePlugin::DecorateRadiancePlugin() {
-    typeList << DP_RADIANCE_FIELD;
+    typeList << DP_RADIANCE_FIELD << DP_NORMAL_MAP;
     for (FilterIDType tt : types()) {
         QAction* action = new QAction(decorationName(tt), this);
         action->setCheckable(true);
-        action->setShortcut(QKeySequence(Qt::CTRL + Qt::ALT + Qt::Key_R));
+        action->setShortcut(QKeySequence(Qt::CTRL + Qt::ALT + (tt == DP_NORMAL_MAP ? Qt::Key_N : Qt::Key_R)));
         // MeshLab lists a decoration on its toolbar only when it has an icon: a small drawn one.
         QPixmap pixmap(32, 32);
         pixmap.fill(Qt::transparent);
@@ -168,8 +213,8 @@ DecorateRadiancePlugin::DecorateRadiancePlugin() {
         painter.setRenderHint(QPainter::Antialiasing);
         QRadialGradient gradient(QPointF(12, 11), 16);
         gradient.setColorAt(0.0, QColor(255, 255, 240));
-        gradient.setColorAt(0.35, QColor(230, 120, 60));
-        gradient.setColorAt(1.0, QColor(90, 30, 20));
+        gradient.setColorAt(0.35, tt == DP_NORMAL_MAP ? QColor(128, 128, 255) : QColor(230, 120, 60));
+        gradient.setColorAt(1.0, tt == DP_NORMAL_MAP ? QColor(30, 30, 110) : QColor(90, 30, 20));
         painter.setBrush(gradient);
         painter.setPen(Qt::NoPen);
         painter.drawEllipse(QRectF(3, 3, 26, 26));
@@ -183,11 +228,13 @@ DecorateRadiancePlugin::~DecorateRadiancePlugin() {
     // GL objects cannot be released without their context here; MeshLab calls endDecorate for every
     // active decoration before closing its views. Whatever is left goes with the context.
     for (auto& entry : views_) entry.second->renderer.release();
+    for (auto& entry : normalViews_) entry.second->renderer.release();
 }
 
 QString DecorateRadiancePlugin::decorationName(FilterIDType id) const {
     switch (id) {
         case DP_RADIANCE_FIELD: return "Radiance Field";
+        case DP_NORMAL_MAP: return "Baked Normal Map";
     }
     return {};
 }
@@ -207,18 +254,55 @@ QString DecorateRadiancePlugin::decorationInfo(FilterIDType id) const {
                    "light or an HDR map, rotatable about the up axis.<br>Exposure in stops, clamp or Reinhard "
                    "tone curve, sRGB output. Needs OpenGL 3.2 / GLSL 1.50 for the shaded modes; otherwise the "
                    "colours are evaluated per vertex on the CPU. Shortcut Ctrl+Alt+R.";
+        case DP_NORMAL_MAP:
+            return "Draws the layer with the normal map made by 'Bake Normal Map' (its texture and the "
+                   "&lt;base&gt;_bake.txt beside it) under one directional light that follows the camera "
+                   "(Tools &gt; Options &gt; Decoration: 'Normal map shading').<br><b>Vertex normals</b>: "
+                   "Blinn-Phong with the interpolated vertex normals, what the simplified mesh alone shows. "
+                   "<b>Normal map</b>: Blinn-Phong with the mip-mapped normal map. <b>LEAN</b>: the specular "
+                   "lobe is a Gaussian whose covariance is the spread of the scan's normals under the pixel, "
+                   "read from the LEAN moments (MIP levels 1..K, scaled by the level below 1), so distant "
+                   "highlights widen and dim instead of aliasing: <i>T. Weber, M. Stamminger</i>, "
+                   "<b>Stateless Level of Detail Lighting for Automotive Visualization</b>, Alg. 3-4 and sec. "
+                   "3.5, after <i>Olano and Baker</i>, LEAN Mapping, I3D 2010. Needs OpenGL 3.2 / GLSL 1.50. "
+                   "Shortcut Ctrl+Alt+N.";
     }
     return {};
 }
 
-bool DecorateRadiancePlugin::isDecorationApplicable(QAction*, const MeshModel& m, QString& message) const {
+bool DecorateRadiancePlugin::isDecorationApplicable(QAction* action, const MeshModel& m, QString& message) const {
+    if (ID(action) == DP_NORMAL_MAP) {
+        std::string why;
+        if (bakedMapOf(m, why).empty()) {
+            message = QString::fromStdString(why);
+            return false;
+        }
+        return true;
+    }
     CMeshO& mesh = const_cast<CMeshO&>(m.cm);
     if (radml::hasRadiance(mesh) || radml::hasTransfer(mesh)) return true;
     message = QString::fromStdString(missingDataAdvice());
     return false;
 }
 
-void DecorateRadiancePlugin::initGlobalParameterSet(QAction*, RichParameterList& par) {
+void DecorateRadiancePlugin::initGlobalParameterSet(QAction* action, RichParameterList& par) {
+    if (ID(action) == DP_NORMAL_MAP) {
+        par.addParam(RichEnum(kNormalShading, 2,
+                              QStringList() << "Vertex normals (Blinn-Phong)" << "Normal map (Blinn-Phong)"
+                                            << "Normal map with LEAN specular (paper 002)",
+                              "Normal map shading",
+                              "How the Baked Normal Map decoration shades the layer: the simplified mesh's own "
+                              "normals, the baked normal map, or the normal map with the LEAN Gaussian lobe whose "
+                              "width follows the normals' spread under each pixel."));
+        par.addParam(RichFloat(kNormalShininess, 100.0f, "Normal map shininess",
+                               "Blinn-Phong exponent s (the LEAN lobe has covariance 1/s at close range)."));
+        par.addParam(RichFloat(kNormalSpecular, 0.6f, "Normal map specular", "Specular reflectance (grey)."));
+        par.addParam(RichColor(kNormalAlbedo, QColor(150, 150, 150), "Normal map albedo", "Diffuse colour."));
+        par.addParam(RichPoint3f(kNormalLight, vcg::Point3f(0.4f, 0.5f, 1.0f), "Normal map light direction",
+                                 "Direction toward the light in camera coordinates (x right, y up, z toward you): "
+                                 "the light follows the camera."));
+        return;
+    }
     par.addParam(RichEnum(kShading, kPerFragment,
                           QStringList() << "Per vertex (evaluate at vertices, interpolate colours)"
                                         << "Per fragment (interpolate reflected functions, eq. 8)"
@@ -281,8 +365,9 @@ bool uploadLayer(DecorateRadiancePlugin::MeshView& view, CMeshO& mesh, std::stri
 }
 }  // namespace
 
-bool DecorateRadiancePlugin::startDecorate(QAction*, MeshModel& m, const RichParameterList* par, GLArea* gla) {
+bool DecorateRadiancePlugin::startDecorate(QAction* action, MeshModel& m, const RichParameterList* par, GLArea* gla) {
     if (!gla || !par) return false;
+    if (ID(action) == DP_NORMAL_MAP) return startNormalMap(m, par, gla);
     if (!GLExtensionsManager::initializeGLextensions_notThrowing()) {
         Log(GLLogStream::WARNING, "Radiance Field: OpenGL extensions could not be initialised; nothing drawn.");
         return false;
@@ -321,15 +406,26 @@ bool DecorateRadiancePlugin::startDecorate(QAction*, MeshModel& m, const RichPar
     return true;
 }
 
-void DecorateRadiancePlugin::endDecorate(QAction*, MeshModel& m, const RichParameterList*, GLArea* gla) {
+void DecorateRadiancePlugin::endDecorate(QAction* action, MeshModel& m, const RichParameterList*, GLArea* gla) {
+    if (ID(action) == DP_NORMAL_MAP) {
+        auto normal = normalViews_.find(Key(gla, m.id()));
+        if (normal == normalViews_.end()) return;
+        if (gla) gla->makeCurrent();
+        normalViews_.erase(normal);
+        return;
+    }
     auto it = views_.find(Key(gla, m.id()));
     if (it == views_.end()) return;
     if (gla) gla->makeCurrent();  // the buffers belong to this view's context
     views_.erase(it);
 }
 
-void DecorateRadiancePlugin::decorateMesh(QAction*, MeshModel& m, const RichParameterList* par, GLArea* gla,
+void DecorateRadiancePlugin::decorateMesh(QAction* action, MeshModel& m, const RichParameterList* par, GLArea* gla,
                                           QPainter*, GLLogStream& log) {
+    if (ID(action) == DP_NORMAL_MAP) {
+        decorateNormalMap(m, par, gla, log);
+        return;
+    }
     auto it = views_.find(Key(gla, m.id()));
     if (it == views_.end() || !par) return;
     MeshView& view = *it->second;
@@ -434,6 +530,122 @@ void DecorateRadiancePlugin::decorateMesh(QAction*, MeshModel& m, const RichPara
         out.close();
         std::rename(temporary.c_str(), target.c_str());
     }
+}
+
+bool DecorateRadiancePlugin::startNormalMap(MeshModel& m, const RichParameterList* par, GLArea* gla) {
+    if (!GLExtensionsManager::initializeGLextensions_notThrowing()) {
+        Log(GLLogStream::WARNING, "Baked Normal Map: OpenGL extensions could not be initialised; nothing drawn.");
+        return false;
+    }
+    QElapsedTimer timer;
+    timer.start();
+    const Key key(gla, m.id());
+    normalViews_.erase(key);
+    const auto refuse = [&](const std::string& why) {
+        Log(GLLogStream::WARNING, "Baked Normal Map: not started on layer '%s': %s", qUtf8Printable(m.label()),
+            why.c_str());
+        return false;
+    };
+    std::string why;
+    const std::string descriptionPath = bakedMapOf(m, why);
+    if (descriptionPath.empty()) return refuse(why);
+    auto view = std::make_unique<NormalMapView>();
+    radgl::GlCapabilities caps = radgl::queryGlCapabilities();
+    applyGlCap(caps);
+    std::string leanNote;
+    try {
+        view->description = rad::readBakeDescription(descriptionPath);
+        const QDir folder = QFileInfo(QString::fromStdString(descriptionPath)).absoluteDir();
+        const auto beside = [&](const std::string& file) {
+            return folder.filePath(QString::fromStdString(file)).toStdString();
+        };
+        int width = 0, height = 0;
+        const std::vector<float> normals = rad::readNormalMap(beside(view->description.normalMap), width, height);
+        // Wedge coordinates in the order exportPlainMesh writes the faces (live faces only).
+        radml::ExportChoice choice;
+        choice.colors = choice.quality = choice.radiance = choice.transfer = false;
+        rad::RadianceMesh plain;
+        if (!radml::exportPlainMesh(m.cm, choice, plain, why)) return refuse(why);
+        std::vector<float> wedgeUv;
+        wedgeUv.reserve(6 * plain.faceCount());
+        for (const CFaceO& f : m.cm.face)
+            if (!f.IsD())
+                for (int k = 0; k < 3; ++k) {
+                    wedgeUv.push_back(f.cWT(k).U());
+                    wedgeUv.push_back(f.cWT(k).V());
+                }
+        view->renderer = std::make_unique<radgl::NormalMapGlRenderer>(caps);
+        std::string problem = view->renderer->setMesh(plain.positions.data(), plain.normals.data(),
+                                                      plain.vertexCount(), plain.faces.data(), plain.faceCount(),
+                                                      wedgeUv.data());
+        if (problem.empty())
+            problem = view->renderer->setNormalMap(rad::buildNormalPyramid(normals.data(), width, height),
+                                                   view->description.space == rad::NormalSpace::Tangent);
+        if (!problem.empty()) return refuse(problem);
+        if (!view->description.leanMoments.empty()) {
+            const std::string leanProblem =
+                view->renderer->setLeanMoments(rad::readLeanMoments(beside(view->description.leanMoments)));
+            if (!leanProblem.empty()) leanNote = "; LEAN unavailable: " + leanProblem;
+        } else {
+            leanNote = "; no LEAN moments (tangent-space bake, or baked without them): the LEAN mode draws the "
+                       "normal map with Blinn-Phong";
+        }
+    } catch (const std::exception& e) {
+        return refuse(e.what());
+    }
+    view->fingerprint = fingerprintOf(m.cm);
+    Log("Baked Normal Map: layer '%s', %s-space %dx%d map%s, LEAN %s, set up in %.2f s; %s", qUtf8Printable(m.label()),
+        view->description.space == rad::NormalSpace::Object ? "object" : "tangent", view->description.size,
+        view->description.size, leanNote.c_str(), view->renderer->hasLeanMoments() ? "on" : "off",
+        timer.elapsed() / 1000.0, caps.describe().c_str());
+    const std::string errors = view->renderer->takeGlErrors();
+    if (!errors.empty()) Log(GLLogStream::WARNING, "Baked Normal Map: %s", errors.c_str());
+    normalViews_[key] = std::move(view);
+    return true;
+}
+
+void DecorateRadiancePlugin::decorateNormalMap(MeshModel& m, const RichParameterList* par, GLArea* gla,
+                                               GLLogStream& log) {
+    auto it = normalViews_.find(Key(gla, m.id()));
+    if (it == normalViews_.end() || !par) return;
+    NormalMapView& view = *it->second;
+    auto reportOnce = [&](int level, const std::string& message) {
+        if (view.reported.insert(message).second) log.Log(level, "Baked Normal Map: " + message);
+    };
+    if (fingerprintOf(m.cm) != view.fingerprint) {
+        reportOnce(GLLogStream::WARNING, "the layer changed since the decoration started: switch it off and on");
+        return;
+    }
+    const int choice = par->getEnum(kNormalShading);
+    radgl::NormalMapShading mode = choice == 0   ? radgl::NormalMapShading::VertexNormals
+                                   : choice == 1 ? radgl::NormalMapShading::NormalMap
+                                                 : radgl::NormalMapShading::Lean;
+    if (mode == radgl::NormalMapShading::Lean && !view.renderer->hasLeanMoments()) {
+        reportOnce(GLLogStream::WARNING, "no LEAN moments for this map: drawing the normal map with Blinn-Phong");
+        mode = radgl::NormalMapShading::NormalMap;
+    }
+    glPushMatrix();
+    vcg::glMultMatrix(m.cm.Tr);
+    GLdouble modelview[16];
+    glGetDoublev(GL_MODELVIEW_MATRIX, modelview);
+    const Eigen::Map<const Eigen::Matrix4d> mv(modelview);
+    const Eigen::Matrix4d inverse = mv.inverse();
+    const Eigen::Vector4d eye = inverse * Eigen::Vector4d(0, 0, 0, 1);
+    const vcg::Point3f light = par->getPoint3f(kNormalLight);
+    radgl::NormalMapLighting lighting;
+    // The light is given in camera coordinates; directions transform with the inverse modelview.
+    lighting.lightDirection = (inverse * Eigen::Vector4d(light[0], light[1], light[2], 0.0)).head<3>().normalized();
+    const QColor albedo = par->getColor(kNormalAlbedo);
+    const auto linear = [](int code) { return double(rad::srgbToLinear(static_cast<std::uint8_t>(code))); };
+    lighting.albedo = Eigen::Vector3d(linear(albedo.red()), linear(albedo.green()), linear(albedo.blue()));
+    lighting.specular = Eigen::Vector3d::Constant(std::max(0.0f, par->getFloat(kNormalSpecular)));
+    lighting.shininess = std::max(1.0f, par->getFloat(kNormalShininess));
+    lighting.ambient = Eigen::Vector3d::Constant(0.05);
+    const std::string problem = view.renderer->draw(mode, lighting, rad::ToneMapping(), eye.head<3>() / eye[3]);
+    glPopMatrix();
+    if (!problem.empty()) reportOnce(GLLogStream::WARNING, problem);
+    const std::string errors = view.renderer->takeGlErrors();
+    if (!errors.empty()) reportOnce(GLLogStream::WARNING, errors);
 }
 
 MESHLAB_PLUGIN_NAME_EXPORTER(DecorateRadiancePlugin)

@@ -1,8 +1,12 @@
-// MeshLab decoration "Radiance Field": draws the current mesh's radiance functions per vertex or per
+// MeshLab decorations "Radiance Field" and "Baked Normal Map".
+// "Radiance Field" draws the current mesh's radiance functions per vertex or per
 // fragment (paper 000 sec. 5, eq. 8), or its PRT transfer relit by a light, over MeshLab's own
 // rendering. A thin adapter: the drawing is render_gl/radiance_gl_renderer.h, the relighting
 // prt/prt_lighting.h; this file reads parameters, gathers the layer's data, logs and writes the
 // optional view file (docs/decorate-radiance.md).
+// "Baked Normal Map" draws a layer with the normal map of the "Bake Normal Map" filter, with
+// Blinn-Phong or with the LEAN Gaussian lobe (paper 002, Alg. 3-4; render_gl/normal_map_gl_renderer.h),
+// so that the highlight's behaviour at a distance can be compared (docs/normal-map-baking.md).
 #pragma once
 
 #include <QObject>
@@ -18,7 +22,7 @@ class DecorateRadiancePlugin : public QObject, public MeshDecorateInterface {
     Q_INTERFACES(MeshDecorateInterface)
 
 public:
-    enum { DP_RADIANCE_FIELD };
+    enum { DP_RADIANCE_FIELD, DP_NORMAL_MAP };
 
     DecorateRadiancePlugin();
     ~DecorateRadiancePlugin() override;
@@ -34,9 +38,14 @@ public:
     void decorateDoc(QAction*, MeshDocument&, const RichParameterList*, GLArea*, QPainter*, GLLogStream&) override {}
     void endDecorate(QAction* action, MeshModel& m, const RichParameterList* par, GLArea* gla) override;
 
-    struct MeshView;  // per (view, layer): the GL renderer and what it was built from
+    struct MeshView;       // per (view, layer): the GL renderer and what it was built from
+    struct NormalMapView;  // per (view, layer): the normal-map renderer
 
 private:
+    bool startNormalMap(MeshModel& m, const RichParameterList* par, GLArea* gla);
+    void decorateNormalMap(MeshModel& m, const RichParameterList* par, GLArea* gla, GLLogStream& log);
+
     using Key = std::pair<const GLArea*, int>;
     std::map<Key, std::unique_ptr<MeshView>> views_;
+    std::map<Key, std::unique_ptr<NormalMapView>> normalViews_;
 };

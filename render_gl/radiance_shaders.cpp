@@ -16,8 +16,6 @@ uniform int uDegree;
 uniform int uCoefficientCount; // K, functions per colour channel
 uniform float uShNorm[121];    // (kMaxHarmonicDegree + 1)^2
 uniform vec3 uEye;             // eye in the mesh's object coordinates
-uniform float uExposureScale;  // 2^stops
-uniform int uToneCurve;        // 0: clamp, 1: Reinhard
 
 vec3 framePosition(int v) { return texelFetch(uFrames, 3 * v).xyz; }
 vec3 frameNormal(int v) { return texelFetch(uFrames, 3 * v + 1).xyz; }
@@ -86,8 +84,10 @@ vec3 evalReflected(int v, vec3 d) {
 }
 )GLSL";
 
-// render/tone_mapping.h, in GLSL.
+// render/tone_mapping.h, in GLSL (shared with the normal-map renderer: toneMappingGlsl()).
 const char* const kToneMapping = R"GLSL(
+uniform float uExposureScale;  // 2^stops
+uniform int uToneCurve;        // 0: clamp, 1: Reinhard
 vec3 displayColor(vec3 L) {
     vec3 v = max(L * uExposureScale, vec3(0.0));
     v = (uToneCurve == 1) ? v / (vec3(1.0) + v) : min(v, vec3(1.0));
@@ -189,6 +189,8 @@ std::string fragmentShaderSource(GlShading shading) {
     std::string s = std::string(kCommon) + kToneMapping;
     return s + (shading == GlShading::PerFragment ? kPerFragmentFragment : kLinearColourFragment);
 }
+
+std::string toneMappingGlsl() { return kToneMapping; }
 
 std::vector<float> shNormalisationConstants(int degree) {
     const int count = (rad::kMaxHarmonicDegree + 1) * (rad::kMaxHarmonicDegree + 1);

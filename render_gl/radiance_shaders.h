@@ -36,6 +36,11 @@ enum class GlShading {
 std::string vertexShaderSource(GlShading shading);
 std::string fragmentShaderSource(GlShading shading);
 
+// The tone mapping of render/tone_mapping.h in GLSL, for any fragment shader (no #version line):
+// uniforms uExposureScale (2^stops) and uToneCurve (0: clamp, 1: Reinhard), and
+// vec3 displayColor(vec3 linear) returning the sRGB-encoded display value.
+std::string toneMappingGlsl();
+
 // uShNorm[l*l + l + m]: K_l^0 for m = 0, sqrt(2) K_l^|m| otherwise (spherical_harmonics.h), for
 // l <= degree, so that Y_l^m = uShNorm * Q_l^|m|(z) * Re/Im (x + i y)^|m|, Q the associated
 // Legendre function divided by sin^|m|.

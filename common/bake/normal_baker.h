@@ -23,6 +23,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <stdexcept>
 #include <vector>
 
 namespace rad {
@@ -53,6 +54,9 @@ struct NormalBakeResult {
     float maxRayDistance = 0.0f;       // the distance used
     std::size_t chartTexels = 0, rayHits = 0, closestPointFallbacks = 0, invalidTexels = 0;
     double seconds = 0.0;
+    // Parts of `seconds` (wall clock): rasterising the layout, building the source's ray scene
+    // (and the automatic ray distance), casting the rays and writing the texels.
+    double coverageSeconds = 0.0, sceneSeconds = 0.0, raySeconds = 0.0;
 };
 
 // Target: the simplified mesh (positions, unit vertex normals required, faces) with its wedge UVs

@@ -19,6 +19,10 @@ struct TexelCoverage {
     std::vector<std::int32_t> face;       // per texel (row-major, rows top to bottom); -1 = empty
     std::vector<float> barycentric;       // 2 per texel: (b1, b2), point = (1-b1-b2) p0 + b1 p1 + b2 p2
     std::vector<std::uint8_t> interior;   // per texel: 1 when the centre is inside its face
+    // Texel centres strictly inside two or more faces, farther than kStrictInsideTexels from the
+    // edges of each (so that centres on a shared edge do not count): what checkUvLayout reports.
+    std::size_t overlappingTexels = 0;
+    static constexpr double kStrictInsideTexels = 1e-2;
 
     std::size_t texelIndex(int column, int row) const { return std::size_t(row) * width + column; }
     std::size_t coveredCount() const;

@@ -255,4 +255,43 @@ std::uint32_t RayScene::occluded16(const RayPacket16& rays, std::uint32_t active
     return hit & live;
 }
 
+void RayScene::intersect16(const RayPacket16& rays, std::uint32_t activeMask, RayHit hits[RayPacket16::kSize]) const {
+    alignas(64) int valid[16];
+    RTCRayHit16 packet;  // RTC_ALIGN(64) in rtcore_ray.h, as rtcIntersect16 requires
+    std::uint32_t live = 0;
+    for (int i = 0; i < 16; ++i) {
+        hits[i] = RayHit();
+        // As in occluded16: an empty or NaN interval is never queried.
+        const bool on = ((activeMask >> i) & 1u) && rays.tNear[i] <= rays.tFar[i];
+        valid[i] = on ? -1 : 0;
+        live |= std::uint32_t(on) << i;
+        packet.ray.org_x[i] = rays.originX[i];
+        packet.ray.org_y[i] = rays.originY[i];
+        packet.ray.org_z[i] = rays.originZ[i];
+        packet.ray.tnear[i] = rays.tNear[i];
+        packet.ray.dir_x[i] = rays.directionX[i];
+        packet.ray.dir_y[i] = rays.directionY[i];
+        packet.ray.dir_z[i] = rays.directionZ[i];
+        packet.ray.time[i] = 0.0f;
+        packet.ray.tfar[i] = rays.tFar[i];
+        packet.ray.mask[i] = std::numeric_limits<unsigned>::max();
+        packet.ray.id[i] = static_cast<unsigned>(i);
+        packet.ray.flags[i] = 0;
+        packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+        packet.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    }
+    if (live == 0) return;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rtcIntersect16(valid, static_cast<RTCScene>(scene_), &context, &packet);
+    for (int i = 0; i < 16; ++i) {
+        if (!((live >> i) & 1u) || packet.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) continue;
+        hits[i].hit = true;
+        hits[i].distance = packet.ray.tfar[i];
+        hits[i].face = packet.hit.primID[i];
+        hits[i].u = packet.hit.u[i];
+        hits[i].v = packet.hit.v[i];
+    }
+}
+
 }  // namespace rad

@@ -2,8 +2,8 @@
 // place that talks to Embree, used for visibility in the fitting, shadows and primary rays in the
 // virtual acquisition and the CPU renderers, and later PRT transfer and normal-map baking.
 //
-// Every query is const and thread-safe (Embree allows concurrent rtcIntersect1/rtcOccluded1/
-// rtcOccluded16 on a committed scene); the scene holds its own copy of the geometry.
+// Every query is const and thread-safe (Embree allows concurrent rtcIntersect1/rtcIntersect16/
+// rtcOccluded1/rtcOccluded16 on a committed scene); the scene holds its own copy of the geometry.
 #pragma once
 #include <Eigen/Core>
 #include <cstddef>
@@ -70,6 +70,12 @@ public:
     // interval is never occluded). Cheaper per ray than occluded() when the 16 rays are coherent
     // (e.g. one origin, a hemisphere of directions: PRT transfer).
     std::uint32_t occluded16(const RayPacket16& rays, std::uint32_t activeMask) const;
+
+    // Packet form of intersect(): closest hits of the rays of `rays` whose bit is set in
+    // activeMask (one rtcIntersect16). hits[i] is lane i's answer, the same as intersect() gives
+    // (hit = false for inactive lanes and for empty or NaN intervals). Cheaper per ray than
+    // intersect() for coherent rays (e.g. the texels of a tile of a normal-map bake).
+    void intersect16(const RayPacket16& rays, std::uint32_t activeMask, RayHit hits[RayPacket16::kSize]) const;
 
     std::size_t faceCount() const { return faceCount_; }
 

@@ -1,7 +1,8 @@
 // Tests of image/image_io.h: PNG round trips (lossless: bit-exact), PNGs of other channel counts
 // written by stb_image_write itself, a JPEG written by stb_image_write (lossy: compared with a
 // tolerance), and the refusals (missing, empty, truncated, foreign, unwritable) whose messages must
-// name the file.
+// name the file. 16-bit PNG: exact round trips for 1 to 4 channels, 8-bit files read as code * 257,
+// truncated 16-bit files refused naming the file.
 #include "image/image_io.h"
 
 #include "test_support.h"
@@ -167,6 +168,83 @@ TEST(ImageIo, UnwritablePathsAndEmptyImagesAreRefused) {
         EXPECT_NE(std::string(e.what()).find(badPath), std::string::npos) << e.what();
     }
     EXPECT_THROW(rad::writePng(tmpPath("empty_image.png"), rad::Image8()), rad::ImageFileError);
+}
+
+std::string read16Error(const std::string& path) {
+    try {
+        int w, h, c;
+        rad::readPng16(path, w, h, c);
+    } catch (const rad::ImageFileError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+TEST(ImageIo, Png16RoundTripIsExactForEveryChannelCount) {
+    std::mt19937 rng(3);
+    std::uniform_int_distribution<int> code(0, 65535);
+    for (int channels = 1; channels <= 4; ++channels)
+        for (const auto& size : {std::pair<int, int>{1, 1}, {7, 3}, {64, 33}}) {
+            std::vector<std::uint16_t> samples(std::size_t(size.first) * size.second * channels);
+            for (auto& s : samples) s = static_cast<std::uint16_t>(code(rng));
+            samples[0] = 0;
+            samples.back() = 65535;
+            if (samples.size() > 2) samples[1] = 0x0102;  // byte order: 258, not 513
+            const std::string path = tmpPath("png16_" + std::to_string(channels) + "_" + std::to_string(size.first) + ".png");
+            rad::writePng16(path, size.first, size.second, channels, samples.data());
+            int w = 0, h = 0, c = 0;
+            const std::vector<std::uint16_t> back = rad::readPng16(path, w, h, c);
+            EXPECT_EQ(w, size.first);
+            EXPECT_EQ(h, size.second);
+            EXPECT_EQ(c, channels);
+            EXPECT_EQ(back, samples);
+        }
+}
+
+TEST(ImageIo, Png16ReaderScalesEightBitFilesExactly) {
+    const rad::Image8 image = randomImage(9, 4, 21);
+    const std::string path = tmpPath("eight_for_16.png");
+    rad::writePng(path, image);
+    int w = 0, h = 0, c = 0;
+    const std::vector<std::uint16_t> back = rad::readPng16(path, w, h, c);
+    ASSERT_EQ(w, 9);
+    ASSERT_EQ(h, 4);
+    ASSERT_EQ(c, 3);
+    for (std::size_t i = 0; i < image.rgb.size(); ++i) EXPECT_EQ(back[i], image.rgb[i] * 257) << i;
+}
+
+TEST(ImageIo, TruncatedOrMissingPng16IsRefusedNamingTheFile) {
+    const int w = 40, h = 30;
+    std::vector<std::uint16_t> samples(std::size_t(w) * h * 3);
+    std::mt19937 rng(4);
+    for (auto& s : samples) s = static_cast<std::uint16_t>(rng());
+    const std::string whole = tmpPath("whole16.png");
+    rad::writePng16(whole, w, h, 3, samples.data());
+    EXPECT_EQ(read16Error(whole), "");
+    const std::vector<char> bytes = radtest::readBytes(whole);
+    for (const double fraction : {0.02, 0.3, 0.7, 0.98}) {
+        const std::size_t keep = static_cast<std::size_t>(fraction * bytes.size());
+        const std::string cut = tmpPath("truncated16_" + std::to_string(keep) + ".png");
+        radtest::writeBytes(cut, std::vector<char>(bytes.begin(), bytes.begin() + std::ptrdiff_t(keep)));
+        const std::string why = read16Error(cut);
+        EXPECT_NE(why.find(cut), std::string::npos) << "kept " << keep << " of " << bytes.size() << ": '" << why << "'";
+    }
+    const std::string missing = tmpPath("missing16.png");
+    std::remove(missing.c_str());
+    EXPECT_NE(read16Error(missing).find(missing), std::string::npos);
+}
+
+TEST(ImageIo, Png16WriterRefusesBadInputAndUnwritablePaths) {
+    const std::vector<std::uint16_t> samples(5 * 3 * 3, 7);
+    const std::string badPath = tmpPath("no_such_directory/out16.png");
+    try {
+        rad::writePng16(badPath, 5, 3, 3, samples.data());
+        FAIL() << "writing into a missing directory succeeded";
+    } catch (const rad::ImageFileError& e) {
+        EXPECT_NE(std::string(e.what()).find(badPath), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(rad::writePng16(tmpPath("bad16.png"), 5, 3, 5, samples.data()), rad::ImageFileError);
+    EXPECT_THROW(rad::writePng16(tmpPath("bad16.png"), 0, 3, 3, samples.data()), rad::ImageFileError);
 }
 
 }  // namespace

@@ -2,7 +2,7 @@
 // and a quad in planes z = const, so the hit distance is a difference of z over the direction's z
 // and the barycentrics are affine coordinates in the plane), the [tNear, tFar] limits of both
 // queries, concurrent OpenMP queries against serial ones on an icosphere, and the 16-ray packet
-// query against the single-ray one (random rays, partial masks).
+// queries (occluded16, intersect16) against the single-ray ones (random rays, partial masks).
 #include "geometry/primitive_meshes.h"
 #include "raycast/ray_scene.h"
 #include "test_support.h"
@@ -259,6 +259,56 @@ TEST(RayScene, PacketQueryAgreesWithSingleRaysUnderRandomMasks) {
     // Both answers are well represented.
     EXPECT_GT(occludedLanes, activeLanes / 5);
     EXPECT_LT(occludedLanes, activeLanes * 4 / 5);
+}
+
+TEST(RayScene, PacketIntersectAgreesWithSingleRaysUnderRandomMasks) {
+    const rad::TriangleMesh mesh = rad::makeIcosphere(3, 1.0f);
+    const rad::RayScene scene(mesh.positions.data(), mesh.vertexCount(), mesh.faces.data(), mesh.faceCount());
+    std::mt19937 rng(78);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    std::uniform_int_distribution<std::uint32_t> bits(0, 0xffffffffu);
+    int hitLanes = 0, activeLanes = 0;
+    for (int p = 0; p < 400; ++p) {
+        rad::RayPacket16 packet;
+        const std::uint32_t mask = p == 0 ? 0xffffu : p == 1 ? 0u : p < 18 ? 1u << (p - 2) : bits(rng);
+        for (int i = 0; i < 16; ++i) {
+            const Eigen::Vector3f o = (radtest::randomUnit(rng) * (0.3 + 2.0 * unit(rng))).cast<float>();
+            const Eigen::Vector3f d = radtest::randomUnit(rng).cast<float>();
+            const float tNear = unit(rng) < 0.5f ? 0.0f : 0.5f * unit(rng);
+            const float tFar = unit(rng) < 0.1f ? tNear - 0.1f : unit(rng) < 0.5f ? kInf : 3.0f * unit(rng);
+            packet.originX[i] = o.x();
+            packet.originY[i] = o.y();
+            packet.originZ[i] = o.z();
+            packet.directionX[i] = d.x();
+            packet.directionY[i] = d.y();
+            packet.directionZ[i] = d.z();
+            packet.tNear[i] = tNear;
+            packet.tFar[i] = tFar;
+            if (!((mask >> i) & 1u) && unit(rng) < 0.5f) packet.originX[i] = std::nanf("");  // ignored
+        }
+        rad::RayHit hits[16];
+        scene.intersect16(packet, mask, hits);
+        for (int i = 0; i < 16; ++i) {
+            const bool active = (mask >> i) & 1u;
+            if (!active || !(packet.tNear[i] <= packet.tFar[i])) {
+                EXPECT_FALSE(hits[i].hit) << "packet " << p << " lane " << i;
+                continue;
+            }
+            const rad::RayHit single = scene.intersect({packet.originX[i], packet.originY[i], packet.originZ[i]},
+                                                       {packet.directionX[i], packet.directionY[i], packet.directionZ[i]},
+                                                       packet.tNear[i], packet.tFar[i]);
+            ASSERT_EQ(hits[i].hit, single.hit) << "packet " << p << " lane " << i;
+            ++activeLanes;
+            if (!single.hit) continue;
+            ++hitLanes;
+            EXPECT_EQ(hits[i].face, single.face);
+            EXPECT_NEAR(hits[i].distance, single.distance, 1e-5f);
+            EXPECT_NEAR(hits[i].u, single.u, 1e-5f);
+            EXPECT_NEAR(hits[i].v, single.v, 1e-5f);
+        }
+    }
+    EXPECT_GT(hitLanes, activeLanes / 5);
+    EXPECT_LT(hitLanes, activeLanes * 4 / 5);
 }
 
 TEST(RayScene, PacketQueryOnTheHandMadeScene) {

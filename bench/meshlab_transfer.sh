@@ -1,0 +1,158 @@
+#!/usr/bin/env bash
+# MeshLab's own normal-map bake, timed: "Transfer: Vertex Attributes to Texture (1 or 2 meshes)"
+# (filter_texture, FP_TRANSFER_TO_TEXTURE) through Debian's meshlabserver under Xvfb, on a scan with
+# vertex normals and a target OBJ with per-wedge texture coordinates; the baseline our normal
+# baker is compared with (tools/normal_map_error scores both maps).
+#
+# Usage:
+#   bench/meshlab_transfer.sh prepare SCAN OUTDIR FACES [TEXSIZE]
+#       Makes a test case with MeshLab itself: OUTDIR/source.ply = SCAN with "Re-Compute Vertex
+#       Normals" (by area), OUTDIR/target.obj = "Simplification: Quadric Edge Collapse Decimation"
+#       to FACES faces + "Parametrization: Trivial Per-Triangle" (TEXSIZE, default 1024, border 2),
+#       saved twice from the same run: OUTDIR/target.ply (for meshlabserver) and OUTDIR/target.obj
+#       (for tools/normal_map_error).
+#   bench/meshlab_transfer.sh run SOURCE TARGET.ply SIZE UPPERBOUND OUT.png [REPEATS]
+#       Bakes a SIZE x SIZE normal map into OUT.png, REPEATS times (default 3), and prints the
+#       filter's wall time: the median over the repeats of (load + filter) - (load only), both
+#       measured as whole meshlabserver runs (meshlabserver 2020.09 prints no filter timings: its
+#       progress callback prints the bare messages, and the load time is only in a comment).
+#   Environment: MESHLABSERVER (default /usr/bin/meshlabserver).
+#
+# What the filter does (rastering.h, TransferColorSampler::AddTextureSample, mode 1 = normal):
+#   - it rasterises the target's texture triangles (vcg SurfaceSampling::Texture); for each texel
+#     the point p on the target is found, then the NEAREST POINT OF THE SOURCE to p within
+#     upperBound (uniform grid over the source faces); texels with nothing within upperBound stay
+#     empty (then pull-push filled, vcg's PullPush on the 8-bit image, if pullpush=true).
+#   - the normal stored is the source's vertex normals interpolated with the barycentrics of that
+#     nearest point, normalised: OBJECT SPACE (no tangent frame, the target's own normal is not
+#     used). Encoding: c = (n + 1) / 2 * 255, converted to vcg::Color4b, i.e. TRUNCATED to an
+#     integer: code k stands for [k, k + 1) / 255 * 2 - 1 (decode at k + 0.5 for no bias:
+#     normal_map_error --code-offset 0.5). 8-bit RGB(A) PNG only, written by QImage.
+#   - a point-cloud source (no faces) takes the nearest vertex's normal with a different mapping,
+#     n * 128 + 128 as int (n = 1 overflows to 256 and wraps to 0 in qRgba): use a source with
+#     faces.
+#   - texel convention: pixel (x, H - 1 - y) of the QImage for raster sample (x, y): rows top to
+#     bottom, v up, as ours (bake/texture_atlas.h).
+#   - the file is written next to the TARGET's file as <textName without extension>.png (textName
+#     may not contain a path); the target must exist as a file; with two meshes, the current mesh
+#     (the last loaded) must be the target or the target must already have a texture, otherwise
+#     no image is written at all. Single-threaded.
+#
+# Why the target goes in as PLY: Debian's meshlabserver 2020.09 aborts on loading ANY OBJ file,
+# even a one-triangle one or its own export ("import_obj.h:640: Assertion `(numTriangles
+# +numVertices) == numVerticesPlusFaces+extraTriangles' failed"), seen here on 2025-11. Its PLY
+# importer reads per-wedge texture coordinates (face property "texcoord", -m wt) fine; its OBJ
+# exporter works. So MeshLab gets PLY and our tools get the OBJ export of the same mesh.
+set -euo pipefail
+
+MESHLABSERVER="${MESHLABSERVER:-/usr/bin/meshlabserver}"
+die() { echo "meshlab_transfer: $*" >&2; exit 1; }
+abspath() { echo "$(cd "$(dirname "$1")" && pwd)/$(basename "$1")"; }
+
+server() {  # server LOG ARGS...
+    local log="$1"; shift
+    timeout 3600 xvfb-run -a -s "-screen 0 1280x1024x24" "$MESHLABSERVER" "$@" >"$log" 2>&1
+}
+now() { date +%s.%N; }
+
+mode="${1:-}"; shift || true
+case "$mode" in
+prepare)
+    [ $# -ge 3 ] || die "usage: prepare SCAN OUTDIR FACES [TEXSIZE]"
+    scan="$(abspath "$1")"; out="$2"; faces="$3"; tex="${4:-1024}"
+    mkdir -p "$out"; out="$(cd "$out" && pwd)"
+    export XDG_CONFIG_HOME="$out/config"; mkdir -p "$XDG_CONFIG_HOME"
+    cat >"$out/normals.mlx" <<'MLX'
+<!DOCTYPE FilterScript>
+<FilterScript>
+ <filter name="Re-Compute Vertex Normals">
+  <Param type="RichEnum" name="weightMode" value="2" enum_cardinality="4" enum_val0="Simple Average" enum_val1="By Angle" enum_val2="By Area" enum_val3="As defined by N. Max"/>
+ </filter>
+</FilterScript>
+MLX
+    server "$out/normals.log" -i "$scan" -s "$out/normals.mlx" -o "$out/source.ply" -m vn \
+        || { cat "$out/normals.log" >&2; die "normals failed"; }
+    cat >"$out/target.mlx" <<MLX
+<!DOCTYPE FilterScript>
+<FilterScript>
+ <filter name="Simplification: Quadric Edge Collapse Decimation">
+  <Param type="RichInt" name="TargetFaceNum" value="$faces"/>
+  <Param type="RichFloat" name="TargetPerc" value="0"/>
+  <Param type="RichFloat" name="QualityThr" value="0.3"/>
+  <Param type="RichBool" name="PreserveBoundary" value="false"/>
+  <Param type="RichFloat" name="BoundaryWeight" value="1"/>
+  <Param type="RichBool" name="PreserveNormal" value="true"/>
+  <Param type="RichBool" name="PreserveTopology" value="false"/>
+  <Param type="RichBool" name="OptimalPlacement" value="true"/>
+  <Param type="RichBool" name="PlanarQuadric" value="false"/>
+  <Param type="RichFloat" name="PlanarWeight" value="0.001"/>
+  <Param type="RichBool" name="QualityWeight" value="false"/>
+  <Param type="RichBool" name="AutoClean" value="true"/>
+  <Param type="RichBool" name="Selected" value="false"/>
+ </filter>
+ <filter name="Parametrization: Trivial Per-Triangle">
+  <Param type="RichInt" name="sidedim" value="0"/>
+  <Param type="RichInt" name="textdim" value="$tex"/>
+  <Param type="RichInt" name="border" value="2"/>
+  <Param type="RichEnum" name="method" value="0" enum_cardinality="2" enum_val0="Basic" enum_val1="Space-optimizing"/>
+ </filter>
+</FilterScript>
+MLX
+    server "$out/target.log" -i "$out/source.ply" -s "$out/target.mlx" -o "$out/target.ply" -m wt -o "$out/target.obj" -m wt \
+        || { cat "$out/target.log" >&2; die "simplification + parametrization failed"; }
+    echo "prepared $out/source.ply (area-weighted vertex normals) and $out/target.ply = $out/target.obj ($faces faces, per-triangle UVs)"
+    ;;
+run)
+    [ $# -ge 5 ] || die "usage: run SOURCE TARGET.ply SIZE UPPERBOUND OUT.png [REPEATS]"
+    source_mesh="$(abspath "$1")"; target="$(abspath "$2")"; size="$3"; bound="$4"; outpng="$5"; repeats="${6:-3}"
+    work="$(mktemp -d "${TMPDIR:-/tmp}/meshlab_transfer.XXXXXX")"
+    trap 'rm -rf "$work"' EXIT
+    export XDG_CONFIG_HOME="$work/config"; mkdir -p "$XDG_CONFIG_HOME"
+    case "$target" in *.ply|*.PLY) ;; *) die "the target must be a PLY with per-wedge texcoords (meshlabserver 2020.09 cannot load OBJ, see above)";; esac
+    # The texture goes next to the target: bake into a private copy, loaded last so that it is the
+    # current mesh the texture is created for (a target without texture gets none otherwise).
+    cp "$target" "$work/target.ply"
+    cat >"$work/transfer.mlx" <<MLX
+<!DOCTYPE FilterScript>
+<FilterScript>
+ <filter name="Transfer: Vertex Attributes to Texture (1 or 2 meshes)">
+  <Param type="RichMesh" name="sourceMesh" value="0"/>
+  <Param type="RichMesh" name="targetMesh" value="1"/>
+  <Param type="RichEnum" name="AttributeEnum" value="1" enum_cardinality="4" enum_val0="Vertex Color" enum_val1="Vertex Normal" enum_val2="Vertex Quality" enum_val3="Texture Color"/>
+  <Param type="RichAbsPerc" name="upperBound" value="$bound" min="0" max="1000000"/>
+  <Param type="RichString" name="textName" value="baked.png"/>
+  <Param type="RichInt" name="textW" value="$size"/>
+  <Param type="RichInt" name="textH" value="$size"/>
+  <Param type="RichBool" name="overwrite" value="false"/>
+  <Param type="RichBool" name="assign" value="true"/>
+  <Param type="RichBool" name="pullpush" value="true"/>
+ </filter>
+</FilterScript>
+MLX
+    loads=(); totals=()
+    for ((i = 0; i < repeats; ++i)); do
+        t0=$(now); server "$work/load.log" -i "$source_mesh" -i "$work/target.ply" \
+            || { cat "$work/load.log" >&2; die "loading failed"; }
+        t1=$(now); rm -f "$work/baked.png"
+        server "$work/transfer.log" -i "$source_mesh" -i "$work/target.ply" -s "$work/transfer.mlx" \
+            || { cat "$work/transfer.log" >&2; die "transfer failed"; }
+        t2=$(now)
+        [ -s "$work/baked.png" ] || { cat "$work/transfer.log" >&2; die "no texture written"; }
+        loads+=("$t0,$t1"); totals+=("$t1,$t2")
+    done
+    cp "$work/baked.png" "$outpng"
+    python3 - "${#loads[@]}" "${loads[@]}" "${totals[@]}" <<'PY'
+import statistics, sys
+span = lambda s: float(s.split(",")[1]) - float(s.split(",")[0])
+n = int(sys.argv[1]); loads = [span(x) for x in sys.argv[2:2 + n]]; totals = [span(x) for x in sys.argv[2 + n:]]
+diffs = [t - l for t, l in zip(totals, loads)]
+print("meshlabserver load only:     median %.2f s  (runs: %s)" % (statistics.median(loads), " ".join("%.2f" % x for x in loads)))
+print("meshlabserver load + filter: median %.2f s  (runs: %s)" % (statistics.median(totals), " ".join("%.2f" % x for x in totals)))
+print("filter wall time:            median %.2f s" % statistics.median(diffs))
+PY
+    echo "map written to $outpng"
+    ;;
+*)
+    die "usage: $0 prepare SCAN OUTDIR FACES [TEXSIZE] | run SOURCE TARGET.ply SIZE UPPERBOUND OUT.png [REPEATS]"
+    ;;
+esac

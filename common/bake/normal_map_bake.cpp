@@ -1,0 +1,265 @@
+#include "bake/normal_map_bake.h"
+
+#include "bake/bake_description.h"
+#include "bake/lean_maps.h"
+#include "bake/map_filling.h"
+#include "bake/texture_atlas.h"
+#include "image/image_io.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+namespace rad {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+bool sameMesh(const TriangleMesh& a, const TriangleMesh& b) {
+    return &a == &b || (a.positions == b.positions && a.faces == b.faces);
+}
+
+// Files are written under temporary names and renamed together at the end; the destructor
+// removes whatever is left when the job did not finish.
+class PendingFiles {
+public:
+    std::string add(const std::string& finalPath) {
+        finals_.push_back(finalPath);
+        temporaries_.push_back(finalPath + ".part");
+        return temporaries_.back();
+    }
+    void commit() {
+        for (std::size_t i = 0; i < finals_.size(); ++i) {
+            std::error_code error;
+            std::filesystem::rename(temporaries_[i], finals_[i], error);
+            if (error) throw std::runtime_error("cannot rename " + temporaries_[i] + " to " + finals_[i] + ": " + error.message());
+        }
+        committed_ = true;
+    }
+    ~PendingFiles() {
+        if (committed_) return;
+        for (const std::string& path : temporaries_) {
+            std::error_code ignored;
+            std::filesystem::remove(path, ignored);
+        }
+    }
+
+private:
+    std::vector<std::string> finals_, temporaries_;
+    bool committed_ = false;
+};
+
+// Pull-push inside the charts, `rings` of dilation around them, pull-push for the rest: every
+// texel ends up with a value, and the gutter carries each chart's own border values.
+struct FillCounts {
+    std::size_t holes = 0, gutter = 0, background = 0;
+};
+FillCounts fillWholeMap(std::vector<float>& values, int width, int height, std::vector<std::uint8_t> valid,
+                        const std::vector<std::uint8_t>& chart, int rings) {
+    FillCounts counts;
+    counts.holes = fillByPullPush(values.data(), 3, width, height, valid, chart.data());
+    counts.gutter = dilateValidTexels(values.data(), 3, width, height, valid, rings);
+    counts.background = fillByPullPush(values.data(), 3, width, height, valid, nullptr);
+    return counts;
+}
+
+void writeNormalPng(const std::string& path, const std::vector<float>& normals, int width, int height, int bits) {
+    const std::size_t count = std::size_t(width) * height * 3;
+    if (bits == 16) {
+        std::vector<std::uint16_t> codes(count);
+        for (std::size_t i = 0; i < count; ++i) codes[i] = encodeNormal16(normals[i]);
+        writePng16(path, width, height, 3, codes.data());
+    } else {
+        Image8 image(width, height);
+        for (std::size_t i = 0; i < count; ++i) image.rgb[i] = encodeNormal8(normals[i]);
+        writePng(path, image);
+    }
+}
+
+void writeColorPng(const std::string& path, const std::vector<float>& colors, int width, int height) {
+    Image8 image(width, height);
+    for (std::size_t i = 0; i < image.rgb.size(); ++i) {
+        const float c = std::isfinite(colors[i]) ? std::clamp(colors[i], 0.0f, 1.0f) : 0.0f;
+        image.rgb[i] = static_cast<std::uint8_t>(std::lround(c * 255.0f));
+    }
+    writePng(path, image);
+}
+
+std::string preciseText(double value) {
+    std::ostringstream text;
+    text << std::setprecision(9) << value;
+    return text.str();
+}
+
+std::string fileName(const std::string& path) { return std::filesystem::path(path).filename().string(); }
+
+}  // namespace
+
+void checkNormalMapBakeRequest(const NormalMapBakeRequest& request) {
+    if (!request.target || request.target->faceCount() == 0)
+        throw BakeInputError("The target layer has no faces: a normal map is baked onto the triangles of a (simplified) "
+                             "mesh. Select the simplified mesh as the current layer.");
+    if (!request.source || request.source->faceCount() == 0)
+        throw BakeInputError("The source layer has no faces: bake from the full-resolution scan as a triangle mesh "
+                             "(reconstruct a surface from a point cloud first).");
+    if (sameMesh(*request.target, *request.source))
+        throw BakeInputError("The source and the target are the same mesh: choose the full-resolution scan as the "
+                             "source and the simplified mesh as the target (current layer).");
+    const std::string targetProblem = request.target->validate();
+    if (!targetProblem.empty()) throw BakeInputError("The target mesh is not usable: " + targetProblem);
+    const std::string sourceProblem = request.source->validate();
+    if (!sourceProblem.empty()) throw BakeInputError("The source mesh is not usable: " + sourceProblem);
+    if (!request.target->hasNormals())
+        throw BakeInputError("The target has no vertex normals: run \"Normals, Curvatures and Orientation > "
+                             "Re-Compute Vertex Normals\" on it first.");
+    std::size_t badNormals = 0;
+    for (std::size_t i = 0; i < request.target->faces.size(); ++i) {
+        const float* n = &request.target->normals[3 * std::size_t(request.target->faces[i])];
+        if (!(n[0] * n[0] + n[1] * n[1] + n[2] * n[2] > 1e-12f)) ++badNormals;
+    }
+    if (badNormals > 0)
+        throw BakeInputError("The target has zero vertex normals (the rays leave along them): run \"Normals, "
+                             "Curvatures and Orientation > Re-Compute Vertex Normals\" on it first.");
+    const std::string sizeProblem = textureSizeProblem(request.textureSize);
+    if (!sizeProblem.empty()) throw BakeInputError(sizeProblem);
+    if (request.bits != 8 && request.bits != 16)
+        throw BakeInputError("The normal map is written with 8 or 16 bits per channel, not " +
+                             std::to_string(request.bits) + ".");
+    if (request.gutterTexels < 1 || request.gutterTexels > 64)
+        throw BakeInputError("The gutter must be 1 to 64 texels wide (4 keeps two MIP levels clean).");
+    if (!std::isfinite(request.maxRayDistance))
+        throw BakeInputError("The maximum ray distance is not a number: give a distance, or 0 for automatic.");
+    if (request.outputBase.empty())
+        throw BakeInputError("No output file name: the maps are written beside the mesh; save the mesh first or "
+                             "give an output file.");
+    const std::filesystem::path directory = std::filesystem::path(request.outputBase).parent_path();
+    if (!directory.empty() && !std::filesystem::is_directory(directory))
+        throw BakeInputError("The output directory " + directory.string() + " does not exist.");
+    if (request.sourceColors && request.sourceColors->size() != request.source->positions.size())
+        throw BakeInputError("The source colours do not match the source vertices (3 values per vertex expected).");
+    if (request.targetWedgeUv && !request.targetWedgeUv->empty()) {
+        if (request.targetWedgeUv->size() != 6 * request.target->faceCount())
+            throw BakeInputError("The target's texture coordinates do not match its faces (3 per face expected).");
+        const std::string layoutProblem =
+            checkUvLayout(request.targetWedgeUv->data(), request.target->faceCount(), request.textureSize).problem();
+        if (!layoutProblem.empty()) throw BakeInputError(layoutProblem);
+    }
+}
+
+NormalMapBakeReport bakeNormalMapFiles(const NormalMapBakeRequest& request) {
+    const Clock::time_point start = Clock::now();
+    checkNormalMapBakeRequest(request);
+    NormalMapBakeReport report;
+    const int size = request.textureSize;
+    if (request.targetWedgeUv && !request.targetWedgeUv->empty()) {
+        report.wedgeUv = *request.targetWedgeUv;
+    } else {
+        PerTriangleAtlas atlas = makePerTriangleAtlas(request.target->faceCount(), size, request.gutterTexels);
+        report.wedgeUv = std::move(atlas.wedgeUv);
+        report.atlasGenerated = true;
+        report.atlasCellSize = atlas.cellSize;
+    }
+    const auto progress = [&](int from, int to) {
+        return [&request, from, to](int percent) {
+            return !request.progress || request.progress(from + (to - from) * std::clamp(percent, 0, 100) / 100);
+        };
+    };
+    const bool withColor = request.bakeDiffuse && request.sourceColors != nullptr;
+    // LEAN filters object-space normals (paper 002, sec. 3.3): a tangent-space bake writes none.
+    const bool withLean = request.writeLean && request.space == NormalSpace::Object;
+
+    NormalBakeOptions options;
+    options.width = options.height = size;
+    options.space = request.space;
+    options.maxRayDistance = request.maxRayDistance > 0.0f ? request.maxRayDistance : 0.0f;
+    options.bakeColor = withColor;
+    options.progress = progress(0, 75);
+    Clock::time_point phase = Clock::now();
+    NormalBakeResult baked = bakeNormalMap(*request.target, report.wedgeUv.data(), *request.source,
+                                           withColor ? request.sourceColors->data() : nullptr, options);
+    report.bakeSeconds = secondsSince(phase);
+
+    phase = Clock::now();
+    const FillCounts normalFill = fillWholeMap(baked.normals, size, size, baked.valid, baked.chart, request.gutterTexels);
+    normalizeTexelVectors(baked.normals.data(), baked.normals.size() / 3);
+    report.holesFilled = normalFill.holes;
+    report.gutterTexelsDilated = normalFill.gutter;
+    report.backgroundTexelsFilled = normalFill.background;
+    if (withLean) {
+        fillWholeMap(baked.tangents, size, size, baked.valid, baked.chart, request.gutterTexels);
+        normalizeTexelVectors(baked.tangents.data(), baked.tangents.size() / 3);
+    }
+    if (withColor) fillWholeMap(baked.colors, size, size, baked.valid, baked.chart, request.gutterTexels);
+    report.fillSeconds = secondsSince(phase);
+    if (request.progress && !request.progress(80)) throw BakeCancelled();
+
+    LeanMaps lean;
+    if (withLean) {
+        phase = Clock::now();
+        lean = buildLeanMaps(baked.normals.data(), baked.tangents.data(), size, size);
+        report.leanLevels = static_cast<int>(lean.moments.size());
+        report.leanSeconds = secondsSince(phase);
+    }
+    if (request.progress && !request.progress(90)) throw BakeCancelled();
+
+    phase = Clock::now();
+    PendingFiles files;
+    report.normalMapFile = request.outputBase + "_normal.png";
+    writeNormalPng(files.add(report.normalMapFile), baked.normals, size, size, request.bits);
+    if (withColor) {
+        report.diffuseMapFile = request.outputBase + "_diffuse.png";
+        writeColorPng(files.add(report.diffuseMapFile), baked.colors, size, size);
+    }
+    if (withLean) {
+        report.leanFile = request.outputBase + "_lean.exr";
+        writeLeanMoments(files.add(report.leanFile), lean);
+    }
+    report.descriptionFile = request.outputBase + "_bake.txt";
+    {
+        std::vector<std::pair<std::string, std::string>> lines = {
+            {"space", request.space == NormalSpace::Object ? "object" : "tangent"},
+            {"size", std::to_string(size)},
+            {"bits", std::to_string(request.bits)},
+            {"encoding", request.bits == 16 ? "(x + 1) / 2 * 65535" : "(x + 1) / 2 * 255"},
+            {"uv", report.atlasGenerated ? "per-triangle atlas" : "target's wedge coordinates"},
+            {"gutter_texels", std::to_string(request.gutterTexels)},
+            {"max_ray_distance", preciseText(baked.maxRayDistance)},
+            {"normal_map", fileName(report.normalMapFile)}};
+        if (withColor) lines.push_back({"diffuse_map", fileName(report.diffuseMapFile)});
+        if (withLean) {
+            lines.push_back({"lean_moments", fileName(report.leanFile)});
+            lines.push_back({"lean_levels", std::to_string(report.leanLevels)});
+        }
+        lines.push_back({"chart_texels", std::to_string(baked.chartTexels)});
+        lines.push_back({"ray_hits", std::to_string(baked.rayHits)});
+        lines.push_back({"closest_point_fallbacks", std::to_string(baked.closestPointFallbacks)});
+        lines.push_back({"holes_filled", std::to_string(report.holesFilled)});
+        writeBakeDescription(files.add(report.descriptionFile), lines);
+    }
+    files.commit();
+    report.writeSeconds = secondsSince(phase);
+
+    // Keep the statistics, not the maps.
+    baked.normals.clear();
+    baked.normals.shrink_to_fit();
+    baked.tangents.clear();
+    baked.tangents.shrink_to_fit();
+    baked.colors.clear();
+    baked.colors.shrink_to_fit();
+    report.bake = std::move(baked);
+    report.totalSeconds = secondsSince(start);
+    if (request.progress) request.progress(100);
+    return report;
+}
+
+}  // namespace rad

@@ -1,0 +1,60 @@
+// The whole "Bake Normal Map" job behind the MeshLab filter and the tools: check the inputs,
+// make or check the texture layout, bake (normal_baker.h), fill holes and gutters
+// (map_filling.h), build the LEAN covariance maps (lean_maps.h), and write the documented file set
+// (docs/normal-map-baking.md) atomically: every file goes to a temporary name first and is renamed
+// only when all of them are complete, so a refusal, an error or a cancel leaves no partial file.
+//
+// File set, for an output base B (a path without extension):
+//   B_normal.png   the normal map, RGB, 8 or 16 bit, code = (x + 1) / 2 * max (normal_baker.h)
+//   B_diffuse.png  the source's colour at the same points, 8-bit RGB (when requested)
+//   B_lean.exr     LEAN second moments, MIP levels 1..K (lean_maps.h; when requested)
+//   B_bake.txt     what was baked: key = value lines (space, size, bits, ray distance, files, counts)
+#pragma once
+#include "bake/normal_baker.h"
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace rad {
+
+struct NormalMapBakeRequest {
+    const TriangleMesh* target = nullptr;          // simplified mesh, unit vertex normals
+    const std::vector<float>* targetWedgeUv = nullptr;  // 6 per face; nullptr or empty: per-triangle atlas
+    const TriangleMesh* source = nullptr;          // full scan (normals optional)
+    const std::vector<float>* sourceColors = nullptr;   // 3 per source vertex in [0, 1], or nullptr
+    int textureSize = 2048;
+    NormalSpace space = NormalSpace::Object;
+    int bits = 16;                                 // 8 or 16
+    float maxRayDistance = 0.0f;                   // <= 0: automatic
+    int gutterTexels = 4;
+    bool bakeDiffuse = true;                       // ignored without sourceColors
+    bool writeLean = true;
+    std::string outputBase;                        // B above
+    std::function<bool(int)> progress;             // percentage; false cancels (BakeCancelled)
+};
+
+struct NormalMapBakeReport {
+    std::vector<float> wedgeUv;                    // the layout baked into (generated or the input's)
+    bool atlasGenerated = false;
+    int atlasCellSize = 0;
+    std::string normalMapFile, diffuseMapFile, leanFile, descriptionFile;  // empty when not written
+    NormalBakeResult bake;                         // stats of the bake (maps released after writing)
+    std::size_t holesFilled = 0, gutterTexelsDilated = 0, backgroundTexelsFilled = 0;
+    int leanLevels = 0;
+    double bakeSeconds = 0, fillSeconds = 0, leanSeconds = 0, writeSeconds = 0, totalSeconds = 0;
+};
+
+// Throws BakeInputError (nothing written) for: no target or no faces, source equal to the target
+// (the same arrays, or identical positions and faces), no source faces, target without normals,
+// a texture size that is not a power of two in [16, 16384], bits other than 8 / 16, an output
+// base that is empty or in a directory that does not exist, a UV layout with a problem
+// (texture_atlas.h: out of range, NaN, degenerate or overlapping). BakeCancelled on cancel;
+// std::runtime_error when a file cannot be written (temporary files removed).
+NormalMapBakeReport bakeNormalMapFiles(const NormalMapBakeRequest& request);
+
+// The checks alone (the filter runs them before touching anything).
+void checkNormalMapBakeRequest(const NormalMapBakeRequest& request);
+
+}  // namespace rad

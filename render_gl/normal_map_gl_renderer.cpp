@@ -1,0 +1,311 @@
+#include "normal_map_gl_renderer.h"
+
+#include <GL/glew.h>
+
+#include <cmath>
+#include <cstdio>
+
+namespace radgl {
+namespace {
+
+unsigned compile(GLenum type, const std::string& source, std::string& log) {
+    const GLuint shader = glCreateShader(type);
+    const char* text = source.c_str();
+    glShaderSource(shader, 1, &text, nullptr);
+    glCompileShader(shader);
+    GLint ok = GL_FALSE;
+    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        GLint length = 0;
+        glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
+        std::string info(static_cast<std::size_t>(length > 0 ? length : 1), '\0');
+        glGetShaderInfoLog(shader, length, nullptr, &info[0]);
+        log += (type == GL_VERTEX_SHADER ? "normal-map vertex shader: " : "normal-map fragment shader: ") + info;
+        glDeleteShader(shader);
+        return 0;
+    }
+    return shader;
+}
+
+// Empty when levels form a mip chain w >> k x h >> k down to 1 x 1 with 3 channels.
+std::string chainProblem(const std::vector<rad::MipImage>& levels, int w, int h, const char* what) {
+    if (levels.empty()) return std::string(what) + ": no levels";
+    for (std::size_t k = 0; k < levels.size(); ++k) {
+        const rad::MipImage& m = levels[k];
+        const int ew = std::max(1, w >> k), eh = std::max(1, h >> k);
+        if (m.width != ew || m.height != eh || m.channels != 3 ||
+            m.data.size() != static_cast<std::size_t>(m.width) * m.height * 3)
+            return std::string(what) + ": level " + std::to_string(k) + " is " + std::to_string(m.width) + " x " +
+                   std::to_string(m.height) + " x " + std::to_string(m.channels) + ", expected " + std::to_string(ew) +
+                   " x " + std::to_string(eh) + " x 3";
+    }
+    if (std::max(levels.back().width, levels.back().height) != 1) return std::string(what) + ": the levels stop before 1 x 1";
+    return {};
+}
+
+void deleteTexture(unsigned& id) {
+    if (id) glDeleteTextures(1, &id);
+    id = 0;
+}
+
+}  // namespace
+
+NormalMapGlRenderer::NormalMapGlRenderer(const GlCapabilities& caps) : caps_(caps) {
+    if (caps_.supportsShaders()) buildProgram();
+    else shaderProblem_ = caps_.missingForShaders();
+    checkGl("normal-map shader setup");
+}
+
+void NormalMapGlRenderer::buildProgram() {
+    std::string log;
+    const unsigned vs = compile(GL_VERTEX_SHADER, normalMapVertexShaderSource(), log);
+    const unsigned fs = compile(GL_FRAGMENT_SHADER, normalMapFragmentShaderSource(), log);
+    if (!vs || !fs) {
+        if (vs) glDeleteShader(vs);
+        if (fs) glDeleteShader(fs);
+        shaderProblem_ = log;
+        return;
+    }
+    program_ = glCreateProgram();
+    glAttachShader(program_, vs);
+    glAttachShader(program_, fs);
+    glLinkProgram(program_);
+    glDeleteShader(vs);
+    glDeleteShader(fs);
+    GLint ok = GL_FALSE;
+    glGetProgramiv(program_, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        GLint length = 0;
+        glGetProgramiv(program_, GL_INFO_LOG_LENGTH, &length);
+        std::string info(static_cast<std::size_t>(length > 0 ? length : 1), '\0');
+        glGetProgramInfoLog(program_, length, nullptr, &info[0]);
+        shaderProblem_ = "normal-map link: " + info;
+        glDeleteProgram(program_);
+        program_ = 0;
+        return;
+    }
+    auto loc = [this](const char* name) { return glGetUniformLocation(program_, name); };
+    u_.normalMap = loc("uNormalMap");
+    u_.moments = loc("uMoments");
+    u_.mode = loc("uMode");
+    u_.tangentSpace = loc("uTangentSpace");
+    u_.textureSize = loc("uTextureSize");
+    u_.eye = loc("uEye");
+    u_.lightDirection = loc("uLightDirection");
+    u_.lightColor = loc("uLightColor");
+    u_.albedo = loc("uAlbedo");
+    u_.specular = loc("uSpecular");
+    u_.ambient = loc("uAmbient");
+    u_.shininess = loc("uShininess");
+    u_.exposureScale = loc("uExposureScale");
+    u_.toneCurve = loc("uToneCurve");
+}
+
+NormalMapGlRenderer::~NormalMapGlRenderer() {
+    if (vertexBuffer_) glDeleteBuffers(1, &vertexBuffer_);
+    deleteTexture(normalTexture_);
+    deleteTexture(momentTexture_);
+    if (program_) glDeleteProgram(program_);
+    while (glGetError() != GL_NO_ERROR) {
+    }
+}
+
+void NormalMapGlRenderer::checkGl(const char* where) {
+    for (GLenum e = glGetError(); e != GL_NO_ERROR; e = glGetError()) {
+        char buffer[96];
+        std::snprintf(buffer, sizeof buffer, "GL error 0x%x in %s", static_cast<unsigned>(e), where);
+        if (!errors_.empty()) errors_ += "; ";
+        errors_ += buffer;
+        if (e == GL_OUT_OF_MEMORY) break;
+    }
+}
+
+std::string NormalMapGlRenderer::takeGlErrors() {
+    std::string out;
+    out.swap(errors_);
+    return out;
+}
+
+std::string NormalMapGlRenderer::setMesh(const float* positions, const float* normals, std::size_t vertexCount,
+                                         const std::uint32_t* faces, std::size_t faceCount, const float* wedgeUv) {
+    if (vertexCount == 0 || faceCount == 0) throw GlRendererError("the mesh has no vertices or no faces to draw");
+    if (!positions || !normals || !faces || !wedgeUv) throw GlRendererError("the mesh needs positions, normals, faces and wedge UVs");
+    for (std::size_t i = 0; i < 3 * faceCount; ++i)
+        if (faces[i] >= vertexCount) throw GlRendererError("a face refers to a vertex that does not exist");
+    if (!program_) return shaderProblem_;
+    // 8 floats per corner: position, normal, uv.
+    std::vector<float> corners(3 * faceCount * 8);
+    for (std::size_t f = 0; f < faceCount; ++f)
+        for (int k = 0; k < 3; ++k) {
+            const std::size_t v = faces[3 * f + k];
+            float* c = corners.data() + (3 * f + k) * 8;
+            for (int a = 0; a < 3; ++a) {
+                c[a] = positions[3 * v + a];
+                c[3 + a] = normals[3 * v + a];
+            }
+            c[6] = wedgeUv[6 * f + 2 * k];
+            c[7] = wedgeUv[6 * f + 2 * k + 1];
+        }
+    GLint previousArray = 0;
+    glGetIntegerv(GL_ARRAY_BUFFER_BINDING, &previousArray);
+    if (!vertexBuffer_) glGenBuffers(1, &vertexBuffer_);
+    glBindBuffer(GL_ARRAY_BUFFER, vertexBuffer_);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(corners.size() * sizeof(float)), corners.data(), GL_STATIC_DRAW);
+    glBindBuffer(GL_ARRAY_BUFFER, static_cast<GLuint>(previousArray));
+    cornerCount_ = 3 * faceCount;
+    checkGl("normal-map mesh upload");
+    return {};
+}
+
+unsigned NormalMapGlRenderer::uploadPyramid(const std::vector<rad::MipImage>& levels) {
+    GLint previousTexture = 0;
+    glGetIntegerv(GL_TEXTURE_BINDING_2D, &previousTexture);
+    glPushClientAttrib(GL_CLIENT_PIXEL_STORE_BIT);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+    glPixelStorei(GL_UNPACK_SKIP_ROWS, 0);
+    glPixelStorei(GL_UNPACK_SKIP_PIXELS, 0);
+    GLint previousUnpackBuffer = 0;
+    glGetIntegerv(GL_PIXEL_UNPACK_BUFFER_BINDING, &previousUnpackBuffer);
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+    GLuint tex = 0;
+    glGenTextures(1, &tex);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    std::vector<float> flipped;
+    for (std::size_t k = 0; k < levels.size(); ++k) {
+        const rad::MipImage& m = levels[k];
+        const std::size_t row = static_cast<std::size_t>(m.width) * 3;
+        flipped.resize(row * m.height);
+        for (int r = 0; r < m.height; ++r)
+            std::copy(m.data.begin() + static_cast<std::ptrdiff_t>(row * (m.height - 1 - r)),
+                      m.data.begin() + static_cast<std::ptrdiff_t>(row * (m.height - r)), flipped.begin() + static_cast<std::ptrdiff_t>(row * r));
+        glTexImage2D(GL_TEXTURE_2D, static_cast<GLint>(k), GL_RGB32F, m.width, m.height, 0, GL_RGB, GL_FLOAT, flipped.data());
+    }
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, 0);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, static_cast<GLint>(levels.size() - 1));
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glBindTexture(GL_TEXTURE_2D, static_cast<GLuint>(previousTexture));
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, static_cast<GLuint>(previousUnpackBuffer));
+    glPopClientAttrib();
+    return tex;
+}
+
+std::string NormalMapGlRenderer::setNormalMap(const std::vector<rad::MipImage>& pyramid, bool tangentSpace) {
+    if (!program_) return shaderProblem_;
+    if (pyramid.empty()) return "the normal map has no levels";
+    const std::string problem = chainProblem(pyramid, pyramid[0].width, pyramid[0].height, "normal map");
+    if (!problem.empty()) return problem;
+    deleteTexture(normalTexture_);
+    deleteTexture(momentTexture_);
+    normalTexture_ = uploadPyramid(pyramid);
+    mapWidth_ = pyramid[0].width;
+    mapHeight_ = pyramid[0].height;
+    mapLevels_ = static_cast<int>(pyramid.size());
+    tangentSpace_ = tangentSpace;
+    checkGl("normal map upload");
+    return {};
+}
+
+std::string NormalMapGlRenderer::setLeanMoments(const std::vector<rad::MipImage>& levels1toK) {
+    if (!program_) return shaderProblem_;
+    if (!normalTexture_) return "set the normal map before its LEAN moments";
+    if (tangentSpace_)
+        return "LEAN mapping needs an object-space normal map (it filters object-space normals, paper 002); this one is in "
+               "tangent space";
+    if (mapLevels_ < 2) return "a 1 x 1 normal map has no LEAN moments";
+    if (static_cast<int>(levels1toK.size()) != mapLevels_ - 1)
+        return "expected " + std::to_string(mapLevels_ - 1) + " LEAN moment levels (MIP levels 1.." +
+               std::to_string(mapLevels_ - 1) + "), got " + std::to_string(levels1toK.size());
+    const std::string problem =
+        chainProblem(levels1toK, std::max(1, mapWidth_ >> 1), std::max(1, mapHeight_ >> 1), "LEAN moments");
+    if (!problem.empty()) return problem;
+    deleteTexture(momentTexture_);
+    momentTexture_ = uploadPyramid(levels1toK);
+    checkGl("LEAN moment upload");
+    return {};
+}
+
+std::string NormalMapGlRenderer::draw(NormalMapShading mode, const NormalMapLighting& lighting,
+                                      const rad::ToneMapping& toneMapping, const Eigen::Vector3d& eyeObject) {
+    if (!program_) return shaderProblem_;
+    if (!cornerCount_) return "no mesh";
+    if (mode != NormalMapShading::VertexNormals && !normalTexture_) return "no normal map";
+    if (mode == NormalMapShading::Lean) {
+        if (tangentSpace_) return "LEAN mapping needs an object-space normal map; this one is in tangent space";
+        if (!momentTexture_) return "no LEAN moments";
+    }
+
+    GLint previousProgram = 0, previousArray = 0, previousActiveTexture = 0, previousTextures[2] = {0, 0};
+    glGetIntegerv(GL_CURRENT_PROGRAM, &previousProgram);
+    glGetIntegerv(GL_ARRAY_BUFFER_BINDING, &previousArray);
+    glGetIntegerv(GL_ACTIVE_TEXTURE, &previousActiveTexture);
+    for (int unit = 0; unit < 2; ++unit) {
+        glActiveTexture(GL_TEXTURE0 + unit);
+        glGetIntegerv(GL_TEXTURE_BINDING_2D, &previousTextures[unit]);
+    }
+    glPushAttrib(GL_ENABLE_BIT | GL_DEPTH_BUFFER_BIT | GL_POLYGON_BIT | GL_LIGHTING_BIT | GL_CURRENT_BIT);
+    glPushClientAttrib(GL_CLIENT_VERTEX_ARRAY_BIT);
+
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LEQUAL);
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(-1.0f, -1.0f);
+    glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    glDisable(GL_LIGHTING);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+
+    glUseProgram(program_);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, normalTexture_);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, momentTexture_);
+    glUniform1i(u_.normalMap, 0);
+    glUniform1i(u_.moments, 1);
+    glUniform1i(u_.mode, static_cast<int>(mode));
+    glUniform1i(u_.tangentSpace, tangentSpace_ ? 1 : 0);
+    glUniform2f(u_.textureSize, static_cast<float>(mapWidth_), static_cast<float>(mapHeight_));
+    glUniform3f(u_.eye, static_cast<float>(eyeObject.x()), static_cast<float>(eyeObject.y()), static_cast<float>(eyeObject.z()));
+    const Eigen::Vector3d l = lighting.lightDirection.norm() > 0 ? lighting.lightDirection.normalized() : Eigen::Vector3d(0, 0, 1);
+    auto set3 = [](int location, const Eigen::Vector3d& v) {
+        glUniform3f(location, static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z()));
+    };
+    set3(u_.lightDirection, l);
+    set3(u_.lightColor, lighting.lightColor);
+    set3(u_.albedo, lighting.albedo);
+    set3(u_.specular, lighting.specular);
+    set3(u_.ambient, lighting.ambient);
+    glUniform1f(u_.shininess, static_cast<float>(std::max(lighting.shininess, 1e-6)));
+    glUniform1f(u_.exposureScale, static_cast<float>(std::exp2(toneMapping.exposureStops)));
+    glUniform1i(u_.toneCurve, toneMapping.curve == rad::ToneCurve::Reinhard ? 1 : 0);
+
+    const GLsizei stride = 8 * sizeof(float);
+    glBindBuffer(GL_ARRAY_BUFFER, vertexBuffer_);
+    glEnableClientState(GL_VERTEX_ARRAY);
+    glVertexPointer(3, GL_FLOAT, stride, nullptr);
+    glEnableClientState(GL_NORMAL_ARRAY);
+    glNormalPointer(GL_FLOAT, stride, reinterpret_cast<const void*>(3 * sizeof(float)));
+    glClientActiveTexture(GL_TEXTURE0);
+    glEnableClientState(GL_TEXTURE_COORD_ARRAY);
+    glTexCoordPointer(2, GL_FLOAT, stride, reinterpret_cast<const void*>(6 * sizeof(float)));
+    glDisableClientState(GL_COLOR_ARRAY);
+
+    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(cornerCount_));
+
+    for (int unit = 1; unit >= 0; --unit) {
+        glActiveTexture(GL_TEXTURE0 + unit);
+        glBindTexture(GL_TEXTURE_2D, static_cast<GLuint>(previousTextures[unit]));
+    }
+    glUseProgram(static_cast<GLuint>(previousProgram));
+    glActiveTexture(static_cast<GLenum>(previousActiveTexture));
+    glBindBuffer(GL_ARRAY_BUFFER, static_cast<GLuint>(previousArray));
+    glPopClientAttrib();
+    glPopAttrib();
+    checkGl("normal-map draw");
+    return {};
+}
+
+}  // namespace radgl

@@ -1,0 +1,103 @@
+// Draws a mesh with a normal map, and with LEAN mapping (paper 002, Weber & Stamminger, Alg. 3-4),
+// with OpenGL: one directional light, Blinn-Phong or the LEAN Gaussian lobe (common/bake/lean_maps.h),
+// for comparing a baked normal map's appearance at every distance. No Qt, no MeshLab headers: a
+// current context with GLEW initialised is all it needs. GLSL in normal_map_shaders.h.
+//
+// Upload once, draw many: setMesh() expands the mesh into one vertex buffer, 3 wedges per face
+// (positions, vertex normals, wedge UVs; drawn un-indexed, so UV seams need no vertex splitting);
+// setNormalMap()/setLeanMoments() upload RGB32F mip-mapped textures (rows flipped: images are
+// stored top to bottom, GL's first row is v = 0; clamp to edge, trilinear). draw() sets uniforms
+// and issues one glDrawArrays with the current fixed-function matrices, depth test GL_LEQUAL and a
+// polygon offset of (-1, -1) (as radiance_gl_renderer.h), and restores every binding and state it
+// touches.
+//
+// Needs shaders (GL 3.2, GLSL 1.50, compatibility profile: gl_capabilities.h); otherwise every
+// set*/draw call returns the reason and draws nothing (there is no fixed-function fallback).
+#pragma once
+
+#include "gl_capabilities.h"
+#include "normal_map_shaders.h"
+#include "radiance_gl_renderer.h"  // GlRendererError
+
+#include "bake/lean_maps.h"
+#include "render/tone_mapping.h"
+
+#include <Eigen/Core>
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace radgl {
+
+// One directional light in object space. Linear colour = ambient * albedo
+//   + lightColor * (albedo * max(n.L, 0) + specular * spec), spec = (H.n)^s (Blinn-Phong) or the
+// LEAN lobe (leanSpecular), 0 where n.L <= 0.
+struct NormalMapLighting {
+    Eigen::Vector3d lightDirection{0.0, 0.0, 1.0};  // toward the light (normalised by draw)
+    Eigen::Vector3d lightColor{1.0, 1.0, 1.0};
+    Eigen::Vector3d albedo{0.5, 0.5, 0.5};
+    Eigen::Vector3d specular{0.5, 0.5, 0.5};
+    double shininess = 50.0;
+    Eigen::Vector3d ambient{0.0, 0.0, 0.0};
+};
+
+class NormalMapGlRenderer {
+public:
+    // The context must be current. A compile/link failure or missing GL feature is reported by
+    // shaderProblem() (and by every later call), not thrown.
+    explicit NormalMapGlRenderer(const GlCapabilities& caps);
+    // Releases the GL objects: the context that created them must be current.
+    ~NormalMapGlRenderer();
+    NormalMapGlRenderer(const NormalMapGlRenderer&) = delete;
+    NormalMapGlRenderer& operator=(const NormalMapGlRenderer&) = delete;
+
+    const std::string& shaderProblem() const { return shaderProblem_; }
+
+    // positions, normals: 3 floats per vertex; faces: 3 indices per face; wedgeUv: 6 floats per
+    // face (texture_atlas.h). Throws GlRendererError on inconsistent input. Returns why it cannot
+    // draw (no shaders), else empty.
+    std::string setMesh(const float* positions, const float* normals, std::size_t vertexCount, const std::uint32_t* faces,
+                        std::size_t faceCount, const float* wedgeUv);
+
+    // Levels 0..K of the map (buildNormalPyramid, or any chain w >> k x h >> k down to 1 x 1, 3
+    // channels). Object-space unit normals, or tangent-space ones (normal_baker.h) when
+    // tangentSpace. Drops previously set LEAN moments. Returns the reason on refusal, else empty.
+    std::string setNormalMap(const std::vector<rad::MipImage>& pyramid, bool tangentSpace);
+    // LEAN moments, MIP levels 1..K of the current normal map (LeanMaps::moments or
+    // readLeanMoments). Refused (reason returned) for a tangent-space map: LEAN filters
+    // object-space normals (paper 002 sec. 3.2-3.3), or when the sizes do not match the map.
+    std::string setLeanMoments(const std::vector<rad::MipImage>& levels1toK);
+    bool hasNormalMap() const { return normalTexture_ != 0; }
+    bool hasLeanMoments() const { return momentTexture_ != 0; }
+
+    // Draws the mesh; eyeObject: the eye in the mesh's object coordinates. Returns why nothing was
+    // drawn (no mesh, no map for the map modes, no moments or a tangent-space map for Lean, no
+    // shaders), else empty.
+    std::string draw(NormalMapShading mode, const NormalMapLighting& lighting, const rad::ToneMapping& toneMapping,
+                     const Eigen::Vector3d& eyeObject);
+
+    // GL errors seen since the last call, or empty.
+    std::string takeGlErrors();
+
+private:
+    void buildProgram();
+    void checkGl(const char* where);
+    unsigned uploadPyramid(const std::vector<rad::MipImage>& levels);
+
+    GlCapabilities caps_;
+    std::string shaderProblem_, errors_;
+    unsigned program_ = 0;
+    struct Uniforms {
+        int normalMap = -1, moments = -1, mode = -1, tangentSpace = -1, textureSize = -1, eye = -1, lightDirection = -1,
+            lightColor = -1, albedo = -1, specular = -1, ambient = -1, shininess = -1, exposureScale = -1, toneCurve = -1;
+    } u_;
+    unsigned vertexBuffer_ = 0;
+    std::size_t cornerCount_ = 0;
+    unsigned normalTexture_ = 0, momentTexture_ = 0;
+    int mapWidth_ = 0, mapHeight_ = 0, mapLevels_ = 0;
+    bool tangentSpace_ = false;
+};
+
+}  // namespace radgl

@@ -1,0 +1,390 @@
+// The normal-map renderer (render_gl/normal_map_gl_renderer.h) in a real OpenGL context (Mesa
+// under Xvfb): a constant object-space map equals tilted vertex normals; a tangent-space map in a
+// rotated and in a mirrored UV layout decodes to the same normal (vectors computed by hand in the
+// frame of normal_baker.h); far away, LEAN mapping (paper 002) is closer to a supersampled
+// Blinn-Phong ground truth than the mip-mapped normal map; up close LEAN equals the normal map;
+// refusals, GL state restored, no GL error.
+#include "normal_map_gl_renderer.h"
+#include "offscreen_gl.h"
+
+#include "bake/lean_maps.h"
+#include "render/tone_mapping.h"
+
+#include <GL/glew.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+namespace {
+
+using radgl::NormalMapShading;
+
+constexpr int kWidth = 160, kHeight = 120;
+const double kPi = 3.14159265358979323846;
+
+radgl::OffscreenGl& gl() {
+    static radgl::OffscreenGl context(kWidth, kHeight);
+    return context;
+}
+
+radgl::GlCapabilities capabilities() {
+    gl();
+    return radgl::queryGlCapabilities();
+}
+
+// The unit quad [-0.5, 0.5]^2 at z = 0, facing +z, two faces; UVs given per corner (x, y) -> (u, v).
+struct Quad {
+    std::vector<float> positions{-0.5f, -0.5f, 0, 0.5f, -0.5f, 0, 0.5f, 0.5f, 0, -0.5f, 0.5f, 0};
+    std::vector<float> normals;
+    std::vector<std::uint32_t> faces{0, 1, 2, 0, 2, 3};
+    std::vector<float> wedgeUv;
+};
+
+enum class UvLayout { Plain, Rotated90, Mirrored };
+
+Quad makeQuad(const Eigen::Vector3d& vertexNormal, UvLayout layout) {
+    Quad q;
+    for (int v = 0; v < 4; ++v)
+        for (int a = 0; a < 3; ++a) q.normals.push_back(static_cast<float>(vertexNormal[a]));
+    for (std::uint32_t v : q.faces) {
+        const float x = q.positions[3 * v] + 0.5f, y = q.positions[3 * v + 1] + 0.5f;  // in [0, 1]
+        switch (layout) {
+            case UvLayout::Plain: q.wedgeUv.insert(q.wedgeUv.end(), {x, y}); break;
+            case UvLayout::Rotated90: q.wedgeUv.insert(q.wedgeUv.end(), {y, 1.0f - x}); break;  // u along +y, v along -x
+            case UvLayout::Mirrored: q.wedgeUv.insert(q.wedgeUv.end(), {y, x}); break;          // u along +y, v along +x
+        }
+    }
+    return q;
+}
+
+std::vector<rad::MipImage> constantPyramid(int size, const Eigen::Vector3d& n) {
+    std::vector<float> data(static_cast<std::size_t>(size) * size * 3);
+    for (std::size_t i = 0; i < data.size(); ++i) data[i] = static_cast<float>(n[i % 3]);
+    return rad::buildNormalPyramid(data.data(), size, size);
+}
+
+double rmse(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b, const std::vector<char>* mask = nullptr,
+            int* maxDiff = nullptr) {
+    double sum = 0;
+    int count = 0, worst = 0;
+    for (std::size_t p = 0; p < a.size() / 3; ++p) {
+        if (mask && !(*mask)[p]) continue;
+        for (int c = 0; c < 3; ++c) {
+            const int d = std::abs(int(a[3 * p + c]) - int(b[3 * p + c]));
+            sum += double(d) * d;
+            worst = std::max(worst, d);
+        }
+        ++count;
+    }
+    if (maxDiff) *maxDiff = worst;
+    return count ? std::sqrt(sum / (3.0 * count)) : 1e9;
+}
+
+struct Scene {
+    rad::PinholeCamera camera;
+    radgl::NormalMapLighting lighting;
+};
+
+std::vector<std::uint8_t> render(radgl::NormalMapGlRenderer& r, NormalMapShading mode, const Scene& scene) {
+    gl().beginFrame(scene.camera, 0.05, 20.0);
+    EXPECT_EQ(r.draw(mode, scene.lighting, {}, scene.camera.center), "");
+    EXPECT_EQ(r.takeGlErrors(), "");
+    return gl().readRgb();
+}
+
+Scene closeScene() {
+    Scene s;
+    s.camera = rad::PinholeCamera::lookAt({0.3, -0.4, 1.6}, {0, 0, 0}, {0, 1, 0}, 45.0, kWidth, kHeight);
+    s.lighting.lightDirection = Eigen::Vector3d(0.5, 0.3, 1.0);
+    s.lighting.albedo = Eigen::Vector3d(0.5, 0.3, 0.2);
+    s.lighting.specular = Eigen::Vector3d(0.5, 0.5, 0.5);
+    s.lighting.shininess = 30.0;
+    s.lighting.ambient = Eigen::Vector3d(0.1, 0.1, 0.1);
+    return s;
+}
+
+// Pixels whose centre sees the quad well inside its border (the quad covers most of closeScene()).
+std::vector<char> quadMask(const rad::PinholeCamera& camera, double margin) {
+    std::vector<char> mask(kWidth * kHeight, 0);
+    for (int y = 0; y < kHeight; ++y)
+        for (int x = 0; x < kWidth; ++x) {
+            const Eigen::Vector3d d = camera.rayDirection(x + 0.5, y + 0.5);
+            if (d.z() >= 0) continue;
+            const Eigen::Vector3d p = camera.center - camera.center.z() / d.z() * d;
+            mask[y * kWidth + x] = std::fabs(p.x()) < 0.5 - margin && std::fabs(p.y()) < 0.5 - margin;
+        }
+    return mask;
+}
+
+const Eigen::Vector3d kTilted(std::sin(kPi / 6), 0.0, std::cos(kPi / 6));  // 30 degrees toward +x
+
+TEST(NormalMapGl, ConstantObjectSpaceMapEqualsTiltedVertexNormals) {
+    radgl::NormalMapGlRenderer r(capabilities());
+    ASSERT_EQ(r.shaderProblem(), "");
+    const Scene scene = closeScene();
+    const std::vector<char> mask = quadMask(scene.camera, 0.02);
+    ASSERT_GT(std::count(mask.begin(), mask.end(), 1), 8000);
+
+    const Quad tilted = makeQuad(kTilted, UvLayout::Plain);
+    ASSERT_EQ(r.setMesh(tilted.positions.data(), tilted.normals.data(), 4, tilted.faces.data(), 2, tilted.wedgeUv.data()), "");
+    const std::vector<std::uint8_t> expected = render(r, NormalMapShading::VertexNormals, scene);
+
+    const Quad flat = makeQuad({0, 0, 1}, UvLayout::Plain);
+    ASSERT_EQ(r.setMesh(flat.positions.data(), flat.normals.data(), 4, flat.faces.data(), 2, flat.wedgeUv.data()), "");
+    const std::vector<std::uint8_t> flatPicture = render(r, NormalMapShading::VertexNormals, scene);
+    ASSERT_EQ(r.setNormalMap(constantPyramid(64, kTilted), false), "");
+    int maxDiff = 0;
+    const double e = rmse(render(r, NormalMapShading::NormalMap, scene), expected, &mask, &maxDiff);
+    EXPECT_LT(e, 1.0) << "max " << maxDiff;
+    EXPECT_LE(maxDiff, 3);
+    EXPECT_GT(rmse(flatPicture, expected, &mask), 10.0);  // the tilt is visible: the comparison means something
+}
+
+// Tangent-space maps in the frame of normal_baker.h, N = (0, 0, 1):
+//  - rotated UVs (u along +y, v along -x): T = (0, 1, 0), dP/du x dP/dv = +N so B = N x T = (-1, 0, 0);
+//    n = (sin 30, 0, cos 30) is (n.T, n.B, n.N) = (0, -0.5, cos 30);
+//  - mirrored UVs (u along +y, v along +x): dP/du x dP/dv = -N so B = -(N x T) = (1, 0, 0): (0, 0.5, cos 30).
+TEST(NormalMapGl, TangentSpaceMapDecodesInTheBakersFrame) {
+    radgl::NormalMapGlRenderer r(capabilities());
+    const Scene scene = closeScene();
+    const std::vector<char> mask = quadMask(scene.camera, 0.02);
+    const Quad tilted = makeQuad(kTilted, UvLayout::Plain);
+    r.setMesh(tilted.positions.data(), tilted.normals.data(), 4, tilted.faces.data(), 2, tilted.wedgeUv.data());
+    const std::vector<std::uint8_t> expected = render(r, NormalMapShading::VertexNormals, scene);
+    const double c30 = std::cos(kPi / 6);
+    struct Case {
+        UvLayout layout;
+        Eigen::Vector3d tangentSpace;
+        const char* name;
+    };
+    for (const Case& c : {Case{UvLayout::Rotated90, {0, -0.5, c30}, "rotated"}, Case{UvLayout::Mirrored, {0, 0.5, c30}, "mirrored"}}) {
+        const Quad q = makeQuad({0, 0, 1}, c.layout);
+        ASSERT_EQ(r.setMesh(q.positions.data(), q.normals.data(), 4, q.faces.data(), 2, q.wedgeUv.data()), "");
+        ASSERT_EQ(r.setNormalMap(constantPyramid(64, c.tangentSpace), true), "");
+        int maxDiff = 0;
+        EXPECT_LT(rmse(render(r, NormalMapShading::NormalMap, scene), expected, &mask, &maxDiff), 1.0) << c.name << " max " << maxDiff;
+        // The wrong handedness gives another picture.
+        const Eigen::Vector3d wrong(c.tangentSpace.x(), -c.tangentSpace.y(), c.tangentSpace.z());
+        ASSERT_EQ(r.setNormalMap(constantPyramid(64, wrong), true), "");
+        EXPECT_GT(rmse(render(r, NormalMapShading::NormalMap, scene), expected, &mask), 5.0) << c.name;
+    }
+    // LEAN needs object-space normals.
+    EXPECT_NE(r.setLeanMoments(std::vector<rad::MipImage>(6)), "");
+    EXPECT_NE(r.draw(NormalMapShading::Lean, scene.lighting, {}, scene.camera.center), "");
+    EXPECT_FALSE(r.hasLeanMoments());
+}
+
+// The bumpy surface: slopes (a cos(2 pi u / P), a cos(2 pi v / P)) with a period P of 4 texels of
+// a 512 x 512 map, n = normalize(-sx, -sy, 1); texels hold n at their centres.
+constexpr int kBumpSize = 512;
+constexpr double kBumpPeriodTexels = 4.0, kBumpSlope = 0.25;
+
+Eigen::Vector3d bumpNormal(double u, double v) {
+    const double w = 2 * kPi * kBumpSize / kBumpPeriodTexels;
+    return Eigen::Vector3d(-kBumpSlope * std::cos(w * u), -kBumpSlope * std::cos(w * v), 1.0).normalized();
+}
+
+rad::LeanMaps bumpMaps() {
+    std::vector<float> normals(kBumpSize * kBumpSize * 3), tangents(normals.size());
+    for (int r = 0; r < kBumpSize; ++r)
+        for (int c = 0; c < kBumpSize; ++c) {
+            const Eigen::Vector3d n = bumpNormal((c + 0.5) / kBumpSize, 1.0 - (r + 0.5) / kBumpSize);
+            const std::size_t i = (static_cast<std::size_t>(r) * kBumpSize + c) * 3;
+            for (int a = 0; a < 3; ++a) normals[i + a] = static_cast<float>(n[a]);
+            tangents[i] = 1.0f;  // dP/du = +x, orthogonal to the quad's normal
+        }
+    return rad::buildLeanMaps(normals.data(), tangents.data(), kBumpSize, kBumpSize);
+}
+
+// The scene's light is the mirror of the eye direction about the quad's normal at the quad centre,
+// so that the highlight sits in the middle of the quad.
+Scene bumpScene(const Eigen::Vector3d& eye) {
+    Scene s;
+    s.camera = rad::PinholeCamera::lookAt(eye, {0, 0, 0}, {0, 1, 0}, 45.0, kWidth, kHeight);
+    s.lighting.lightDirection = Eigen::Vector3d(-eye.x(), -eye.y(), eye.z()).normalized();
+    s.lighting.albedo = Eigen::Vector3d(0.1, 0.1, 0.1);
+    s.lighting.specular = Eigen::Vector3d(0.8, 0.8, 0.8);
+    s.lighting.shininess = 200.0;
+    s.lighting.ambient = Eigen::Vector3d(0.2, 0.2, 0.2);
+    return s;
+}
+
+// Linear Blinn-Phong radiance at a point of the quad with normal n (the lighting model of
+// normal_map_gl_renderer.h, written out here).
+double blinnPhong(const Scene& s, const Eigen::Vector3d& p, const Eigen::Vector3d& n) {
+    const Eigen::Vector3d L = s.lighting.lightDirection.normalized();
+    const Eigen::Vector3d V = (s.camera.center - p).normalized();
+    const Eigen::Vector3d H = (L + V).normalized();
+    const double ndl = n.dot(L), hn = n.dot(H);
+    const double spec = (ndl > 0 && hn > 0) ? std::pow(hn, s.lighting.shininess) : 0.0;
+    return s.lighting.ambient.x() * s.lighting.albedo.x() + s.lighting.albedo.x() * std::max(ndl, 0.0) + s.lighting.specular.x() * spec;
+}
+
+// Ground truth: the bumpy surface's Blinn-Phong radiance averaged over each pixel (16 x 16 jittered
+// samples, each intersecting the quad's plane), tone-mapped once per pixel. mask: pixels whose
+// every sample hits the quad, and those of their 8 neighbours too.
+std::vector<std::uint8_t> supersampledTruth(const Scene& s, std::vector<char>& mask) {
+    std::vector<std::uint8_t> out(kWidth * kHeight * 3, 0);
+    std::vector<char> inside(kWidth * kHeight, 0);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> U(0.0, 1.0);
+    const int n = 16;
+    for (int y = 0; y < kHeight; ++y)
+        for (int x = 0; x < kWidth; ++x) {
+            double sum = 0;
+            bool all = true;
+            for (int j = 0; j < n && all; ++j)
+                for (int i = 0; i < n && all; ++i) {
+                    const Eigen::Vector3d d = s.camera.rayDirection(x + (i + U(rng)) / n, y + (j + U(rng)) / n);
+                    if (d.z() >= 0) {
+                        all = false;
+                        break;
+                    }
+                    const Eigen::Vector3d p = s.camera.center - s.camera.center.z() / d.z() * d;
+                    if (std::fabs(p.x()) >= 0.5 || std::fabs(p.y()) >= 0.5) {
+                        all = false;
+                        break;
+                    }
+                    sum += blinnPhong(s, p, bumpNormal(p.x() + 0.5, p.y() + 0.5));
+                }
+            if (!all) continue;
+            inside[y * kWidth + x] = 1;
+            const double L = sum / (n * n);
+            const std::uint8_t code = rad::toSrgb8(rad::toneMap({}, Eigen::Vector3d(L, L, L)).x());
+            for (int c = 0; c < 3; ++c) out[(y * kWidth + x) * 3 + c] = code;
+        }
+    mask.assign(kWidth * kHeight, 0);
+    for (int y = 1; y + 1 < kHeight; ++y)
+        for (int x = 1; x + 1 < kWidth; ++x) {
+            bool ok = true;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) ok = ok && inside[(y + dy) * kWidth + x + dx];
+            mask[y * kWidth + x] = ok;
+        }
+    return out;
+}
+
+TEST(NormalMapGl, FarAwayLeanIsCloserToTheSupersampledTruthThanTheMipMappedNormalMap) {
+    const rad::LeanMaps maps = bumpMaps();
+    const Quad q = makeQuad({0, 0, 1}, UvLayout::Plain);
+    radgl::NormalMapGlRenderer r(capabilities());
+    ASSERT_EQ(r.setMesh(q.positions.data(), q.normals.data(), 4, q.faces.data(), 2, q.wedgeUv.data()), "");
+    ASSERT_EQ(r.setNormalMap(maps.normals, false), "");
+    ASSERT_EQ(r.setLeanMoments(maps.moments), "");
+    const Scene scene = bumpScene({0.0, -1.2, 4.0});  // ~45 pixels across 512 texels: lambda ~ 3.5
+    std::vector<char> mask;
+    const std::vector<std::uint8_t> truth = supersampledTruth(scene, mask);
+    const long pixels = std::count(mask.begin(), mask.end(), 1);
+    ASSERT_GT(pixels, 1000);
+    const std::vector<std::uint8_t> normalMap = render(r, NormalMapShading::NormalMap, scene);
+    const std::vector<std::uint8_t> lean = render(r, NormalMapShading::Lean, scene);
+    int maxMap = 0, maxLean = 0;
+    const double errorMap = rmse(normalMap, truth, &mask, &maxMap);
+    const double errorLean = rmse(lean, truth, &mask, &maxLean);
+    auto mean = [&](const std::vector<std::uint8_t>& img) {
+        double sum = 0;
+        for (std::size_t p = 0; p < mask.size(); ++p)
+            if (mask[p]) sum += img[3 * p];
+        return sum / pixels;
+    };
+    std::printf("far bumpy quad, %ld pixels: RMSE vs supersampled truth: normal map %.2f (max %d), LEAN %.2f (max %d) levels; "
+                "mean sRGB code: truth %.1f, normal map %.1f, LEAN %.1f\n",
+                pixels, errorMap, maxMap, errorLean, maxLean, mean(truth), mean(normalMap), mean(lean));
+    EXPECT_LT(errorLean, 0.5 * errorMap);
+    EXPECT_GT(errorMap, 5.0);  // the mip-mapped map really loses the roughness here
+}
+
+TEST(NormalMapGl, UpCloseLeanEqualsTheNormalMap) {
+    const rad::LeanMaps maps = bumpMaps();
+    const Quad q = makeQuad({0, 0, 1}, UvLayout::Plain);
+    radgl::NormalMapGlRenderer r(capabilities());
+    r.setMesh(q.positions.data(), q.normals.data(), 4, q.faces.data(), 2, q.wedgeUv.data());
+    ASSERT_EQ(r.setNormalMap(maps.normals, false), "");
+    ASSERT_EQ(r.setLeanMoments(maps.moments), "");
+    const Scene scene = bumpScene({0.02, -0.04, 0.15});  // a texel covers ~2.5 pixels: lambda ~ -1.3
+    const std::vector<std::uint8_t> normalMap = render(r, NormalMapShading::NormalMap, scene);
+    const std::vector<std::uint8_t> lean = render(r, NormalMapShading::Lean, scene);
+    int maxDiff = 0;
+    const double e = rmse(lean, normalMap, nullptr, &maxDiff);
+    std::printf("up close: RMSE LEAN vs normal map %.3f (max %d) levels\n", e, maxDiff);
+    EXPECT_LT(e, 1.0);
+    EXPECT_LE(maxDiff, 6);  // exp(-s/2 tan^2) vs cos^s: at most 0.54 / s in linear units
+    // The picture has bumps and highlights, so the comparison is not between two flat images.
+    const auto [lo, hi] = std::minmax_element(normalMap.begin(), normalMap.end());
+    EXPECT_GT(int(*hi) - int(*lo), 60);
+}
+
+TEST(NormalMapGl, RestoresTheGlStateAndRefusesWhatItCannotDraw) {
+    const Quad q = makeQuad({0, 0, 1}, UvLayout::Plain);
+    {
+        radgl::GlCapabilities caps = capabilities();
+        radgl::capGlVersion(caps, 2, 1);
+        radgl::NormalMapGlRenderer old(caps);
+        EXPECT_NE(old.shaderProblem(), "");
+        EXPECT_NE(old.setMesh(q.positions.data(), q.normals.data(), 4, q.faces.data(), 2, q.wedgeUv.data()), "");
+        EXPECT_NE(old.draw(NormalMapShading::VertexNormals, {}, {}, {0, 0, 2}), "");
+    }
+    radgl::NormalMapGlRenderer r(capabilities());
+    EXPECT_NE(r.draw(NormalMapShading::VertexNormals, {}, {}, {0, 0, 2}), "");  // no mesh
+    const std::uint32_t badFaces[6] = {0, 1, 4, 0, 2, 3};
+    EXPECT_THROW(r.setMesh(q.positions.data(), q.normals.data(), 4, badFaces, 2, q.wedgeUv.data()), radgl::GlRendererError);
+    ASSERT_EQ(r.setMesh(q.positions.data(), q.normals.data(), 4, q.faces.data(), 2, q.wedgeUv.data()), "");
+    EXPECT_NE(r.draw(NormalMapShading::NormalMap, {}, {}, {0, 0, 2}), "");  // no map
+    std::vector<rad::MipImage> broken = constantPyramid(16, {0, 0, 1});
+    broken.pop_back();
+    EXPECT_NE(r.setNormalMap(broken, false), "");
+    ASSERT_EQ(r.setNormalMap(constantPyramid(16, {0, 0, 1}), false), "");
+    EXPECT_NE(r.draw(NormalMapShading::Lean, {}, {}, {0, 0, 2}), "");  // no moments
+    std::vector<rad::MipImage> moments = constantPyramid(8, {0, 0, 0});
+    moments.pop_back();  // 4 levels 8..1 for a 16 x 16 map: 8, 4, 2, 1
+    moments.push_back(constantPyramid(1, {0, 0, 0})[0]);
+    EXPECT_NE(r.setLeanMoments(std::vector<rad::MipImage>(moments.begin(), moments.end() - 1)), "");  // one level short
+    ASSERT_EQ(r.setLeanMoments(moments), "");
+
+    const Scene scene = closeScene();
+    gl().beginFrame(scene.camera, 0.05, 20.0);
+    GLuint buffer = 0, texture = 0;
+    glGenBuffers(1, &buffer);
+    glBindBuffer(GL_ARRAY_BUFFER, buffer);
+    glGenTextures(1, &texture);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, texture);
+    glActiveTexture(GL_TEXTURE3);
+    glDepthFunc(GL_LESS);
+    glEnable(GL_LIGHTING);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    for (NormalMapShading m : {NormalMapShading::VertexNormals, NormalMapShading::NormalMap, NormalMapShading::Lean})
+        EXPECT_EQ(r.draw(m, scene.lighting, {}, scene.camera.center), "");
+    ASSERT_EQ(r.setNormalMap(constantPyramid(16, {0, 0, 1}), false), "");  // uploads too
+    GLint value = 0;
+    glGetIntegerv(GL_CURRENT_PROGRAM, &value);
+    EXPECT_EQ(value, 0);
+    glGetIntegerv(GL_ARRAY_BUFFER_BINDING, &value);
+    EXPECT_EQ(value, static_cast<GLint>(buffer));
+    glGetIntegerv(GL_ACTIVE_TEXTURE, &value);
+    EXPECT_EQ(value, GL_TEXTURE3);
+    glActiveTexture(GL_TEXTURE1);
+    glGetIntegerv(GL_TEXTURE_BINDING_2D, &value);
+    EXPECT_EQ(value, static_cast<GLint>(texture));
+    glActiveTexture(GL_TEXTURE0);
+    glGetIntegerv(GL_TEXTURE_BINDING_2D, &value);
+    EXPECT_EQ(value, 0);
+    glGetIntegerv(GL_DEPTH_FUNC, &value);
+    EXPECT_EQ(value, GL_LESS);
+    glGetIntegerv(GL_UNPACK_ALIGNMENT, &value);
+    EXPECT_EQ(value, 1);
+    EXPECT_TRUE(glIsEnabled(GL_LIGHTING));
+    EXPECT_FALSE(glIsEnabled(GL_POLYGON_OFFSET_FILL));
+    EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+    EXPECT_EQ(r.takeGlErrors(), "");
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    glDeleteBuffers(1, &buffer);
+    glDeleteTextures(1, &texture);
+    glDisable(GL_LIGHTING);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+}
+
+}  // namespace

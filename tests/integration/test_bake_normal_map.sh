@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# "Bake Normal Map" through the real meshlabserver: a fine icosphere (the "scan", 81,920 faces)
+# baked onto a coarse one (320 faces) without texture coordinates, so the per-triangle atlas is
+# made. Checks: the file set and its description, the layer saved with wedge coordinates and the
+# map as its texture, the object-space map against the exact sphere normals (mean <= 0.5 degrees
+# at 16 bit), no texel left empty anywhere; then a tangent-space 8-bit bake onto the saved mesh's
+# own (now existing) coordinates. (Debian's meshlabserver 2020.09 aborts on loading any OBJ: the
+# layer is saved both as OBJ, read by the checker, and as PLY with wedge coordinates, reloaded.)
+source "$(dirname "$0")/lib.sh"
+source "$(dirname "$0")/bake_mlx.sh"
+CHECK="python3 $RADIANCE_SOURCE_DIR/tests/integration/check_baked_maps.py"
+
+"$MAKE_SCENE" sphere --level 6 -o "$WORK/fine.ply"
+"$MAKE_SCENE" sphere --level 2 -o "$WORK/coarse.ply"
+# The scan with vertex colours (its radiance functions' mean colour), for the diffuse map.
+"$RADIANCE_BUILD_DIR/tools/make_radiance_mesh" "$WORK/fine.ply" --basis PB2 --no-shadows -o "$WORK/fine.rply" \
+    >/dev/null 2>&1 || fail "make_radiance_mesh failed"
+
+# Layer 0 = the scan, layer 1 (the last loaded, current) = the coarse target.
+bake_mlx "$WORK/object16.mlx" 0 256 0 0
+run_meshlabserver "$WORK/object16.log" -i "$WORK/fine.rply" -i "$WORK/coarse.ply" -s "$WORK/object16.mlx" \
+    -o "$WORK/coarse_baked.obj" -m wt vn -o "$WORK/coarse_baked.ply" -m wt vn || { cat "$WORK/object16.log" >&2; fail "object-space bake failed"; }
+grep -qF "per-triangle atlas" "$WORK/object16.log" || { cat "$WORK/object16.log" >&2; fail "no atlas in the log"; }
+for f in coarse_normal.png coarse_diffuse.png coarse_lean.exr coarse_bake.txt; do
+    [ -s "$WORK/$f" ] || fail "missing $f beside the target mesh"
+done
+ls "$WORK"/*.part >/dev/null 2>&1 && fail "temporary files left behind"
+grep -qx "space = object" "$WORK/coarse_bake.txt" || fail "description does not say object space"
+grep -qx "bits = 16" "$WORK/coarse_bake.txt" || fail "description does not say 16 bit"
+grep -qx "diffuse_map = coarse_diffuse.png" "$WORK/coarse_bake.txt" || fail "description does not list the diffuse map"
+grep -qx "lean_moments = coarse_lean.exr" "$WORK/coarse_bake.txt" || fail "description does not list the LEAN file"
+grep -q "^vt " "$WORK/coarse_baked.obj" || fail "the saved layer has no texture coordinates"
+grep -q "coarse_normal.png" "$WORK/coarse_baked.obj.mtl" || fail "the map is not the layer's texture"
+$CHECK sphere "$WORK/coarse_baked.obj" "$WORK/coarse_normal.png" 0.5 || fail "object-space map too far from the sphere"
+$CHECK complete "$WORK/coarse_normal.png" || fail "empty texels in the object-space map"
+note "object space, 16 bit: $($CHECK sphere "$WORK/coarse_baked.obj" "$WORK/coarse_normal.png" 0.5)"
+
+# Tangent space, 8 bit, onto the coordinates the first bake gave the layer (no new atlas), with
+# an explicit output file; no LEAN file for tangent space.
+bake_mlx "$WORK/tangent8.mlx" 0 256 1 1 false "$WORK/tangent/sphere_normal.png"
+mkdir -p "$WORK/tangent"
+run_meshlabserver "$WORK/tangent8.log" -i "$WORK/fine.ply" -i "$WORK/coarse_baked.ply" -s "$WORK/tangent8.mlx" \
+    -o "$WORK/tangent/coarse_tangent.ply" -m wt vn || { cat "$WORK/tangent8.log" >&2; fail "tangent-space bake failed"; }
+grep -qF "the target's texture coordinates" "$WORK/tangent8.log" || { cat "$WORK/tangent8.log" >&2; fail "existing UVs not used"; }
+grep -qx "space = tangent" "$WORK/tangent/sphere_bake.txt" || fail "description does not say tangent space"
+[ -e "$WORK/tangent/sphere_lean.exr" ] && fail "a LEAN file for a tangent-space map"
+grep -qF "LEAN maps filter object-space normals" "$WORK/tangent8.log" || fail "no note about LEAN in tangent space"
+$CHECK complete "$WORK/tangent/sphere_normal.png" || fail "empty texels in the tangent-space map"
+note "tangent space, 8 bit ok"
