@@ -18,6 +18,7 @@
 // Defaults: --size 4096 --accuracy-size 2048 --mesh data-cache/meshes/armadillo.off --subdivide 3
 //           --threads 2.
 #include "bake/normal_baker.h"
+#include "bake/normal_map_bake.h"
 #include "bake/texel_coverage.h"
 #include "bake/texture_atlas.h"
 #include "geometry/mesh_normals.h"
@@ -33,6 +34,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <functional>
 #include <stdexcept>
 #include <string>
@@ -217,6 +219,26 @@ void speed(const Options& o) {
                 double(r.chartTexels) / total, r.rayHits, r.closestPointFallbacks, r.invalidTexels);
     std::printf("# ray distance %.4g; all texels (incl. empty) per second: %.3g\n", r.maxRayDistance,
                 double(o.size) * o.size / total);
+
+    // (c) The whole job of the filter (bake/normal_map_bake.h): atlas, bake, filling, LEAN, files.
+    const std::filesystem::path folder = std::filesystem::temp_directory_path() / "bench_bake_normals";
+    std::filesystem::create_directories(folder);
+    std::printf("\n(c) whole filter job (atlas, bake, fill, LEAN, 16-bit PNG + EXR + description), %d x %d\n", o.size,
+                o.size);
+    std::printf("%8s %8s %8s %8s %8s %10s\n", "bake s", "fill s", "LEAN s", "write s", "total s", "MB written");
+    rad::NormalMapBakeRequest request;
+    request.target = &target;
+    request.source = &source;
+    request.textureSize = o.size;
+    request.outputBase = (folder / "armadillo").string();
+    const rad::NormalMapBakeReport job = rad::bakeNormalMapFiles(request);
+    double megabytes = 0.0;
+    for (const std::string& file : {job.normalMapFile, job.leanFile, job.descriptionFile}) {
+        megabytes += std::filesystem::file_size(file) / 1048576.0;
+        std::filesystem::remove(file);
+    }
+    std::printf("%8.3f %8.3f %8.3f %8.3f %8.3f %10.1f\n", job.bakeSeconds, job.fillSeconds, job.leanSeconds,
+                job.writeSeconds, job.totalSeconds, megabytes);
 }
 
 }  // namespace

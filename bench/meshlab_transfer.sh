@@ -40,7 +40,7 @@
 #
 # Why the target goes in as PLY: Debian's meshlabserver 2020.09 aborts on loading ANY OBJ file,
 # even a one-triangle one or its own export ("import_obj.h:640: Assertion `(numTriangles
-# +numVertices) == numVerticesPlusFaces+extraTriangles' failed"), seen here on 2025-11. Its PLY
+# +numVertices) == numVerticesPlusFaces+extraTriangles' failed") (Debian 12's 2020.09 package). Its PLY
 # importer reads per-wedge texture coordinates (face property "texcoord", -m wt) fine; its OBJ
 # exporter works. So MeshLab gets PLY and our tools get the OBJ export of the same mesh.
 set -euo pipefail

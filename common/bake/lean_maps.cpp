@@ -16,12 +16,14 @@
 #include <ImfHeader.h>
 #include <ImfTileDescription.h>
 #include <ImfTiledInputFile.h>
+#include <ImfThreading.h>
 #include <ImfTiledOutputFile.h>
 
 #include <algorithm>
 #include <cmath>
 #include <exception>
 #include <stdexcept>
+#include <thread>
 
 namespace rad {
 namespace {
@@ -335,7 +337,9 @@ void writeLeanMoments(const std::string& path, const LeanMaps& maps) {
         Imf::Header header(top.width, top.height);
         header.setTileDescription(Imf::TileDescription(64, 64, Imf::MIPMAP_LEVELS, Imf::ROUND_DOWN));
         for (const char* name : {"R", "G", "B"}) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
-        Imf::TiledOutputFile file(path.c_str(), header);
+        // OpenEXR compresses tiles on its own thread pool: use the machine's cores.
+        if (Imf::globalThreadCount() == 0) Imf::setGlobalThreadCount(static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+        Imf::TiledOutputFile file(path.c_str(), header, Imf::globalThreadCount());
         for (int level = 0; level < file.numLevels(); ++level) {
             const MipImage& m = maps.moments[static_cast<std::size_t>(level)];
             Imf::FrameBuffer fb;

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <iomanip>
 #include <sstream>
 
@@ -215,15 +216,19 @@ NormalMapBakeReport bakeNormalMapFiles(const NormalMapBakeRequest& request) {
     phase = Clock::now();
     PendingFiles files;
     report.normalMapFile = request.outputBase + "_normal.png";
+    // The EXR is compressed on OpenEXR's threads while this one writes the PNG (zlib, one thread).
+    std::future<void> leanWritten;
+    if (withLean) {
+        report.leanFile = request.outputBase + "_lean.exr";
+        const std::string leanPath = files.add(report.leanFile);
+        leanWritten = std::async(std::launch::async, [&lean, leanPath] { writeLeanMoments(leanPath, lean); });
+    }
     writeNormalPng(files.add(report.normalMapFile), baked.normals, size, size, request.bits);
     if (withColor) {
         report.diffuseMapFile = request.outputBase + "_diffuse.png";
         writeColorPng(files.add(report.diffuseMapFile), baked.colors, size, size);
     }
-    if (withLean) {
-        report.leanFile = request.outputBase + "_lean.exr";
-        writeLeanMoments(files.add(report.leanFile), lean);
-    }
+    if (leanWritten.valid()) leanWritten.get();  // rethrows a write error
     report.descriptionFile = request.outputBase + "_bake.txt";
     {
         std::vector<std::pair<std::string, std::string>> lines = {

@@ -73,7 +73,11 @@ std::string writePng16Rows(std::FILE* file, int width, int height, int colorType
     png_init_io(png, file);
     png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), 16, colorType, PNG_INTERLACE_NONE,
                  PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-    png_set_compression_level(png, 3);  // normal maps compress poorly anyway; favour speed
+    // Normal maps compress poorly anyway: the fastest zlib level and one fixed row filter ("up":
+    // smooth maps are alike from row to row) instead of libpng's per-row trial of all five, which
+    // took 4 s for a 4096 x 4096 map; now about 1 s, files ~10 % larger.
+    png_set_compression_level(png, 1);
+    png_set_filter(png, 0, PNG_FILTER_UP);
     png_write_info(png, info);
     png_write_image(png, rows);
     png_write_end(png, nullptr);

@@ -44,3 +44,8 @@ set_tests_properties(gui.decoration_prt PROPERTIES ENVIRONMENT "${_integration_e
 add_test(NAME gui.fig6_highlight COMMAND bash "${PROJECT_SOURCE_DIR}/tests/gui/gui_fig6_highlight.sh")
 set_tests_properties(gui.fig6_highlight PROPERTIES ENVIRONMENT "${_integration_env}" LABELS gui TIMEOUT 300
   RUN_SERIAL TRUE)
+
+# The "Baked Normal Map" decoration in the real meshlab (tests/gui/gui_normal_map.sh).
+add_test(NAME gui.normal_map_decoration COMMAND bash "${PROJECT_SOURCE_DIR}/tests/gui/gui_normal_map.sh")
+set_tests_properties(gui.normal_map_decoration PROPERTIES ENVIRONMENT "${_integration_env}" LABELS gui TIMEOUT 300
+  RUN_SERIAL TRUE)
