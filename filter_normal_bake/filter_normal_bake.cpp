@@ -108,7 +108,7 @@ QString NormalBakeFilterPlugin::filterInfo(FilterIDType filter) const {
                "simplified layer (the target), so that the simplified mesh keeps the scan's shading. If the target "
                "has no texture coordinates (or you ask for it), a per-triangle atlas is made: faces in pairs in the "
                "square cells of a grid, as 'Parametrization: Trivial Per-Triangle' does, with a gutter of at least "
-               "the given number of texels between any two triangles. Existing coordinates must lie in [0, 1] and "
+               "the given number of empty texels between any two triangles. Existing coordinates must lie in [0, 1] and "
                "must not overlap. For every texel, two rays leave the target's surface point along its "
                "interpolated normal, forward and backward (Embree); the nearer hit on the scan gives the "
                "interpolated scan normal, and when no ray hits within the maximum distance, the closest point of "
@@ -152,7 +152,7 @@ void NormalBakeFilterPlugin::initParameterSet(QAction*, MeshDocument& md, RichPa
                              "How far the rays search the scan from the target's surface. 0 = automatic: twice the "
                              "largest distance from the target's vertices and face centres to the scan."));
     par.addParam(RichInt("gutter", 4, "Gutter (texels)",
-                         "Smallest distance between two triangles of a generated atlas, filled by dilation."));
+                         "Empty texels between any two triangles of a generated atlas (at least this many), filled by dilation of each triangle's border."));
     par.addParam(RichBool("newAtlas", false, "Make a per-triangle atlas",
                           "Replace the target's texture coordinates by a per-triangle atlas (always done when the "
                           "target has none)."));

@@ -94,6 +94,54 @@ echo "[main] PRT: adaptive vs uniform subdivision, column scene (paper 001 Fig. 
 echo "[main] PRT: adaptive vs uniform subdivision, bunny scan (simplified to 2000 faces) on a plane"
 "$BUILD_DIR/tools/evaluate_prt" --mesh "$DATA/meshes/bunny00.off" --up y --simplify-to 2000 --levels 2 \
     "${HDRS[@]}" --out "$PRT/bunny" | tee "$OUT_DIR/prt_bunny_errors.txt"
+# Normal-map baking (papers 004, 002): the fitted scan simplified by MeshLab to 2 % and its normals
+# and colours baked onto the simplified mesh by "Bake Normal Map" (per-triangle atlas, 2048^2,
+# object space, 16 bit, LEAN moments), in one meshlabserver run; then the map's angular error
+# against the scan's normals (tools/normal_map_error).
+echo "[main] normal map: bunny scan simplified to 2 % (1,508 faces), scan normals and colours baked onto it"
+BAKE="$OUT_DIR/bake"
+mkdir -p "$BAKE"
+cat >"$BAKE/simplify_and_bake.mlx" <<MLX
+<!DOCTYPE FilterScript>
+<FilterScript>
+ <filter name="Simplification: Quadric Edge Collapse Decimation">
+  <Param type="RichInt" name="TargetFaceNum" value="1508"/>
+  <Param type="RichFloat" name="TargetPerc" value="0"/>
+  <Param type="RichFloat" name="QualityThr" value="0.3"/>
+  <Param type="RichBool" name="PreserveBoundary" value="false"/>
+  <Param type="RichFloat" name="BoundaryWeight" value="1"/>
+  <Param type="RichBool" name="PreserveNormal" value="true"/>
+  <Param type="RichBool" name="PreserveTopology" value="false"/>
+  <Param type="RichBool" name="OptimalPlacement" value="true"/>
+  <Param type="RichBool" name="PlanarQuadric" value="false"/>
+  <Param type="RichFloat" name="PlanarWeight" value="0.001"/>
+  <Param type="RichBool" name="QualityWeight" value="false"/>
+  <Param type="RichBool" name="AutoClean" value="true"/>
+  <Param type="RichBool" name="Selected" value="false"/>
+ </filter>
+ <filter name="Re-Compute Vertex Normals">
+  <Param type="RichEnum" name="weightMode" value="2" enum_cardinality="4" enum_val0="Simple Average" enum_val1="By Angle" enum_val2="By Area" enum_val3="As defined by N. Max"/>
+ </filter>
+ <filter name="Bake Normal Map">
+  <Param type="RichMesh" name="sourceMesh" value="0"/>
+  <Param type="RichInt" name="textureSize" value="2048"/>
+  <Param type="RichEnum" name="space" value="0" enum_cardinality="2" enum_val0="Object space" enum_val1="Tangent space"/>
+  <Param type="RichEnum" name="bits" value="0" enum_cardinality="2" enum_val0="16 bit" enum_val1="8 bit"/>
+  <Param type="RichAbsPerc" name="maxDistance" value="0" min="0" max="1000"/>
+  <Param type="RichInt" name="gutter" value="4"/>
+  <Param type="RichBool" name="newAtlas" value="true"/>
+  <Param type="RichBool" name="diffuse" value="true"/>
+  <Param type="RichBool" name="lean" value="true"/>
+  <Param type="RichEnum" name="assign" value="0" enum_cardinality="2" enum_val0="Normal map" enum_val1="Diffuse map"/>
+  <Param type="RichString" name="outputFile" value="$BAKE/bunny_2pct_normal.png"/>
+ </filter>
+</FilterScript>
+MLX
+server -i "$OUT_DIR/bunny_radiance.rply" -i "$OUT_DIR/bunny_radiance.rply" -s "$BAKE/simplify_and_bake.mlx" \
+    -o "$BAKE/bunny_2pct.ply" -m wt vn -o "$BAKE/bunny_2pct.obj" -m wt vn >"$BAKE/bake.log" 2>&1
+grep -h -o "LOG: 2 Bake Normal Map: .*" "$BAKE/bake.log" | sed 's/^LOG: [0-9] /[main] /'
+"$BUILD_DIR/tools/normal_map_error" "$OUT_DIR/bunny_radiance.rply" "$BAKE/bunny_2pct.obj" "$BAKE/bunny_2pct_normal.png" \
+    2>&1 | tee "$OUT_DIR/normal_map_error.txt" || true
 echo "[main] outputs:"
 ls -l "$OUT_DIR"/*.rply "$OUT_DIR"/*.png "$OUT_DIR"/*.svg
 echo "[main] picture (photograph | fitted radiance | 4x difference): $OUT_DIR/bunny_photo_vs_fit_view07.png"
@@ -101,4 +149,6 @@ echo "[main] simplification: $OUT_DIR/simplification_errors.txt, $OUT_DIR/simpli
 echo "       heat maps in $SIMP/heatmaps (radiance_100 vs color_100: 10 % of the faces)"
 echo "[main] PRT: $OUT_DIR/prt_column_errors.txt, $OUT_DIR/prt_bunny_errors.txt; pictures in $PRT/column and"
 echo "       $PRT/bunny (reference.png = per-pixel transfer; input/uniform/adaptive.png = interpolated)"
+echo "[main] normal map: $BAKE/bunny_2pct_{normal,diffuse}.png, _lean.exr; error in $OUT_DIR/normal_map_error.txt; see it with"
+echo "       $PREFIX/bin/meshlab $BAKE/bunny_2pct.ply, then Ctrl+Alt+N (Baked Normal Map decoration)"
 echo "[main] open the fit with: $PREFIX/bin/meshlab $OUT_DIR/bunny_radiance.rply"

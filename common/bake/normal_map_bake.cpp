@@ -165,7 +165,9 @@ NormalMapBakeReport bakeNormalMapFiles(const NormalMapBakeRequest& request) {
     if (request.targetWedgeUv && !request.targetWedgeUv->empty()) {
         report.wedgeUv = *request.targetWedgeUv;
     } else {
-        PerTriangleAtlas atlas = makePerTriangleAtlas(request.target->faceCount(), size, request.gutterTexels);
+        // gutterTexels counts the EMPTY texels between two charts; the atlas's gutter is the index
+        // distance between texels of two charts, one more.
+        PerTriangleAtlas atlas = makePerTriangleAtlas(request.target->faceCount(), size, request.gutterTexels + 1);
         report.wedgeUv = std::move(atlas.wedgeUv);
         report.atlasGenerated = true;
         report.atlasCellSize = atlas.cellSize;

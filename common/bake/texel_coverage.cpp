@@ -62,13 +62,15 @@ bool setupTriangle(const float* uv, int width, int height, TexelTriangle& t) {
     t.inverseArea2 = 1.0 / std::fabs(area2);
     const double xMin = std::min({t.x[0], t.x[1], t.x[2]}), xMax = std::max({t.x[0], t.x[1], t.x[2]});
     const double yMin = std::min({t.y[0], t.y[1], t.y[2]}), yMax = std::max({t.y[0], t.y[1], t.y[2]});
-    // Texel c spans [c, c + 1]: it meets [xMin, xMax] with a positive length for
-    // floor(xMin) <= c <= ceil(xMax) - 1.
+    // The reach square of texel c spans [c + 0.5 - R, c + 0.5 + R]: it meets [xMin, xMax] for
+    // xMin - 0.5 - R < c < xMax - 0.5 + R. Exactly these: with the three edge tests below this
+    // is the separating-axis test of square against triangle (axes x, y and the edge normals).
+    const double reach = TexelCoverage::kBilinearReach;
     const double lo = -1.0, hiX = double(width), hiY = double(height);
-    t.column0 = int(std::max(lo, std::floor(xMin)));
-    t.column1 = int(std::min(hiX, std::ceil(xMax))) - 1;
-    t.row0 = int(std::max(lo, std::floor(yMin)));
-    t.row1 = int(std::min(hiY, std::ceil(yMax))) - 1;
+    t.column0 = int(std::max(lo, std::floor(xMin - 0.5 - reach) + 1));
+    t.column1 = int(std::min(hiX, std::ceil(xMax - 0.5 + reach))) - 1;
+    t.row0 = int(std::max(lo, std::floor(yMin - 0.5 - reach) + 1));
+    t.row1 = int(std::min(hiY, std::ceil(yMax - 0.5 + reach))) - 1;
     t.column0 = std::max(t.column0, 0);
     t.row0 = std::max(t.row0, 0);
     return t.column0 <= t.column1 && t.row0 <= t.row1;
@@ -170,9 +172,12 @@ TexelCoverage rasterizeTexelCoverage(const float* wedgeUv, std::size_t faceCount
                 const std::uint32_t f = bandFaces[k];
                 TexelTriangle t;
                 setupTriangle(wedgeUv + 6 * std::size_t(f), width, height, t);
-                const double halfExtent[3] = {0.5 * (std::fabs(t.a[0]) + std::fabs(t.b[0])),
-                                              0.5 * (std::fabs(t.a[1]) + std::fabs(t.b[1])),
-                                              0.5 * (std::fabs(t.a[2]) + std::fabs(t.b[2]))};
+                // Edge-function offset of the corner of the square of half-size kBilinearReach
+                // around the centre that lies farthest inside each edge.
+                const double r = TexelCoverage::kBilinearReach;
+                const double halfExtent[3] = {r * (std::fabs(t.a[0]) + std::fabs(t.b[0])),
+                                              r * (std::fabs(t.a[1]) + std::fabs(t.b[1])),
+                                              r * (std::fabs(t.a[2]) + std::fabs(t.b[2]))};
                 const int r0 = std::max(t.row0, rowBegin), r1 = std::min(t.row1, rowEnd - 1);
                 for (int r = r0; r <= r1; ++r) {
                     const double py = r + 0.5;
@@ -182,8 +187,7 @@ TexelCoverage rasterizeTexelCoverage(const float* wedgeUv, std::size_t faceCount
                         const double e0 = t.a[0] * px + t.b[0] * py + t.c[0];
                         const double e1 = t.a[1] * px + t.b[1] * py + t.c[1];
                         const double e2 = t.a[2] * px + t.b[2] * py + t.c[2];
-                        // The square overlaps the triangle (positive area) unless it lies wholly
-                        // outside an edge.
+                        // The square overlaps the triangle unless it lies wholly outside an edge.
                         if (!(e0 + halfExtent[0] > 0 && e1 + halfExtent[1] > 0 && e2 + halfExtent[2] > 0)) continue;
                         float candidate;
                         double b1, b2;

@@ -15,6 +15,8 @@
 
 namespace {
 
+constexpr double kReach = rad::TexelCoverage::kBilinearReach;
+
 struct P2 {
     double x, y;
 };
@@ -94,14 +96,16 @@ TEST(TexelCoverage, InteriorTouchedAndEmptyTexelsAgreeWithBruteForce) {
                     nearest = std::min(nearest, distanceToTriangle(centre, &tris[3 * g]));
                     centreInsideSome = centreInsideSome || insideMargin(centre, &tris[3 * g]) > 1e-6;
                 }
-                // No texel farther than a texel diagonal from every triangle is covered.
-                if (nearest > std::sqrt(2.0)) EXPECT_LT(f, 0) << c << ", " << r;
+                // No texel farther than the reach square's half-diagonal from every triangle is
+                // covered.
+                if (nearest > kReach * std::sqrt(2.0) + 1e-6) EXPECT_LT(f, 0) << c << ", " << r;
                 if (f < 0) {
-                    // An empty texel: its square meets no triangle (sampled densely inside).
+                    // An empty texel: the square of half-size kReach around its centre (what a
+                    // bilinear lookup may read it from) meets no triangle (sampled densely inside).
                     EXPECT_FALSE(centreInsideSome) << c << ", " << r;
-                    for (int a = 1; a < 8; ++a)
-                        for (int b = 1; b < 8; ++b) {
-                            const P2 q{c + a / 8.0, r + b / 8.0};
+                    for (int a = 1; a < 16; ++a)
+                        for (int b = 1; b < 16; ++b) {
+                            const P2 q{centre.x - kReach + 2 * kReach * a / 16.0, centre.y - kReach + 2 * kReach * b / 16.0};
                             for (std::size_t g = 0; g < faces; ++g)
                                 ASSERT_LT(insideMargin(q, &tris[3 * g]), 1e-6) << c << ", " << r << " face " << g;
                         }
@@ -124,16 +128,16 @@ TEST(TexelCoverage, InteriorTouchedAndEmptyTexelsAgreeWithBruteForce) {
                     EXPECT_NEAR(q.x, centre.x, 1e-3);
                     EXPECT_NEAR(q.y, centre.y, 1e-3);
                 } else {
-                    // Touched only: the nearest point of the nearest triangle, within half a texel
-                    // diagonal of the centre.
+                    // Reached only: the nearest point of the nearest triangle, within the reach
+                    // square's half-diagonal of the centre.
                     ++touchedCount;
                     EXPECT_EQ(cov.interior[i], 0) << c << ", " << r;
                     const double d = std::hypot(q.x - centre.x, q.y - centre.y);
-                    EXPECT_LE(d, 0.5 * std::sqrt(2.0) + 1e-5) << c << ", " << r;
+                    EXPECT_LE(d, kReach * std::sqrt(2.0) + 1e-5) << c << ", " << r;
                     EXPECT_NEAR(d, distanceToTriangle(centre, t), 1e-4);
-                    // A triangle within half a texel of the centre overlaps the square, so it
+                    // A triangle within kReach of the centre overlaps the reach square, so it
                     // competed: the chosen one is the nearest of all.
-                    if (nearest < 0.5) EXPECT_NEAR(d, nearest, 1e-4) << "not the nearest triangle at " << c << ", " << r;
+                    if (nearest < kReach) EXPECT_NEAR(d, nearest, 1e-4) << "not the nearest triangle at " << c << ", " << r;
                 }
             }
         EXPECT_GT(interiorCount, 100u);
@@ -142,7 +146,7 @@ TEST(TexelCoverage, InteriorTouchedAndEmptyTexelsAgreeWithBruteForce) {
     }
 }
 
-TEST(TexelCoverage, EveryTexelWhoseSquareOverlapsATriangleIsCovered) {
+TEST(TexelCoverage, EveryTexelWhoseReachSquareOverlapsATriangleIsCovered) {
     std::mt19937 rng(6);
     const std::size_t faces = 30;
     const std::vector<float> uv = randomLayout(rng, faces);
@@ -155,7 +159,9 @@ TEST(TexelCoverage, EveryTexelWhoseSquareOverlapsATriangleIsCovered) {
             for (int c = 0; c < kWidth; ++c) {
                 bool overlaps = false;
                 for (int a = 1; a < 8 && !overlaps; ++a)
-                    for (int b = 1; b < 8 && !overlaps; ++b) overlaps = insideMargin({c + a / 8.0, r + b / 8.0}, t) > 1e-6;
+                    for (int b = 1; b < 8 && !overlaps; ++b)
+                        overlaps = insideMargin({c + 0.5 - kReach + 2 * kReach * a / 8.0,
+                                                 r + 0.5 - kReach + 2 * kReach * b / 8.0}, t) > 1e-6;
                 if (!overlaps) continue;
                 ++checked;
                 EXPECT_GE(cov.face[cov.texelIndex(c, r)], 0) << "face " << f << " texel " << c << ", " << r;
