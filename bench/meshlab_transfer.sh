@@ -45,6 +45,7 @@
 # exporter works. So MeshLab gets PLY and our tools get the OBJ export of the same mesh.
 set -euo pipefail
 
+REPO="$(cd "$(dirname "$0")/.." && pwd)"
 MESHLABSERVER="${MESHLABSERVER:-/usr/bin/meshlabserver}"
 die() { echo "meshlab_transfer: $*" >&2; exit 1; }
 abspath() { echo "$(cd "$(dirname "$1")" && pwd)/$(basename "$1")"; }
@@ -75,21 +76,7 @@ MLX
     cat >"$out/target.mlx" <<MLX
 <!DOCTYPE FilterScript>
 <FilterScript>
- <filter name="Simplification: Quadric Edge Collapse Decimation">
-  <Param type="RichInt" name="TargetFaceNum" value="$faces"/>
-  <Param type="RichFloat" name="TargetPerc" value="0"/>
-  <Param type="RichFloat" name="QualityThr" value="0.3"/>
-  <Param type="RichBool" name="PreserveBoundary" value="false"/>
-  <Param type="RichFloat" name="BoundaryWeight" value="1"/>
-  <Param type="RichBool" name="PreserveNormal" value="true"/>
-  <Param type="RichBool" name="PreserveTopology" value="false"/>
-  <Param type="RichBool" name="OptimalPlacement" value="true"/>
-  <Param type="RichBool" name="PlanarQuadric" value="false"/>
-  <Param type="RichFloat" name="PlanarWeight" value="0.001"/>
-  <Param type="RichBool" name="QualityWeight" value="false"/>
-  <Param type="RichBool" name="AutoClean" value="true"/>
-  <Param type="RichBool" name="Selected" value="false"/>
- </filter>
+$(bash "$REPO/scripts/meshlab_decimation_filter.sh" "$faces" false)
  <filter name="Parametrization: Trivial Per-Triangle">
   <Param type="RichInt" name="sidedim" value="0"/>
   <Param type="RichInt" name="textdim" value="$tex"/>

@@ -1,5 +1,7 @@
 #include "normal_map_gl_renderer.h"
 
+#include "gl_program.h"
+
 #include <GL/glew.h>
 
 #include <cmath>
@@ -7,25 +9,6 @@
 
 namespace radgl {
 namespace {
-
-unsigned compile(GLenum type, const std::string& source, std::string& log) {
-    const GLuint shader = glCreateShader(type);
-    const char* text = source.c_str();
-    glShaderSource(shader, 1, &text, nullptr);
-    glCompileShader(shader);
-    GLint ok = GL_FALSE;
-    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        GLint length = 0;
-        glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
-        std::string info(static_cast<std::size_t>(length > 0 ? length : 1), '\0');
-        glGetShaderInfoLog(shader, length, nullptr, &info[0]);
-        log += (type == GL_VERTEX_SHADER ? "normal-map vertex shader: " : "normal-map fragment shader: ") + info;
-        glDeleteShader(shader);
-        return 0;
-    }
-    return shader;
-}
 
 // Empty when levels form a mip chain w >> k x h >> k down to 1 x 1 with 3 channels.
 std::string chainProblem(const std::vector<rad::MipImage>& levels, int w, int h, const char* what) {
@@ -58,30 +41,9 @@ NormalMapGlRenderer::NormalMapGlRenderer(const GlCapabilities& caps) : caps_(cap
 
 void NormalMapGlRenderer::buildProgram() {
     std::string log;
-    const unsigned vs = compile(GL_VERTEX_SHADER, normalMapVertexShaderSource(), log);
-    const unsigned fs = compile(GL_FRAGMENT_SHADER, normalMapFragmentShaderSource(), log);
-    if (!vs || !fs) {
-        if (vs) glDeleteShader(vs);
-        if (fs) glDeleteShader(fs);
+    program_ = buildGlProgram(normalMapVertexShaderSource(), normalMapFragmentShaderSource(), "normal-map", log);
+    if (!program_) {
         shaderProblem_ = log;
-        return;
-    }
-    program_ = glCreateProgram();
-    glAttachShader(program_, vs);
-    glAttachShader(program_, fs);
-    glLinkProgram(program_);
-    glDeleteShader(vs);
-    glDeleteShader(fs);
-    GLint ok = GL_FALSE;
-    glGetProgramiv(program_, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        GLint length = 0;
-        glGetProgramiv(program_, GL_INFO_LOG_LENGTH, &length);
-        std::string info(static_cast<std::size_t>(length > 0 ? length : 1), '\0');
-        glGetProgramInfoLog(program_, length, nullptr, &info[0]);
-        shaderProblem_ = "normal-map link: " + info;
-        glDeleteProgram(program_);
-        program_ = 0;
         return;
     }
     auto loc = [this](const char* name) { return glGetUniformLocation(program_, name); };

@@ -1,5 +1,7 @@
 #include "radiance_gl_renderer.h"
 
+#include "gl_program.h"
+
 #include "radiance/radiance_evaluation.h"
 #include "radiance/radiance_frame.h"
 #include "radiance/view_colors.h"
@@ -24,25 +26,6 @@ const char* glErrorName(GLenum e) {
         case GL_STACK_UNDERFLOW: return "GL_STACK_UNDERFLOW";
         default: return "unknown";
     }
-}
-
-unsigned compileShader(GLenum type, const std::string& source, std::string& log) {
-    const GLuint shader = glCreateShader(type);
-    const char* text = source.c_str();
-    glShaderSource(shader, 1, &text, nullptr);
-    glCompileShader(shader);
-    GLint ok = GL_FALSE;
-    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        GLint length = 0;
-        glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
-        std::string info(static_cast<std::size_t>(length > 0 ? length : 1), '\0');
-        glGetShaderInfoLog(shader, length, nullptr, &info[0]);
-        log += (type == GL_VERTEX_SHADER ? "vertex shader: " : "fragment shader: ") + info;
-        glDeleteShader(shader);
-        return 0;
-    }
-    return shader;
 }
 
 // Uploads `bytes` into a new buffer object bound to `target` (left unbound afterwards).
@@ -82,40 +65,18 @@ RadianceGlRenderer::RadianceGlRenderer(const GlCapabilities& caps) : caps_(caps)
 
 void RadianceGlRenderer::buildPrograms() {
     auto link = [this](GlShading shading, Program& p) {
-        std::string log;
-        const unsigned vs = compileShader(GL_VERTEX_SHADER, vertexShaderSource(shading), log);
-        const unsigned fs = compileShader(GL_FRAGMENT_SHADER, fragmentShaderSource(shading), log);
-        if (!vs || !fs) {
-            if (vs) glDeleteShader(vs);
-            if (fs) glDeleteShader(fs);
-            shaderProblem_ += log;
-            return;
-        }
-        p.id = glCreateProgram();
-        glAttachShader(p.id, vs);
-        glAttachShader(p.id, fs);
-        glBindAttribLocation(p.id, 1, "aLinear");
-        if (shading == GlShading::PerVertex) {
-            // The per-vertex colours are evaluated once per vertex into a buffer (transform
-            // feedback over GL_POINTS) instead of once per triangle corner: see draw().
-            const char* varyings[] = {"vLinear"};
-            glTransformFeedbackVaryings(p.id, 1, varyings, GL_INTERLEAVED_ATTRIBS);
-        }
-        glLinkProgram(p.id);
-        glDeleteShader(vs);
-        glDeleteShader(fs);
-        GLint ok = GL_FALSE;
-        glGetProgramiv(p.id, GL_LINK_STATUS, &ok);
-        if (!ok) {
-            GLint length = 0;
-            glGetProgramiv(p.id, GL_INFO_LOG_LENGTH, &length);
-            std::string info(static_cast<std::size_t>(length > 0 ? length : 1), '\0');
-            glGetProgramInfoLog(p.id, length, nullptr, &info[0]);
-            shaderProblem_ += "link: " + info;
-            glDeleteProgram(p.id);
-            p.id = 0;
-            return;
-        }
+        p.id = buildGlProgram(vertexShaderSource(shading), fragmentShaderSource(shading), "radiance", shaderProblem_,
+                              [shading](unsigned program) {
+                                  glBindAttribLocation(program, 1, "aLinear");
+                                  if (shading == GlShading::PerVertex) {
+                                      // The per-vertex colours are evaluated once per vertex into a
+                                      // buffer (transform feedback over GL_POINTS) instead of once
+                                      // per triangle corner: see draw().
+                                      const char* varyings[] = {"vLinear"};
+                                      glTransformFeedbackVaryings(program, 1, varyings, GL_INTERLEAVED_ATTRIBS);
+                                  }
+                              });
+        if (!p.id) return;
         p.frames = glGetUniformLocation(p.id, "uFrames");
         p.coefficients = glGetUniformLocation(p.id, "uCoefficients");
         p.faces = glGetUniformLocation(p.id, "uFaces");

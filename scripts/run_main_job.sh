@@ -104,21 +104,7 @@ mkdir -p "$BAKE"
 cat >"$BAKE/simplify_and_bake.mlx" <<MLX
 <!DOCTYPE FilterScript>
 <FilterScript>
- <filter name="Simplification: Quadric Edge Collapse Decimation">
-  <Param type="RichInt" name="TargetFaceNum" value="1508"/>
-  <Param type="RichFloat" name="TargetPerc" value="0"/>
-  <Param type="RichFloat" name="QualityThr" value="0.3"/>
-  <Param type="RichBool" name="PreserveBoundary" value="false"/>
-  <Param type="RichFloat" name="BoundaryWeight" value="1"/>
-  <Param type="RichBool" name="PreserveNormal" value="true"/>
-  <Param type="RichBool" name="PreserveTopology" value="false"/>
-  <Param type="RichBool" name="OptimalPlacement" value="true"/>
-  <Param type="RichBool" name="PlanarQuadric" value="false"/>
-  <Param type="RichFloat" name="PlanarWeight" value="0.001"/>
-  <Param type="RichBool" name="QualityWeight" value="false"/>
-  <Param type="RichBool" name="AutoClean" value="true"/>
-  <Param type="RichBool" name="Selected" value="false"/>
- </filter>
+$(bash "$REPO/scripts/meshlab_decimation_filter.sh" 1508 false)
  <filter name="Re-Compute Vertex Normals">
   <Param type="RichEnum" name="weightMode" value="2" enum_cardinality="4" enum_val0="Simple Average" enum_val1="By Angle" enum_val2="By Area" enum_val3="As defined by N. Max"/>
  </filter>

@@ -17,17 +17,7 @@ scan="$RADIANCE_SOURCE_DIR/data-cache/meshes/armadillo.off"
 {
     echo '<!DOCTYPE FilterScript>'
     echo '<FilterScript>'
-    echo ' <filter name="Simplification: Quadric Edge Collapse Decimation">'
-    for p in 'RichInt" name="TargetFaceNum" value="1000' 'RichFloat" name="TargetPerc" value="0' \
-             'RichFloat" name="QualityThr" value="0.3' 'RichBool" name="PreserveBoundary" value="false' \
-             'RichFloat" name="BoundaryWeight" value="1' 'RichBool" name="PreserveNormal" value="true' \
-             'RichBool" name="PreserveTopology" value="true' 'RichBool" name="OptimalPlacement" value="true' \
-             'RichBool" name="PlanarQuadric" value="false' 'RichFloat" name="PlanarWeight" value="0.001' \
-             'RichBool" name="QualityWeight" value="false' 'RichBool" name="AutoClean" value="true' \
-             'RichBool" name="Selected" value="false'; do
-        echo "  <Param type=\"$p\"/>"
-    done
-    echo ' </filter>'
+    bash "$RADIANCE_SOURCE_DIR/scripts/meshlab_decimation_filter.sh" 1000 true
     echo '</FilterScript>'
 } >"$WORK/simplify.mlx"
 bake_mlx "$WORK/bake.mlx" 0 1024 0 0 true "$WORK/armadillo_normal.png"
