@@ -1,11 +1,10 @@
 #include "normal_map_gl_renderer.h"
 
-#include "gl_program.h"
+#include "gl_helpers.h"
 
 #include <GL/glew.h>
 
 #include <cmath>
-#include <cstdio>
 
 namespace radgl {
 namespace {
@@ -24,11 +23,6 @@ std::string chainProblem(const std::vector<rad::MipImage>& levels, int w, int h,
     }
     if (std::max(levels.back().width, levels.back().height) != 1) return std::string(what) + ": the levels stop before 1 x 1";
     return {};
-}
-
-void deleteTexture(unsigned& id) {
-    if (id) glDeleteTextures(1, &id);
-    id = 0;
 }
 
 }  // namespace
@@ -64,23 +58,15 @@ void NormalMapGlRenderer::buildProgram() {
 }
 
 NormalMapGlRenderer::~NormalMapGlRenderer() {
-    if (vertexBuffer_) glDeleteBuffers(1, &vertexBuffer_);
-    deleteTexture(normalTexture_);
-    deleteTexture(momentTexture_);
+    deleteGlBuffer(vertexBuffer_);
+    deleteGlTexture(normalTexture_);
+    deleteGlTexture(momentTexture_);
     if (program_) glDeleteProgram(program_);
     while (glGetError() != GL_NO_ERROR) {
     }
 }
 
-void NormalMapGlRenderer::checkGl(const char* where) {
-    for (GLenum e = glGetError(); e != GL_NO_ERROR; e = glGetError()) {
-        char buffer[96];
-        std::snprintf(buffer, sizeof buffer, "GL error 0x%x in %s", static_cast<unsigned>(e), where);
-        if (!errors_.empty()) errors_ += "; ";
-        errors_ += buffer;
-        if (e == GL_OUT_OF_MEMORY) break;
-    }
-}
+void NormalMapGlRenderer::checkGl(const char* where) { appendGlErrors(errors_, where); }
 
 std::string NormalMapGlRenderer::takeGlErrors() {
     std::string out;
@@ -160,8 +146,8 @@ std::string NormalMapGlRenderer::setNormalMap(const std::vector<rad::MipImage>& 
     if (pyramid.empty()) return "the normal map has no levels";
     const std::string problem = chainProblem(pyramid, pyramid[0].width, pyramid[0].height, "normal map");
     if (!problem.empty()) return problem;
-    deleteTexture(normalTexture_);
-    deleteTexture(momentTexture_);
+    deleteGlTexture(normalTexture_);
+    deleteGlTexture(momentTexture_);
     normalTexture_ = uploadPyramid(pyramid);
     mapWidth_ = pyramid[0].width;
     mapHeight_ = pyramid[0].height;
@@ -184,7 +170,7 @@ std::string NormalMapGlRenderer::setLeanMoments(const std::vector<rad::MipImage>
     const std::string problem =
         chainProblem(levels1toK, std::max(1, mapWidth_ >> 1), std::max(1, mapHeight_ >> 1), "LEAN moments");
     if (!problem.empty()) return problem;
-    deleteTexture(momentTexture_);
+    deleteGlTexture(momentTexture_);
     momentTexture_ = uploadPyramid(levels1toK);
     checkGl("LEAN moment upload");
     return {};

@@ -1,6 +1,6 @@
 #include "radiance_gl_renderer.h"
 
-#include "gl_program.h"
+#include "gl_helpers.h"
 
 #include "radiance/radiance_evaluation.h"
 #include "radiance/radiance_frame.h"
@@ -9,24 +9,10 @@
 #include <GL/glew.h>
 
 #include <cmath>
-#include <cstdio>
 #include <sstream>
 
 namespace radgl {
 namespace {
-
-const char* glErrorName(GLenum e) {
-    switch (e) {
-        case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
-        case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
-        case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
-        case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
-        case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
-        case GL_STACK_OVERFLOW: return "GL_STACK_OVERFLOW";
-        case GL_STACK_UNDERFLOW: return "GL_STACK_UNDERFLOW";
-        default: return "unknown";
-    }
-}
 
 // Uploads `bytes` into a new buffer object bound to `target` (left unbound afterwards).
 unsigned makeBuffer(GLenum target, const void* data, std::size_t bytes, GLenum usage = GL_STATIC_DRAW) {
@@ -47,14 +33,6 @@ unsigned makeTextureBuffer(unsigned buffer, GLenum format) {
     return tex;
 }
 
-void deleteBuffer(unsigned& id) {
-    if (id) glDeleteBuffers(1, &id);
-    id = 0;
-}
-void deleteTexture(unsigned& id) {
-    if (id) glDeleteTextures(1, &id);
-    id = 0;
-}
 }  // namespace
 
 RadianceGlRenderer::RadianceGlRenderer(const GlCapabilities& caps) : caps_(caps) {
@@ -95,10 +73,10 @@ void RadianceGlRenderer::buildPrograms() {
 
 RadianceGlRenderer::~RadianceGlRenderer() {
     releaseRadiance();
-    deleteBuffer(positionBuffer_);
-    deleteBuffer(indexBuffer_);
-    deleteBuffer(linearColourBuffer_);
-    deleteBuffer(byteColourBuffer_);
+    deleteGlBuffer(positionBuffer_);
+    deleteGlBuffer(indexBuffer_);
+    deleteGlBuffer(linearColourBuffer_);
+    deleteGlBuffer(byteColourBuffer_);
     for (Program* p : {&perVertex_, &perFragment_, &vertexColours_})
         if (p->id) glDeleteProgram(p->id);
     while (glGetError() != GL_NO_ERROR) {
@@ -106,12 +84,12 @@ RadianceGlRenderer::~RadianceGlRenderer() {
 }
 
 void RadianceGlRenderer::releaseRadiance() {
-    deleteTexture(frameTexture_);
-    deleteTexture(coefficientTexture_);
-    deleteTexture(faceTexture_);
-    deleteBuffer(frameBuffer_);
-    deleteBuffer(coefficientBuffer_);
-    deleteBuffer(feedbackBuffer_);
+    deleteGlTexture(frameTexture_);
+    deleteGlTexture(coefficientTexture_);
+    deleteGlTexture(faceTexture_);
+    deleteGlBuffer(frameBuffer_);
+    deleteGlBuffer(coefficientBuffer_);
+    deleteGlBuffer(feedbackBuffer_);
     feedbackValid_ = false;
     gpuRadiance_ = false;
     radianceVertexCount_ = 0;
@@ -119,15 +97,7 @@ void RadianceGlRenderer::releaseRadiance() {
     if (byteContent_ == ByteContent::CpuRadiance) byteContent_ = ByteContent::None;
 }
 
-void RadianceGlRenderer::checkGl(const char* where) {
-    for (GLenum e = glGetError(); e != GL_NO_ERROR; e = glGetError()) {
-        char buffer[128];
-        std::snprintf(buffer, sizeof buffer, "GL error 0x%x (%s) in %s", static_cast<unsigned>(e), glErrorName(e), where);
-        if (!errors_.empty()) errors_ += "; ";
-        errors_ += buffer;
-        if (e == GL_OUT_OF_MEMORY) break;  // glGetError may keep returning it
-    }
-}
+void RadianceGlRenderer::checkGl(const char* where) { appendGlErrors(errors_, where); }
 
 std::string RadianceGlRenderer::takeGlErrors() {
     std::string out;
@@ -141,10 +111,10 @@ void RadianceGlRenderer::setMesh(const float* positions, std::size_t vertexCount
     for (std::size_t i = 0; i < 3 * faceCount; ++i)
         if (faces[i] >= vertexCount) throw GlRendererError("a face refers to a vertex that does not exist");
     releaseRadiance();
-    deleteBuffer(positionBuffer_);
-    deleteBuffer(indexBuffer_);
-    deleteBuffer(linearColourBuffer_);
-    deleteBuffer(byteColourBuffer_);
+    deleteGlBuffer(positionBuffer_);
+    deleteGlBuffer(indexBuffer_);
+    deleteGlBuffer(linearColourBuffer_);
+    deleteGlBuffer(byteColourBuffer_);
     linearColours_.clear();
     hasVertexColours_ = false;
     byteContent_ = ByteContent::None;

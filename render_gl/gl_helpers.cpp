@@ -1,9 +1,24 @@
-#include "gl_program.h"
+#include "gl_helpers.h"
+
+#include <cstdio>
 
 #include <GL/glew.h>
 
 namespace radgl {
 namespace {
+
+const char* glErrorName(GLenum e) {
+    switch (e) {
+        case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
+        case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
+        case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
+        case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
+        case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
+        case GL_STACK_OVERFLOW: return "GL_STACK_OVERFLOW";
+        case GL_STACK_UNDERFLOW: return "GL_STACK_UNDERFLOW";
+        default: return "unknown";
+    }
+}
 
 unsigned compileShader(GLenum type, const std::string& source, const std::string& label, std::string& log) {
     const GLuint shader = glCreateShader(type);
@@ -54,6 +69,26 @@ unsigned buildGlProgram(const std::string& vertexSource, const std::string& frag
         return 0;
     }
     return program;
+}
+
+void appendGlErrors(std::string& errors, const char* where) {
+    for (GLenum e = glGetError(); e != GL_NO_ERROR; e = glGetError()) {
+        char buffer[128];
+        std::snprintf(buffer, sizeof buffer, "GL error 0x%x (%s) in %s", static_cast<unsigned>(e), glErrorName(e), where);
+        if (!errors.empty()) errors += "; ";
+        errors += buffer;
+        if (e == GL_OUT_OF_MEMORY) break;  // glGetError may keep returning it
+    }
+}
+
+void deleteGlBuffer(unsigned& id) {
+    if (id) glDeleteBuffers(1, &id);
+    id = 0;
+}
+
+void deleteGlTexture(unsigned& id) {
+    if (id) glDeleteTextures(1, &id);
+    id = 0;
 }
 
 }  // namespace radgl
