@@ -114,6 +114,32 @@ bool closestPointCallback(RTCPointQueryFunctionArguments* arguments) {
     return true;
 }
 
+// Copies `rays` into Embree's packet layout and sets the valid lanes: those in activeMask whose
+// interval is not empty or NaN (the rule of occluded(): such an interval holds nothing, and Embree
+// would leave its tfar as given, read as a hit when tFar = -inf). Returns the mask of valid lanes.
+std::uint32_t fillRayPacket(const RayPacket16& rays, std::uint32_t activeMask, RTCRay16& packet, int valid[16]) {
+    static_assert(RayPacket16::kSize == 16, "one RTCRay16 per packet");
+    std::uint32_t live = 0;
+    for (int i = 0; i < 16; ++i) {
+        const bool on = ((activeMask >> i) & 1u) && rays.tNear[i] <= rays.tFar[i];
+        valid[i] = on ? -1 : 0;
+        live |= std::uint32_t(on) << i;
+        packet.org_x[i] = rays.originX[i];
+        packet.org_y[i] = rays.originY[i];
+        packet.org_z[i] = rays.originZ[i];
+        packet.tnear[i] = rays.tNear[i];
+        packet.dir_x[i] = rays.directionX[i];
+        packet.dir_y[i] = rays.directionY[i];
+        packet.dir_z[i] = rays.directionZ[i];
+        packet.time[i] = 0.0f;
+        packet.tfar[i] = rays.tFar[i];
+        packet.mask[i] = std::numeric_limits<unsigned>::max();
+        packet.id[i] = static_cast<unsigned>(i);
+        packet.flags[i] = 0;
+    }
+    return live;
+}
+
 }  // namespace
 
 RayScene::RayScene(const float* positions, std::size_t vertexCount, const std::uint32_t* faces, std::size_t faceCount)
@@ -222,29 +248,9 @@ ClosestPoint RayScene::closestPoint(const Eigen::Vector3f& query, float maxDista
 }
 
 std::uint32_t RayScene::occluded16(const RayPacket16& rays, std::uint32_t activeMask) const {
-    static_assert(RayPacket16::kSize == 16, "one RTCRay16 per packet");
     alignas(64) int valid[16];
     RTCRay16 packet;  // RTC_ALIGN(64) in rtcore_ray.h, as rtcOccluded16 requires
-    std::uint32_t live = 0;
-    for (int i = 0; i < 16; ++i) {
-        // Same rule as occluded(): an empty or NaN interval holds nothing (and Embree would leave
-        // its tfar as given, read below as a hit when tFar = -inf).
-        const bool on = ((activeMask >> i) & 1u) && rays.tNear[i] <= rays.tFar[i];
-        valid[i] = on ? -1 : 0;
-        live |= std::uint32_t(on) << i;
-        packet.org_x[i] = rays.originX[i];
-        packet.org_y[i] = rays.originY[i];
-        packet.org_z[i] = rays.originZ[i];
-        packet.tnear[i] = rays.tNear[i];
-        packet.dir_x[i] = rays.directionX[i];
-        packet.dir_y[i] = rays.directionY[i];
-        packet.dir_z[i] = rays.directionZ[i];
-        packet.time[i] = 0.0f;
-        packet.tfar[i] = rays.tFar[i];
-        packet.mask[i] = std::numeric_limits<unsigned>::max();
-        packet.id[i] = static_cast<unsigned>(i);
-        packet.flags[i] = 0;
-    }
+    const std::uint32_t live = fillRayPacket(rays, activeMask, packet, valid);
     if (live == 0) return 0;
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
@@ -258,25 +264,9 @@ std::uint32_t RayScene::occluded16(const RayPacket16& rays, std::uint32_t active
 void RayScene::intersect16(const RayPacket16& rays, std::uint32_t activeMask, RayHit hits[RayPacket16::kSize]) const {
     alignas(64) int valid[16];
     RTCRayHit16 packet;  // RTC_ALIGN(64) in rtcore_ray.h, as rtcIntersect16 requires
-    std::uint32_t live = 0;
+    const std::uint32_t live = fillRayPacket(rays, activeMask, packet.ray, valid);
     for (int i = 0; i < 16; ++i) {
         hits[i] = RayHit();
-        // As in occluded16: an empty or NaN interval is never queried.
-        const bool on = ((activeMask >> i) & 1u) && rays.tNear[i] <= rays.tFar[i];
-        valid[i] = on ? -1 : 0;
-        live |= std::uint32_t(on) << i;
-        packet.ray.org_x[i] = rays.originX[i];
-        packet.ray.org_y[i] = rays.originY[i];
-        packet.ray.org_z[i] = rays.originZ[i];
-        packet.ray.tnear[i] = rays.tNear[i];
-        packet.ray.dir_x[i] = rays.directionX[i];
-        packet.ray.dir_y[i] = rays.directionY[i];
-        packet.ray.dir_z[i] = rays.directionZ[i];
-        packet.ray.time[i] = 0.0f;
-        packet.ray.tfar[i] = rays.tFar[i];
-        packet.ray.mask[i] = std::numeric_limits<unsigned>::max();
-        packet.ray.id[i] = static_cast<unsigned>(i);
-        packet.ray.flags[i] = 0;
         packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
         packet.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
     }

@@ -210,35 +210,44 @@ TEST(RayScene, ConcurrentQueriesMatchSerialOnes) {
     EXPECT_LT(hits, n);
 }
 
+namespace {
+// Packet p of the random packet tests: 16 random rays about the unit sphere, inside and outside it,
+// some ending before the surface, a few with empty intervals; inactive lanes sometimes hold NaN
+// (must be ignored). Returns the active mask: full, empty, single lanes, then random (bits above
+// 15 set too: they must be ignored).
+std::uint32_t randomPacket(std::mt19937& rng, int p, rad::RayPacket16& packet) {
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    std::uniform_int_distribution<std::uint32_t> bits(0, 0xffffffffu);
+    const std::uint32_t mask = p == 0 ? 0xffffu : p == 1 ? 0u : p < 18 ? 1u << (p - 2) : bits(rng);
+    for (int i = 0; i < 16; ++i) {
+        const Eigen::Vector3f o = (radtest::randomUnit(rng) * (0.3 + 2.0 * unit(rng))).cast<float>();
+        const Eigen::Vector3f d = radtest::randomUnit(rng).cast<float>();
+        const float tNear = unit(rng) < 0.5f ? 0.0f : 0.5f * unit(rng);
+        const float tFar = unit(rng) < 0.1f ? tNear - 0.1f : unit(rng) < 0.5f ? kInf : 3.0f * unit(rng);
+        packet.originX[i] = o.x();
+        packet.originY[i] = o.y();
+        packet.originZ[i] = o.z();
+        packet.directionX[i] = d.x();
+        packet.directionY[i] = d.y();
+        packet.directionZ[i] = d.z();
+        packet.tNear[i] = tNear;
+        packet.tFar[i] = tFar;
+        if (!((mask >> i) & 1u) && unit(rng) < 0.5f) packet.originX[i] = std::nanf("");
+    }
+    return mask;
+}
+}  // namespace
+
 // Random rays on an icosphere, 16 per packet under random active masks: every active lane gets
 // the single-ray answer, every inactive lane 0, whatever garbage it holds.
 TEST(RayScene, PacketQueryAgreesWithSingleRaysUnderRandomMasks) {
     const rad::TriangleMesh mesh = rad::makeIcosphere(3, 1.0f);
     const rad::RayScene scene(mesh.positions.data(), mesh.vertexCount(), mesh.faces.data(), mesh.faceCount());
     std::mt19937 rng(77);
-    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-    std::uniform_int_distribution<std::uint32_t> bits(0, 0xffffffffu);
     int occludedLanes = 0, activeLanes = 0;
     for (int p = 0; p < 400; ++p) {
         rad::RayPacket16 packet;
-        // Masks: full, empty, single lanes, random (bits above 15 set too: they must be ignored).
-        const std::uint32_t mask = p == 0 ? 0xffffu : p == 1 ? 0u : p < 18 ? 1u << (p - 2) : bits(rng);
-        for (int i = 0; i < 16; ++i) {
-            // Inside and outside the sphere; some rays end before the surface; a few empty intervals.
-            const Eigen::Vector3f o = (radtest::randomUnit(rng) * (0.3 + 2.0 * unit(rng))).cast<float>();
-            const Eigen::Vector3f d = radtest::randomUnit(rng).cast<float>();
-            const float tNear = unit(rng) < 0.5f ? 0.0f : 0.5f * unit(rng);
-            const float tFar = unit(rng) < 0.1f ? tNear - 0.1f : unit(rng) < 0.5f ? kInf : 3.0f * unit(rng);
-            packet.originX[i] = o.x();
-            packet.originY[i] = o.y();
-            packet.originZ[i] = o.z();
-            packet.directionX[i] = d.x();
-            packet.directionY[i] = d.y();
-            packet.directionZ[i] = d.z();
-            packet.tNear[i] = tNear;
-            packet.tFar[i] = tFar;
-            if (!((mask >> i) & 1u) && unit(rng) < 0.5f) packet.originX[i] = std::nanf("");  // ignored
-        }
+        const std::uint32_t mask = randomPacket(rng, p, packet);
         const std::uint32_t result = scene.occluded16(packet, mask);
         for (int i = 0; i < 16; ++i) {
             const bool active = (mask >> i) & 1u;
@@ -265,27 +274,10 @@ TEST(RayScene, PacketIntersectAgreesWithSingleRaysUnderRandomMasks) {
     const rad::TriangleMesh mesh = rad::makeIcosphere(3, 1.0f);
     const rad::RayScene scene(mesh.positions.data(), mesh.vertexCount(), mesh.faces.data(), mesh.faceCount());
     std::mt19937 rng(78);
-    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-    std::uniform_int_distribution<std::uint32_t> bits(0, 0xffffffffu);
     int hitLanes = 0, activeLanes = 0;
     for (int p = 0; p < 400; ++p) {
         rad::RayPacket16 packet;
-        const std::uint32_t mask = p == 0 ? 0xffffu : p == 1 ? 0u : p < 18 ? 1u << (p - 2) : bits(rng);
-        for (int i = 0; i < 16; ++i) {
-            const Eigen::Vector3f o = (radtest::randomUnit(rng) * (0.3 + 2.0 * unit(rng))).cast<float>();
-            const Eigen::Vector3f d = radtest::randomUnit(rng).cast<float>();
-            const float tNear = unit(rng) < 0.5f ? 0.0f : 0.5f * unit(rng);
-            const float tFar = unit(rng) < 0.1f ? tNear - 0.1f : unit(rng) < 0.5f ? kInf : 3.0f * unit(rng);
-            packet.originX[i] = o.x();
-            packet.originY[i] = o.y();
-            packet.originZ[i] = o.z();
-            packet.directionX[i] = d.x();
-            packet.directionY[i] = d.y();
-            packet.directionZ[i] = d.z();
-            packet.tNear[i] = tNear;
-            packet.tFar[i] = tFar;
-            if (!((mask >> i) & 1u) && unit(rng) < 0.5f) packet.originX[i] = std::nanf("");  // ignored
-        }
+        const std::uint32_t mask = randomPacket(rng, p, packet);
         rad::RayHit hits[16];
         scene.intersect16(packet, mask, hits);
         for (int i = 0; i < 16; ++i) {
@@ -339,6 +331,7 @@ TEST(RayScene, PacketQueryOnTheHandMadeScene) {
     const rad::RayScene nothing(nullptr, 0, nullptr, 0);
     EXPECT_EQ(nothing.occluded16(packet, 0xffffu), 0u);
 }
+
 
 }  // namespace
 
