@@ -11,62 +11,27 @@ usage: check_baked_maps.py complete NORMAL_PNG      every texel decodes to a uni
                                                      meets the unit sphere. Mean angle <= bound.
 """
 import math
-import struct
+import os
 import sys
-import zlib
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import png_reader  # noqa: E402
 
 
 def read_png(path):
-    data = open(path, "rb").read()
-    if data[:8] != b"\x89PNG\r\n\x1a\n":
-        raise SystemExit(f"{path}: not a PNG")
-    pos, idat, header = 8, b"", None
-    while pos < len(data):
-        length, kind = struct.unpack(">I4s", data[pos:pos + 8])
-        chunk = data[pos + 8:pos + 8 + length]
-        if kind == b"IHDR":
-            header = struct.unpack(">IIBBBBB", chunk)
-        elif kind == b"IDAT":
-            idat += chunk
-        pos += 12 + length
-    width, height, depth, color_type, _, _, interlace = header
-    if color_type != 2 or interlace != 0 or depth not in (8, 16):
-        raise SystemExit(f"{path}: expected non-interlaced 8/16-bit RGB, got type {color_type} depth {depth}")
-    raw = zlib.decompress(idat)
-    bpp = 3 * depth // 8
-    stride = width * bpp
-    rows, previous, pos = [], bytearray(stride), 0
-    for _ in range(height):
-        kind = raw[pos]
-        line = bytearray(raw[pos + 1:pos + 1 + stride])
-        pos += 1 + stride
-        for i in range(stride):
-            a = line[i - bpp] if i >= bpp else 0
-            b = previous[i]
-            c = previous[i - bpp] if i >= bpp else 0
-            if kind == 1:
-                line[i] = (line[i] + a) & 255
-            elif kind == 2:
-                line[i] = (line[i] + b) & 255
-            elif kind == 3:
-                line[i] = (line[i] + (a + b) // 2) & 255
-            elif kind == 4:
-                p = a + b - c
-                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-        rows.append(bytes(line))
-        previous = line
-    top = 65535.0 if depth == 16 else 255.0
+    """RGB normal map -> (width, height, texel(column, row) decoded to [-1, 1]^3)."""
+    try:
+        png = png_reader.read_png(path)
+    except png_reader.PngError as error:
+        raise SystemExit(str(error))
+    if png.channels != 3:
+        raise SystemExit(f"{path}: expected RGB, got {png.channels} channels")
+    top = 65535.0 if png.depth == 16 else 255.0
 
     def texel(column, row):
-        line = rows[row]
-        if depth == 16:
-            values = struct.unpack_from(">3H", line, 6 * column)
-        else:
-            values = line[3 * column:3 * column + 3]
-        return [2.0 * v / top - 1.0 for v in values]
+        return [2.0 * png.sample(column, row, k) / top - 1.0 for k in range(3)]
 
-    return width, height, texel
+    return png.width, png.height, texel
 
 
 def read_obj(path):

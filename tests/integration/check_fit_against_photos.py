@@ -14,13 +14,12 @@ frame, ordered by total degree then by j). Meant for convex scenes (no occlusion
 """
 import math
 import os
-import struct
 import sys
 import xml.etree.ElementTree as ET
-import zlib
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import ply_reader  # noqa: E402
+import png_reader  # noqa: E402
 
 
 def fail(message):
@@ -29,50 +28,15 @@ def fail(message):
 
 
 def read_png_rgb(path):
-    """8-bit RGB / RGBA, non-interlaced PNG -> (width, height, rows of [r, g, b, ...])."""
-    with open(path, "rb") as f:
-        blob = f.read()
-    if blob[:8] != b"\x89PNG\r\n\x1a\n":
-        fail(f"{path} is not a PNG file")
-    pos, idat, header = 8, b"", None
-    while pos < len(blob):
-        length, kind = struct.unpack(">I4s", blob[pos:pos + 8])
-        data = blob[pos + 8:pos + 8 + length]
-        pos += 12 + length
-        if kind == b"IHDR":
-            header = struct.unpack(">IIBBBBB", data)
-        elif kind == b"IDAT":
-            idat += data
-        elif kind == b"IEND":
-            break
-    width, height, depth, colour, _, _, interlace = header
-    if depth != 8 or colour not in (2, 6) or interlace != 0:
-        fail(f"{path}: unsupported PNG (depth {depth}, colour type {colour}, interlace {interlace})")
-    channels = 3 if colour == 2 else 4
-    raw = zlib.decompress(idat)
-    stride = width * channels
-    rows, previous, pos = [], bytearray(stride), 0
-    for _ in range(height):
-        kind = raw[pos]
-        line = bytearray(raw[pos + 1:pos + 1 + stride])
-        pos += 1 + stride
-        for i in range(stride):
-            a = line[i - channels] if i >= channels else 0
-            b = previous[i]
-            c = previous[i - channels] if i >= channels else 0
-            if kind == 1:
-                line[i] = (line[i] + a) & 255
-            elif kind == 2:
-                line[i] = (line[i] + b) & 255
-            elif kind == 3:
-                line[i] = (line[i] + (a + b) // 2) & 255
-            elif kind == 4:
-                p = a + b - c
-                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-        rows.append([line[x * channels + k] for x in range(width) for k in range(3)])
-        previous = line
-    return width, height, rows
+    """8-bit RGB / RGBA PNG -> (width, height, rows of [r, g, b, ...])."""
+    try:
+        png = png_reader.read_png(path)
+    except png_reader.PngError as error:
+        fail(str(error))
+    if png.depth != 8:
+        fail(f"{path}: unsupported PNG (depth {png.depth})")
+    rows = [[row[x * png.channels + k] for x in range(png.width) for k in range(3)] for row in png.rows]
+    return png.width, png.height, rows
 
 
 def srgb_decode(code):
