@@ -43,19 +43,7 @@ ours() {
     cat >"$dir/$name.mlx" <<MLX
 <!DOCTYPE FilterScript>
 <FilterScript>
- <filter name="Bake Normal Map">
-  <Param type="RichMesh" name="sourceMesh" value="0"/>
-  <Param type="RichInt" name="textureSize" value="$size"/>
-  <Param type="RichEnum" name="space" value="0" enum_cardinality="2" enum_val0="Object space" enum_val1="Tangent space"/>
-  <Param type="RichEnum" name="bits" value="$bits" enum_cardinality="2" enum_val0="16 bit" enum_val1="8 bit"/>
-  <Param type="RichAbsPerc" name="maxDistance" value="0" min="0" max="1000000"/>
-  <Param type="RichInt" name="gutter" value="4"/>
-  <Param type="RichBool" name="newAtlas" value="false"/>
-  <Param type="RichBool" name="diffuse" value="false"/>
-  <Param type="RichBool" name="lean" value="true"/>
-  <Param type="RichEnum" name="assign" value="0" enum_cardinality="2" enum_val0="Normal map" enum_val1="Diffuse map"/>
-  <Param type="RichString" name="outputFile" value="$dir/$name/baked_normal.png"/>
- </filter>
+$(bash "$REPO/scripts/bake_normal_map_filter.sh" 0 "$size" 0 "$bits" false false "$dir/$name/baked_normal.png")
 </FilterScript>
 MLX
     mkdir -p "$dir/$name"

@@ -40,21 +40,7 @@ timed "$BUILD_DIR/tools/simplify_radiance" "$MESH" -o "$WORK/ours_geometry" --ra
 cat >"$WORK/meshlab_qem.mlx" <<MLX
 <!DOCTYPE FilterScript>
 <FilterScript>
- <filter name="Simplification: Quadric Edge Collapse Decimation">
-  <Param type="RichInt" name="TargetFaceNum" value="$TARGET"/>
-  <Param type="RichFloat" name="TargetPerc" value="0"/>
-  <Param type="RichFloat" name="QualityThr" value="0.3"/>
-  <Param type="RichBool" name="PreserveBoundary" value="false"/>
-  <Param type="RichFloat" name="BoundaryWeight" value="1"/>
-  <Param type="RichBool" name="PreserveNormal" value="false"/>
-  <Param type="RichBool" name="PreserveTopology" value="false"/>
-  <Param type="RichBool" name="OptimalPlacement" value="true"/>
-  <Param type="RichBool" name="PlanarQuadric" value="false"/>
-  <Param type="RichFloat" name="PlanarWeight" value="0.001"/>
-  <Param type="RichBool" name="QualityWeight" value="false"/>
-  <Param type="RichBool" name="AutoClean" value="true"/>
-  <Param type="RichBool" name="Selected" value="false"/>
- </filter>
+$(bash "$REPO/scripts/meshlab_decimation_filter.sh" "$TARGET" false false)
 </FilterScript>
 MLX
 echo "== (b) meshlabserver: load + save only"

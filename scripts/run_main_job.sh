@@ -108,19 +108,7 @@ $(bash "$REPO/scripts/meshlab_decimation_filter.sh" 1508 false)
  <filter name="Re-Compute Vertex Normals">
   <Param type="RichEnum" name="weightMode" value="2" enum_cardinality="4" enum_val0="Simple Average" enum_val1="By Angle" enum_val2="By Area" enum_val3="As defined by N. Max"/>
  </filter>
- <filter name="Bake Normal Map">
-  <Param type="RichMesh" name="sourceMesh" value="0"/>
-  <Param type="RichInt" name="textureSize" value="2048"/>
-  <Param type="RichEnum" name="space" value="0" enum_cardinality="2" enum_val0="Object space" enum_val1="Tangent space"/>
-  <Param type="RichEnum" name="bits" value="0" enum_cardinality="2" enum_val0="16 bit" enum_val1="8 bit"/>
-  <Param type="RichAbsPerc" name="maxDistance" value="0" min="0" max="1000"/>
-  <Param type="RichInt" name="gutter" value="4"/>
-  <Param type="RichBool" name="newAtlas" value="true"/>
-  <Param type="RichBool" name="diffuse" value="true"/>
-  <Param type="RichBool" name="lean" value="true"/>
-  <Param type="RichEnum" name="assign" value="0" enum_cardinality="2" enum_val0="Normal map" enum_val1="Diffuse map"/>
-  <Param type="RichString" name="outputFile" value="$BAKE/bunny_2pct_normal.png"/>
- </filter>
+$(bash "$REPO/scripts/bake_normal_map_filter.sh" 0 2048 0 0 true true "$BAKE/bunny_2pct_normal.png")
 </FilterScript>
 MLX
 server -i "$OUT_DIR/bunny_radiance.rply" -i "$OUT_DIR/bunny_radiance.rply" -s "$BAKE/simplify_and_bake.mlx" \

@@ -10,7 +10,6 @@
 #   - the three pictures are not MeshLab's own rendering (decoration drawn).
 source "$(dirname "$0")/../integration/lib.sh"
 source "$(dirname "$0")/gui_lib.sh"
-source "$(dirname "$0")/../integration/bake_mlx.sh"
 scan="$RADIANCE_SOURCE_DIR/data-cache/meshes/armadillo.off"
 [ -s "$scan" ] || fail "no $scan (scripts/setup.sh fetches it)"
 
@@ -18,16 +17,9 @@ scan="$RADIANCE_SOURCE_DIR/data-cache/meshes/armadillo.off"
     echo '<!DOCTYPE FilterScript>'
     echo '<FilterScript>'
     bash "$RADIANCE_SOURCE_DIR/scripts/meshlab_decimation_filter.sh" 1000 true
+    bash "$RADIANCE_SOURCE_DIR/scripts/bake_normal_map_filter.sh" 0 1024 0 0 true true "$WORK/armadillo_normal.png"
     echo '</FilterScript>'
 } >"$WORK/simplify.mlx"
-bake_mlx "$WORK/bake.mlx" 0 1024 0 0 true "$WORK/armadillo_normal.png"
-# Keep only the <filter> of the bake script and append it to the simplification script.
-python3 - "$WORK/simplify.mlx" "$WORK/bake.mlx" <<'PY'
-import sys
-simplify, bake = open(sys.argv[1]).read(), open(sys.argv[2]).read()
-body = bake[bake.index(" <filter"):bake.index("</FilterScript>")]
-open(sys.argv[1], "w").write(simplify.replace("</FilterScript>", body + "</FilterScript>"))
-PY
 run_meshlabserver "$WORK/prepare.log" -i "$scan" -i "$scan" -s "$WORK/simplify.mlx" -o "$WORK/armadillo_baked.ply" -m wt vn \
     || { cat "$WORK/prepare.log" >&2; fail "simplification + bake failed"; }
 [ -s "$WORK/armadillo_normal.png" ] && [ -s "$WORK/armadillo_lean.exr" ] || fail "the bake wrote no map"
