@@ -561,19 +561,11 @@ bool DecorateRadiancePlugin::startNormalMap(MeshModel& m, const RichParameterLis
         };
         int width = 0, height = 0;
         const std::vector<float> normals = rad::readNormalMap(beside(view->description.normalMap), width, height);
-        // Wedge coordinates in the order exportPlainMesh writes the faces (live faces only).
         radml::ExportChoice choice;
         choice.colors = choice.quality = choice.radiance = choice.transfer = false;
         rad::RadianceMesh plain;
         if (!radml::exportPlainMesh(m.cm, choice, plain, why)) return refuse(why);
-        std::vector<float> wedgeUv;
-        wedgeUv.reserve(6 * plain.faceCount());
-        for (const CFaceO& f : m.cm.face)
-            if (!f.IsD())
-                for (int k = 0; k < 3; ++k) {
-                    wedgeUv.push_back(f.cWT(k).U());
-                    wedgeUv.push_back(f.cWT(k).V());
-                }
+        const std::vector<float> wedgeUv = radml::exportWedgeTexCoords(m.cm);
         view->renderer = std::make_unique<radgl::NormalMapGlRenderer>(caps);
         std::string problem = view->renderer->setMesh(plain.positions.data(), plain.normals.data(),
                                                       plain.vertexCount(), plain.faces.data(), plain.faceCount(),

@@ -38,18 +38,9 @@ MeshModel* defaultSource(MeshDocument& md) {
 // empty when the layer has none (or all are zero, as MeshLab leaves them when it enables the
 // attribute without a parametrisation).
 std::vector<float> wedgeCoordinates(MeshModel& m) {
-    std::vector<float> uv;
-    if (!m.hasDataMask(MeshModel::MM_WEDGTEXCOORD)) return uv;
-    bool anyNonZero = false;
-    for (const CFaceO& f : m.cm.face) {
-        if (f.IsD()) continue;
-        for (int k = 0; k < 3; ++k) {
-            uv.push_back(f.cWT(k).U());
-            uv.push_back(f.cWT(k).V());
-            anyNonZero = anyNonZero || f.cWT(k).U() != 0.0f || f.cWT(k).V() != 0.0f;
-        }
-    }
-    if (!anyNonZero) uv.clear();
+    if (!m.hasDataMask(MeshModel::MM_WEDGTEXCOORD)) return {};
+    std::vector<float> uv = radml::exportWedgeTexCoords(m.cm);
+    if (std::all_of(uv.begin(), uv.end(), [](float c) { return c == 0.0f; })) uv.clear();
     return uv;
 }
 

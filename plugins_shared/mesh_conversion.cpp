@@ -92,4 +92,17 @@ int importPlainMesh(const rad::RadianceMesh& in, CMeshO& mesh, std::string* warn
     return mask;
 }
 
+std::vector<float> exportWedgeTexCoords(const CMeshO& mesh) {
+    std::vector<float> uv;
+    uv.reserve(6 * std::size_t(mesh.fn));
+    for (const CFaceO& f : mesh.face) {
+        if (f.IsD()) continue;
+        for (int k = 0; k < 3; ++k) {
+            uv.push_back(f.cWT(k).U());
+            uv.push_back(f.cWT(k).V());
+        }
+    }
+    return uv;
+}
+
 }  // namespace radml

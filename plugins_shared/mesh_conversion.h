@@ -6,6 +6,7 @@
 #include <common/ml_mesh_type.h>
 
 #include <string>
+#include <vector>
 
 namespace radml {
 
@@ -20,6 +21,10 @@ struct ExportChoice {
 // Copies the live vertices/faces of `mesh` (deleted elements skipped, indices compacted) into `out`.
 // Returns false with `why` when the radiance data is requested but inconsistent with the mesh.
 bool exportPlainMesh(CMeshO& mesh, const ExportChoice& choice, rad::RadianceMesh& out, std::string& why);
+
+// The wedge texture coordinates (u, v) of the live faces, 6 floats per face, in the face order of
+// exportPlainMesh. The caller checks that the mesh has them (MeshModel::MM_WEDGTEXCOORD).
+std::vector<float> exportWedgeTexCoords(const CMeshO& mesh);
 
 // Replaces the content of `mesh` with `in` (positions, normals, colours, quality, faces, radiance,
 // the PRT transfer block "prt"). Returns the vcg::tri::io::Mask bits describing what was loaded.
