@@ -5,6 +5,7 @@
 // Blinn-Phong ground truth than the mip-mapped normal map; up close LEAN equals the normal map;
 // refusals, GL state restored, no GL error.
 #include "normal_map_gl_renderer.h"
+#include "gl_test_context.h"
 #include "offscreen_gl.h"
 
 #include "bake/lean_maps.h"
@@ -22,18 +23,11 @@ namespace {
 
 using radgl::NormalMapShading;
 
-constexpr int kWidth = 160, kHeight = 120;
+using gltest::capabilities;
+using gltest::gl;
+using gltest::kHeight;
+using gltest::kWidth;
 const double kPi = 3.14159265358979323846;
-
-radgl::OffscreenGl& gl() {
-    static radgl::OffscreenGl context(kWidth, kHeight);
-    return context;
-}
-
-radgl::GlCapabilities capabilities() {
-    gl();
-    return radgl::queryGlCapabilities();
-}
 
 // The unit quad [-0.5, 0.5]^2 at z = 0, facing +z, two faces; UVs given per corner (x, y) -> (u, v).
 struct Quad {

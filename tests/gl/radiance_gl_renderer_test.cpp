@@ -3,6 +3,7 @@
 // OpenGL context (Mesa under Xvfb in CI): every basis kind and a range of degrees, plain and
 // reflected storage, per-vertex and per-fragment (eq. 8) shading, the tone mapping, the CPU
 // fallback of an old GL, vertex colours (PRT), no GL error, GL state restored.
+#include "gl_test_context.h"
 #include "offscreen_gl.h"
 #include "radiance_gl_renderer.h"
 
@@ -23,18 +24,10 @@ namespace {
 
 using radgl::GlShading;
 
-constexpr int kWidth = 160, kHeight = 120;
-
-radgl::OffscreenGl& gl() {
-    static radgl::OffscreenGl context(kWidth, kHeight);
-    return context;
-}
-
-// The capabilities of the test's context (created on first use).
-radgl::GlCapabilities capabilities() {
-    gl();
-    return radgl::queryGlCapabilities();
-}
+using gltest::capabilities;
+using gltest::gl;
+using gltest::kHeight;
+using gltest::kWidth;
 
 rad::PinholeCamera testCamera() {
     return rad::PinholeCamera::lookAt({0.4, 0.5, 3.0}, {0.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, 45.0, kWidth, kHeight);
