@@ -6,8 +6,8 @@
 # Inputs (cache):  MESHLAB_SOURCE_DIR  the extracted source tree (contains src/common/interfaces.h)
 #                  MESHLAB_LIB_DIR     directory holding libmeshlab-common.so
 # Outputs:         MeshLab_FOUND, imported target MeshLab::common, MESHLAB_PLUGIN_DIR,
-#                  MESHLAB_VCGLIB_DIR, MESHLAB_BINARY (meshlab), MESHLABSERVER_BINARY,
-#                  function add_meshlab_plugin(<name> SOURCES ...).
+#                  MESHLAB_VCGLIB_DIR, MESHLAB_BINARY (meshlab), MESHLABSERVER_BINARY.
+# The plugins are declared with add_meshlab_plugin (MeshLabPlugins.cmake).
 
 set(_meshlab_howto
   "Run scripts/setup.sh from the repository root: it installs the 'meshlab' package and the build "
@@ -77,17 +77,3 @@ target_link_libraries(MeshLab::common INTERFACE Qt5::Core Qt5::Gui Qt5::Widgets 
 set(MeshLab_FOUND TRUE)
 message(STATUS "MeshLab SDK: sources ${MESHLAB_SOURCE_DIR}, library ${MESHLAB_COMMON_LIBRARY}")
 
-set_property(GLOBAL PROPERTY RADIANCE_MESHLAB_PLUGINS "")
-
-# add_meshlab_plugin(<name> SOURCES a.cpp b.h ...): a Qt plugin (CMake MODULE) named lib<name>.so,
-# linked with --no-undefined so that a missing symbol fails the build rather than MeshLab's loader.
-function(add_meshlab_plugin name)
-  cmake_parse_arguments(ARG "" "" "SOURCES;LIBRARIES" ${ARGN})
-  add_library(${name} MODULE ${ARG_SOURCES})
-  set_target_properties(${name} PROPERTIES AUTOMOC ON PREFIX "lib")
-  target_link_libraries(${name} PRIVATE MeshLab::common ${ARG_LIBRARIES})
-  target_link_options(${name} PRIVATE -Wl,--no-undefined)
-  target_compile_options(${name} PRIVATE -Wall -Wextra -Wno-unused-parameter)
-  install(TARGETS ${name} LIBRARY DESTINATION "${MESHLAB_PLUGIN_DIR}")
-  set_property(GLOBAL APPEND PROPERTY RADIANCE_MESHLAB_PLUGINS ${name})
-endfunction()

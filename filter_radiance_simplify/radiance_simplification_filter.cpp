@@ -2,7 +2,9 @@
 // simplification core (common/simplify/radiance_simplification.h). The layer is exported, simplified
 // aside as a progressive mesh, and replaced only when everything succeeded; extra levels of detail
 // are extracted from the same recording into new layers.
-#include "filter_radiance_simplify.h"
+#include "radiance_simplify_plugin.h"
+
+#include "citations.h"
 
 #include "mesh_conversion.h"
 #include "radiance_attribute.h"
@@ -18,212 +20,226 @@
 #include <sstream>
 #include <vector>
 
+namespace radml {
 namespace {
 
 enum MetricChoice { kMetricRadiance = 0, kMetricLightField2010 = 1, kMetricColor = 2, kMetricGeometry = 3 };
 
-// "0.5 0.25, 0.1" -> ratios in (0, 1); false with a message otherwise.
-bool parseRatios(const QString& text, std::vector<double>& ratios, QString& why) {
-    ratios.clear();
+// "0.5 0.25, 0.1" -> ratios in (0, 1), largest first; throws Refusal otherwise.
+std::vector<double> parseRatios(const QString& text) {
+    std::vector<double> ratios;
     QString cleaned = text;
     cleaned.replace(',', ' ').replace(';', ' ');
     for (const QString& item : cleaned.split(QChar(' '), Qt::SkipEmptyParts)) {
         bool ok = false;
         double r = item.toDouble(&ok);
         if (ok && item.endsWith('%')) ok = false;
-        if (!ok || !(r > 0.0 && r < 1.0)) {
-            why = QString("Level-of-detail ratio '%1' is not a number in (0, 1): write e.g. '0.5 0.25 0.1'.").arg(item);
-            return false;
-        }
+        if (!ok || !(r > 0.0 && r < 1.0))
+            throw Refusal(QString("Level-of-detail ratio '%1' is not a number in (0, 1): write e.g. '0.5 0.25 0.1'.").arg(item));
         ratios.push_back(r);
     }
     std::sort(ratios.begin(), ratios.end(), std::greater<double>());
     ratios.erase(std::unique(ratios.begin(), ratios.end()), ratios.end());
-    return true;
+    return ratios;
+}
+
+class RadianceSimplificationFilter : public Filter {
+public:
+    QString name() const override { return "Radiance: Radiance-Aware Simplification"; }
+    QString description() const override;
+    int filterClass() const override { return 0x00004; /* Remeshing */ }
+    int postconditions() const override { return MeshModel::MM_GEOMETRY_AND_TOPOLOGY_CHANGE; }
+
+    RichParameterList parameters(const MeshDocument&, const MeshModel& m) const override {
+        RichParameterList par;
+        const rad::EdgeCollapseOptions defaults;
+        par.addParam(RichEnum("metric", kMetricRadiance,
+                              QStringList() << "Radiance error (Vanhoey et al. 2015, eq. 7)"
+                                            << "Light-field quadric (Vanhoey et al. 2010)"
+                                            << "Colour QEM on the mean colour (Garland-Heckbert 1998)"
+                                            << "Geometry only (memoryless QEM)",
+                              "Metric",
+                              "What a collapse costs besides the geometric error: the radiance error of Vanhoey et al. 2015 "
+                              "(area-weighted L2 distance between the radiance functions before and after, over the "
+                              "hemisphere), its 2010 precursor (quadric on the coefficients), the extended colour QEM "
+                              "on each function's mean colour (the paper's colour baseline), or nothing."));
+        par.addParam(RichEnum("collapse", 0, QStringList() << "Half-edge collapse (Vanhoey et al. 2015, sec. 4.1)" << "Full edge collapse (sec. 4.3)",
+                              "Collapse",
+                              "Half-edge: a vertex merges into a neighbour, positions and functions are never "
+                              "interpolated. Full: the new vertex goes to the QEM-optimal position and its function is "
+                              "interpolated along the edge (radiance metric: spherical harmonics only)."));
+        const int faces = m.cm.fn;
+        par.addParam(RichInt("targetFaces", std::max(faces / 2, 0), "Target number of faces",
+                             "The face count of the simplified layer (used when the percentage is 0)."));
+        par.addParam(RichFloat("targetPercentage", 0.0f, "Target percentage (0..1)",
+                               "If non-zero, the target as a fraction of the current face count."));
+        par.addParam(RichString("lodLevels", "", "Extra levels of detail",
+                                "Fractions of the face count, e.g. '0.5 0.25 0.1': each becomes a new layer "
+                                "'<name>_LOD<percent>' extracted from the same run (progressive mesh, Vanhoey et al. 2015, sec. 4.5). Empty: "
+                                "none."));
+        par.addParam(RichFloat("geometryWeight", float(defaults.geometryWeight), "Geometry weight",
+                               "Weight of the memoryless QEM in the cost (Vanhoey et al. 2015, sec. 4.4: 1 % geometry, 99 % radiance)."));
+        par.addParam(RichFloat("attributeWeight", float(defaults.attributeWeight), "Metric weight",
+                               "Weight of the chosen metric (lambda of the 2010 light-field metric)."));
+        par.addParam(RichBool("preserveBoundary", defaults.preserveBoundary, "Preserve boundary",
+                              "Never move or remove a vertex on a mesh boundary."));
+        par.addParam(RichInt("minValence", 0, "Minimum valence", "Forbid collapses leaving a vertex with fewer neighbours (0: no bound; Vanhoey et al. 2010 use 4)."));
+        par.addParam(RichInt("maxValence", 0, "Maximum valence", "Forbid collapses leaving a vertex with more neighbours (0: no bound; Vanhoey et al. 2010 use 11)."));
+        par.addParam(RichFloat("maxNormalChange", float(defaults.maxNormalDeviationDegrees), "Maximum normal change (degrees)",
+                               "A collapse may not turn any remaining face's normal by more than this."));
+        par.addParam(RichBool("lazy", defaults.lazyRepricing, "Lazy queue updates",
+                              "Re-price vertices touched by a collapse only when they reach the front of the queue "
+                              "(several times faster; slightly different order)."));
+        par.addParam(RichString("progressiveFile", "", "Progressive mesh file",
+                                "If set (a path ending in .rpm), the collapse sequence is written there, with the "
+                                "original mesh beside it as <name>_base.rply (docs/progressive-mesh-format.md)."));
+    return par;
+    }
+
+    void apply(FilterContext& ctx) const override {
+        const RichParameterList& par = ctx.parameters;
+        MeshDocument& md = ctx.document;
+        MeshModel& m = ctx.mesh;
+        QElapsedTimer timer;
+        timer.start();
+        rad::RadianceSimplificationOptions options;
+        switch (par.getEnum("metric")) {
+            case kMetricRadiance: options.metric = rad::SimplificationMetric::Radiance; break;
+            case kMetricLightField2010: options.metric = rad::SimplificationMetric::LightField2010; break;
+            case kMetricColor: options.metric = rad::SimplificationMetric::ColorQuadric; break;
+            default: options.metric = rad::SimplificationMetric::GeometryOnly; break;
+        }
+        options.collapse.kind = par.getEnum("collapse") == 1 ? rad::CollapseKind::Full : rad::CollapseKind::HalfEdge;
+        options.collapse.geometryWeight = par.getFloat("geometryWeight");
+        options.collapse.attributeWeight = par.getFloat("attributeWeight");
+        options.collapse.preserveBoundary = par.getBool("preserveBoundary");
+        options.collapse.minValence = par.getInt("minValence");
+        options.collapse.maxValence = par.getInt("maxValence");
+        options.collapse.maxNormalDeviationDegrees = par.getFloat("maxNormalChange");
+        options.collapse.lazyRepricing = par.getBool("lazy");
+        if (!(options.collapse.geometryWeight >= 0.0) || !(options.collapse.attributeWeight >= 0.0)) {
+            throw Refusal("The weights must be non-negative numbers.");
+        }
+        if (options.collapse.minValence < 0 || options.collapse.maxValence < 0 ||
+            (options.collapse.maxValence > 0 && options.collapse.minValence > options.collapse.maxValence)) {
+            throw Refusal("The valence bounds must be non-negative with minimum <= maximum (0 = no bound).");
+        }
+        const std::vector<double> lodRatios = parseRatios(par.getString("lodLevels"));
+        const QString progressivePath = par.getString("progressiveFile").trimmed();
+        if (!progressivePath.isEmpty() && !progressivePath.endsWith(".rpm", Qt::CaseInsensitive)) {
+            throw Refusal("The progressive mesh file must end in .rpm.");
+        }
+
+        rad::RadianceMesh plain;
+        std::string problem;
+        ExportChoice choice;
+        choice.transfer = false;  // not used here (and not required to cover every vertex)
+        choice.radiance = hasRadiance(m.cm);
+        if (!exportPlainMesh(m.cm, choice, plain, problem)) {
+            throw Refusal(QString::fromStdString(problem));
+        }
+        if (!choice.radiance && options.metric != rad::SimplificationMetric::GeometryOnly) {
+            throw Refusal(QString::fromStdString(missingRadianceAdvice()) +
+                           " Or choose the geometry-only metric.");
+        }
+        const std::size_t faces = plain.faceCount();
+        const double percentage = par.getFloat("targetPercentage");
+        if (!(percentage >= 0.0 && percentage < 1.0)) {
+            throw Refusal(formatLine("The target percentage must lie in [0, 1), got %g.", percentage));
+        }
+        const long long targetFaces =
+            percentage > 0.0 ? static_cast<long long>(std::floor(percentage * faces)) : par.getInt("targetFaces");
+        // (A layer without faces is refused by the core's input check, with a message saying so.)
+        if (faces > 0 && (targetFaces < 0 || static_cast<std::size_t>(targetFaces) >= faces)) {
+            throw Refusal(QString("The target of %1 faces is not below the layer's %2 faces: choose a smaller target.")
+                               .arg(targetFaces)
+                               .arg(faces));
+        }
+        std::size_t coarsest = static_cast<std::size_t>(targetFaces);
+        for (double r : lodRatios) coarsest = std::min(coarsest, static_cast<std::size_t>(std::floor(r * faces)));
+        options.collapse.targetFaceCount = coarsest;
+        ctx.progress.setPhase(0, 95, "Radiance-aware simplification");
+        options.collapse.progress = [&ctx](double fraction) { return ctx.progress(int(100.0 * fraction)); };
+
+        // Everything is computed aside; the layers change only once the simplification succeeded. The
+        // core checks the input first (manifold, duplicates, degenerate faces...) and throws
+        // SimplificationError with a message for the log.
+        rad::RadianceSimplificationResult result;
+        try {
+            result = rad::simplifyRadianceMesh(std::move(plain), options);
+        } catch (const rad::SimplificationError& e) {
+            throw Refusal(QString::fromStdString(e.what()));
+        } catch (const std::invalid_argument& e) {
+            throw Refusal(QString::fromStdString(e.what()));
+        }
+        const rad::ProgressiveRadianceMesh& progressive = result.progressive;
+        const std::size_t targetSteps = progressive.stepsForFaceCount(targetFaces);
+        const rad::RadianceMesh target = progressive.extract(targetSteps);
+        const double targetCost = targetSteps > 0 ? progressive.steps[targetSteps - 1].cost : 0.0;
+        std::vector<std::pair<double, rad::RadianceMesh>> levels;
+        for (double r : lodRatios)
+            levels.emplace_back(r, progressive.extract(progressive.stepsForFaceCount(std::floor(r * faces))));
+        if (!progressivePath.isEmpty()) {
+            const QString base = progressivePath.left(progressivePath.size() - 4) + "_base.rply";
+            try {
+                rad::writeProgressiveMesh(progressivePath.toStdString(), base.toStdString(), progressive);
+            } catch (const std::exception& e) {
+            throw Refusal(QString("Could not write the progressive mesh: %1").arg(e.what()));
+        }
+        }
+
+        ctx.progress.setPhase(97, 100, "Updating layers");
+        const int mask = importPlainMesh(target, m.cm);
+        enableLoadedData(m, mask);
+        updateBoxAndNormals(m);
+        const QString label = QFileInfo(m.label()).completeBaseName();
+        for (const auto& [ratio, level] : levels) {
+            MeshModel* layer = addLayer(md, QString("%1_LOD%2").arg(label).arg(100.0 * ratio));
+            enableLoadedData(*layer, importPlainMesh(level, layer->cm));
+            updateBoxAndNormals(*layer);
+            ctx.log(formatLine("Level of detail %.4g %%: %zu vertices, %zu faces (layer '%s')", 100.0 * ratio, level.vertexCount(),
+                level.faceCount(), qUtf8Printable(layer->label())));
+        }
+        ctx.progress(100, "Done");
+        const rad::EdgeCollapseResult& r = result.collapse;
+        ctx.log(formatLine("Simplified %zu -> %zu faces (%zu vertices) with the %s metric, %s collapse: %zu collapses in %.2f s "
+            "(%zu to this layer), cost of its last collapse %.4g; coarsest level %zu faces, last cost %.4g (%s)%s",
+            faces, target.faceCount(), target.vertexCount(), rad::describe(options.metric).c_str(),
+            options.collapse.kind == rad::CollapseKind::Full ? "full edge" : "half-edge", r.collapses, result.seconds,
+            targetSteps, targetCost, r.finalFaceCount, r.lastCost, rad::describe(r.stop).c_str(),
+            progressivePath.isEmpty() ? "" : qUtf8Printable(", progressive mesh written to " + progressivePath)));
+        if (target.faceCount() > static_cast<std::size_t>(targetFaces))
+            ctx.warning(formatLine("Stopped at %zu faces above the target of %lld: %s (boundary, valence or normal "
+                                      "constraints forbid further collapses).",
+                target.faceCount(), targetFaces, rad::describe(r.stop).c_str()));
+        ctx.log(formatLine("Total time %.2f s", timer.elapsed() / 1000.0));
+}
+};
+
+QString RadianceSimplificationFilter::description() const {
+    return QString(
+               "Simplifies the current mesh by iterative edge collapse so that what is rendered stays close "
+               "to the original (Vanhoey et al. 2015, sec. 4). A collapse costs w_G E_G + w_R E, with E_G the "
+               "memoryless quadric error (planes of the faces around the edge) and E the radiance error of "
+               "eq. 7 of Vanhoey et al. 2015: for a half-edge collapse v0 -> v1, the sum over the new triangles of their area times "
+               "the squared L2 distance, over v0's hemisphere, between v0's reflected radiance function and "
+               "the function the triangle extrapolates to v0's position (eq. 4-6); for a full edge collapse "
+               "the new vertex sits at the QEM-optimal position with its function interpolated along the "
+               "edge, and the error is summed at both old positions (sec. 4.3; spherical harmonics only). "
+               "Default weights 1 % / 99 % as in sec. 4.4. Baselines in the same engine: the 2010 "
+               "light-field quadric (Vanhoey et al. 2010), the extended colour QEM of Garland and Heckbert (1998) on "
+               "the functions' mean colours, and geometry alone.<br>"
+               "Collapses keep the surface a 2-manifold (link condition), never flip a face, optionally "
+               "keep the boundary and valences within bounds. The whole collapse sequence is recorded "
+               "(progressive mesh, sec. 4.5): extra levels of detail become new layers, and the sequence "
+               "can be saved as a .rpm file and replayed with the simplify_radiance tool. The mesh must be "
+               "a clean 2-manifold triangle mesh (no duplicate or zero-area faces, no non-manifold edges); "
+               "the filter says which cleaning filter to run otherwise.") +
+           kCiteVanhoey2015;
 }
 
 }  // namespace
 
-void RadianceFilterPlugin::addSimplifyParameters(MeshModel& m, RichParameterList& par) {
-    const rad::EdgeCollapseOptions defaults;
-    par.addParam(RichEnum("metric", kMetricRadiance,
-                          QStringList() << "Radiance error (Vanhoey et al. 2015, eq. 7)"
-                                        << "Light-field quadric (Vanhoey et al. 2010)"
-                                        << "Colour QEM on the mean colour (Garland-Heckbert 1998)"
-                                        << "Geometry only (memoryless QEM)",
-                          "Metric",
-                          "What a collapse costs besides the geometric error: the radiance error of paper 000 "
-                          "(area-weighted L2 distance between the radiance functions before and after, over the "
-                          "hemisphere), its 2010 precursor (quadric on the coefficients), the extended colour QEM "
-                          "on each function's mean colour (the paper's colour baseline), or nothing."));
-    par.addParam(RichEnum("collapse", 0, QStringList() << "Half-edge collapse (sec. 4.1)" << "Full edge collapse (sec. 4.3)",
-                          "Collapse",
-                          "Half-edge: a vertex merges into a neighbour, positions and functions are never "
-                          "interpolated. Full: the new vertex goes to the QEM-optimal position and its function is "
-                          "interpolated along the edge (radiance metric: spherical harmonics only)."));
-    const int faces = m.cm.fn;
-    par.addParam(RichInt("targetFaces", std::max(faces / 2, 0), "Target number of faces",
-                         "The face count of the simplified layer (used when the percentage is 0)."));
-    par.addParam(RichFloat("targetPercentage", 0.0f, "Target percentage (0..1)",
-                           "If non-zero, the target as a fraction of the current face count."));
-    par.addParam(RichString("lodLevels", "", "Extra levels of detail",
-                            "Fractions of the face count, e.g. '0.5 0.25 0.1': each becomes a new layer "
-                            "'<name>_LOD<percent>' extracted from the same run (progressive mesh, sec. 4.5). Empty: "
-                            "none."));
-    par.addParam(RichFloat("geometryWeight", float(defaults.geometryWeight), "Geometry weight",
-                           "Weight of the memoryless QEM in the cost (sec. 4.4: 1 % geometry, 99 % radiance)."));
-    par.addParam(RichFloat("attributeWeight", float(defaults.attributeWeight), "Metric weight",
-                           "Weight of the chosen metric (lambda of the 2010 light-field metric)."));
-    par.addParam(RichBool("preserveBoundary", defaults.preserveBoundary, "Preserve boundary",
-                          "Never move or remove a vertex on a mesh boundary."));
-    par.addParam(RichInt("minValence", 0, "Minimum valence", "Forbid collapses leaving a vertex with fewer neighbours (0: no bound; paper 003 uses 4)."));
-    par.addParam(RichInt("maxValence", 0, "Maximum valence", "Forbid collapses leaving a vertex with more neighbours (0: no bound; paper 003 uses 11)."));
-    par.addParam(RichFloat("maxNormalChange", float(defaults.maxNormalDeviationDegrees), "Maximum normal change (degrees)",
-                           "A collapse may not turn any remaining face's normal by more than this."));
-    par.addParam(RichBool("lazy", defaults.lazyRepricing, "Lazy queue updates",
-                          "Re-price vertices touched by a collapse only when they reach the front of the queue "
-                          "(several times faster; slightly different order)."));
-    par.addParam(RichString("progressiveFile", "", "Progressive mesh file",
-                            "If set (a path ending in .rpm), the collapse sequence is written there, with the "
-                            "original mesh beside it as <name>_base.rply (docs/progressive-mesh-format.md)."));
-}
+std::unique_ptr<Filter> makeRadianceSimplificationFilter() { return std::make_unique<RadianceSimplificationFilter>(); }
 
-bool RadianceFilterPlugin::simplifyRadiance(MeshDocument& md, MeshModel& m, const RichParameterList& par,
-                                            vcg::CallBackPos* cb) {
-    QElapsedTimer timer;
-    timer.start();
-    rad::RadianceSimplificationOptions options;
-    switch (par.getEnum("metric")) {
-        case kMetricRadiance: options.metric = rad::SimplificationMetric::Radiance; break;
-        case kMetricLightField2010: options.metric = rad::SimplificationMetric::LightField2010; break;
-        case kMetricColor: options.metric = rad::SimplificationMetric::ColorQuadric; break;
-        default: options.metric = rad::SimplificationMetric::GeometryOnly; break;
-    }
-    options.collapse.kind = par.getEnum("collapse") == 1 ? rad::CollapseKind::Full : rad::CollapseKind::HalfEdge;
-    options.collapse.geometryWeight = par.getFloat("geometryWeight");
-    options.collapse.attributeWeight = par.getFloat("attributeWeight");
-    options.collapse.preserveBoundary = par.getBool("preserveBoundary");
-    options.collapse.minValence = par.getInt("minValence");
-    options.collapse.maxValence = par.getInt("maxValence");
-    options.collapse.maxNormalDeviationDegrees = par.getFloat("maxNormalChange");
-    options.collapse.lazyRepricing = par.getBool("lazy");
-    if (!(options.collapse.geometryWeight >= 0.0) || !(options.collapse.attributeWeight >= 0.0)) {
-        errorMessage = "The weights must be non-negative numbers.";
-        return false;
-    }
-    if (options.collapse.minValence < 0 || options.collapse.maxValence < 0 ||
-        (options.collapse.maxValence > 0 && options.collapse.minValence > options.collapse.maxValence)) {
-        errorMessage = "The valence bounds must be non-negative with minimum <= maximum (0 = no bound).";
-        return false;
-    }
-    std::vector<double> lodRatios;
-    QString why;
-    if (!parseRatios(par.getString("lodLevels"), lodRatios, why)) {
-        errorMessage = why;
-        return false;
-    }
-    const QString progressivePath = par.getString("progressiveFile").trimmed();
-    if (!progressivePath.isEmpty() && !progressivePath.endsWith(".rpm", Qt::CaseInsensitive)) {
-        errorMessage = "The progressive mesh file must end in .rpm.";
-        return false;
-    }
-
-    rad::RadianceMesh plain;
-    std::string problem;
-    radml::ExportChoice choice;
-    choice.transfer = false;  // not used here (and not required to cover every vertex)
-    choice.radiance = radml::hasRadiance(m.cm);
-    if (!radml::exportPlainMesh(m.cm, choice, plain, problem)) {
-        errorMessage = QString::fromStdString(problem);
-        return false;
-    }
-    if (!choice.radiance && options.metric != rad::SimplificationMetric::GeometryOnly) {
-        errorMessage = QString::fromStdString(radml::missingRadianceAdvice()) +
-                       " Or choose the geometry-only metric.";
-        return false;
-    }
-    const std::size_t faces = plain.faceCount();
-    const double percentage = par.getFloat("targetPercentage");
-    if (!(percentage >= 0.0 && percentage < 1.0)) {
-        errorMessage = QString("The target percentage must lie in [0, 1), got %1.").arg(percentage);
-        return false;
-    }
-    const long long targetFaces =
-        percentage > 0.0 ? static_cast<long long>(std::floor(percentage * faces)) : par.getInt("targetFaces");
-    // (A layer without faces is refused by the core's input check, with a message saying so.)
-    if (faces > 0 && (targetFaces < 0 || static_cast<std::size_t>(targetFaces) >= faces)) {
-        errorMessage = QString("The target of %1 faces is not below the layer's %2 faces: choose a smaller target.")
-                           .arg(targetFaces)
-                           .arg(faces);
-        return false;
-    }
-    std::size_t coarsest = static_cast<std::size_t>(targetFaces);
-    for (double r : lodRatios) coarsest = std::min(coarsest, static_cast<std::size_t>(std::floor(r * faces)));
-    options.collapse.targetFaceCount = coarsest;
-    int lastPercent = -10;
-    options.collapse.progress = [cb, &lastPercent](double fraction) {
-        const int percent = static_cast<int>(95.0 * fraction);
-        if (cb && percent / 5 != lastPercent / 5) {  // meshlabserver prints every call: 5 % steps
-            lastPercent = percent;
-            cb(percent, "Radiance-aware simplification");
-        }
-        return true;
-    };
-
-    // Everything is computed aside; the layers change only once the simplification succeeded. The
-    // core checks the input first (manifold, duplicates, degenerate faces...) and throws
-    // SimplificationError with a message for the log.
-    rad::RadianceSimplificationResult result;
-    try {
-        result = rad::simplifyRadianceMesh(std::move(plain), options);
-    } catch (const rad::SimplificationError& e) {
-        errorMessage = QString::fromStdString(e.what());
-        return false;
-    } catch (const std::invalid_argument& e) {
-        errorMessage = QString::fromStdString(e.what());
-        return false;
-    }
-    const rad::ProgressiveRadianceMesh& progressive = result.progressive;
-    const std::size_t targetSteps = progressive.stepsForFaceCount(targetFaces);
-    const rad::RadianceMesh target = progressive.extract(targetSteps);
-    const double targetCost = targetSteps > 0 ? progressive.steps[targetSteps - 1].cost : 0.0;
-    std::vector<std::pair<double, rad::RadianceMesh>> levels;
-    for (double r : lodRatios)
-        levels.emplace_back(r, progressive.extract(progressive.stepsForFaceCount(std::floor(r * faces))));
-    if (!progressivePath.isEmpty()) {
-        const QString base = progressivePath.left(progressivePath.size() - 4) + "_base.rply";
-        try {
-            rad::writeProgressiveMesh(progressivePath.toStdString(), base.toStdString(), progressive);
-        } catch (const std::exception& e) {
-            errorMessage = QString("Could not write the progressive mesh: %1").arg(e.what());
-            return false;
-        }
-    }
-
-    if (cb) cb(97, "Updating layers");
-    const int mask = radml::importPlainMesh(target, m.cm);
-    m.Enable(mask);
-    m.UpdateBoxAndNormals();
-    const QString label = QFileInfo(m.label()).completeBaseName();
-    for (const auto& [ratio, level] : levels) {
-        MeshModel* layer = md.addNewMesh("", QString("%1_LOD%2").arg(label).arg(100.0 * ratio), false);
-        layer->Enable(radml::importPlainMesh(level, layer->cm));
-        layer->UpdateBoxAndNormals();
-        Log("Level of detail %.4g %%: %zu vertices, %zu faces (layer '%s')", 100.0 * ratio, level.vertexCount(),
-            level.faceCount(), qUtf8Printable(layer->label()));
-    }
-    if (cb) cb(100, "Done");
-    const rad::EdgeCollapseResult& r = result.collapse;
-    Log("Simplified %zu -> %zu faces (%zu vertices) with the %s metric, %s collapse: %zu collapses in %.2f s "
-        "(%zu to this layer), cost of its last collapse %.4g; coarsest level %zu faces, last cost %.4g (%s)%s",
-        faces, target.faceCount(), target.vertexCount(), rad::describe(options.metric).c_str(),
-        options.collapse.kind == rad::CollapseKind::Full ? "full edge" : "half-edge", r.collapses, result.seconds,
-        targetSteps, targetCost, r.finalFaceCount, r.lastCost, rad::describe(r.stop).c_str(),
-        progressivePath.isEmpty() ? "" : qUtf8Printable(", progressive mesh written to " + progressivePath));
-    if (target.faceCount() > static_cast<std::size_t>(targetFaces))
-        Log(GLLogStream::WARNING, "Stopped at %zu faces above the target of %lld: %s (boundary, valence or normal "
-                                  "constraints forbid further collapses).",
-            target.faceCount(), targetFaces, rad::describe(r.stop).c_str());
-    Log("Total time %.2f s", timer.elapsed() / 1000.0);
-    return true;
-}
+}  // namespace radml

@@ -3,7 +3,7 @@
 
 #include "io/radiance_ply.h"
 
-#include <common/ml_mesh_type.h>
+#include "meshlab_mesh.h"
 
 #include <string>
 #include <vector>

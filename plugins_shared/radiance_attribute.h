@@ -7,7 +7,7 @@
 
 #include "radiance/radiance_field.h"
 
-#include <common/ml_mesh_type.h>
+#include "meshlab_mesh.h"
 
 #include <cstdint>
 #include <memory>

@@ -38,13 +38,13 @@ RasterViews collectRasterViews(MeshDocument& md, bool visibleOnly) {
     // First pass: which rasters, and their converted images (kept in `converted` before any view
     // points into it, so that growing the vector cannot move an image a view already uses).
     std::vector<RasterModel*> chosen;
-    for (RasterModel* raster : md.rasterList)
-        if (raster != nullptr && (!visibleOnly || raster->visible)) chosen.push_back(raster);
+    for (RasterModel* raster : documentRasters(md))
+        if (raster != nullptr && (!visibleOnly || rasterIsVisible(*raster))) chosen.push_back(raster);
     out.rasterCount = chosen.size();
     out.converted.reserve(chosen.size());
     for (RasterModel* raster : chosen) {
         const QString label = raster->label();
-        const Plane* plane = raster->currentPlane;
+        const RasterImagePlane* plane = raster->currentPlane;
         if (plane == nullptr || plane->image.isNull()) {
             const QString file = plane ? plane->fullPathFileName : QString("(none)");
             out.warnings.push_back(("raster '" + label + "' skipped: its image '" + file +

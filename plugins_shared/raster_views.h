@@ -10,7 +10,7 @@
 #include "fit/view_sampling.h"
 
 #include <QImage>
-#include <common/meshmodel.h>
+#include "meshlab_host.h"
 
 #include <string>
 #include <vector>

@@ -6,7 +6,7 @@
 // (radiance_attribute.h) and the PRT transfer vectors (transfer_attribute.h).
 #pragma once
 
-#include <common/ml_mesh_type.h>
+#include "meshlab_mesh.h"
 #include <vcg/complex/allocate.h>
 
 #include <cstdint>

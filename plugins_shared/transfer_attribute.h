@@ -7,7 +7,7 @@
 #include "io/radiance_mesh.h"
 #include "prt/transfer_vectors.h"
 
-#include <common/ml_mesh_type.h>
+#include "meshlab_mesh.h"
 
 #include <optional>
 #include <string>

@@ -1,18 +1,16 @@
-// IO plugin for the radiance PLY format (.rply, docs/radiance-ply-format.md): Debian's PLY reader
-// drops unknown vertex properties, so per-vertex radiance coefficients need a reader of their own.
-// The plugin only converts between the file (common/io/radiance_ply) and the CMeshO layer.
+// MeshLab 2020.09's IO interface over one radml::MeshFormat (mesh_format.h).
 #pragma once
 
+#include "mesh_format.h"
+
 #include <QObject>
-#include <common/interfaces.h>
 
-class RadianceIOPlugin : public QObject, public MeshIOInterface {
-    Q_OBJECT
-    MESHLAB_PLUGIN_IID_EXPORTER(MESH_IO_INTERFACE_IID)
-    Q_INTERFACES(MeshIOInterface)
+#include <memory>
 
+namespace radml {
+
+class IoPluginBase : public QObject, public MeshIOInterface {
 public:
-    QString pluginName() const override { return "IORadiance"; }
     QList<Format> importFormats() const override;
     QList<Format> exportFormats() const override;
     void GetExportMaskCapability(QString& format, int& capability, int& defaultBits) const override;
@@ -20,4 +18,13 @@ public:
               const RichParameterList& par, vcg::CallBackPos* cb = nullptr, QWidget* parent = nullptr) override;
     bool save(const QString& format, const QString& fileName, MeshModel& m, const int mask,
               const RichParameterList& par, vcg::CallBackPos* cb = nullptr, QWidget* parent = nullptr) override;
+
+protected:
+    explicit IoPluginBase(std::unique_ptr<MeshFormat> format) : format_(std::move(format)) {}
+
+private:
+    bool refuse(const std::string& message);
+    std::unique_ptr<MeshFormat> format_;
 };
+
+}  // namespace radml

@@ -1,0 +1,22 @@
+// Radiance data onto a layer (Vanhoey et al. 2015): fitted from calibrated photographs (raster
+// layers), created from an analytic material, and evaluated toward a viewpoint as vertex colours.
+// One filter per file; this class only registers them with the host.
+#pragma once
+
+#include "filter_plugin_base.h"
+
+namespace radml {
+std::unique_ptr<Filter> makeFitFromRastersFilter();
+std::unique_ptr<Filter> makeCreateAnalyticRadianceFilter();
+std::unique_ptr<Filter> makeRadianceToVertexColorFilter();
+}  // namespace radml
+
+class RadianceFitPlugin : public radml::FilterPluginBase {
+    Q_OBJECT
+    MESHLAB_PLUGIN_IID_EXPORTER(RADML_FILTER_PLUGIN_IID)
+    Q_INTERFACES(RADML_FILTER_INTERFACE)
+
+public:
+    RadianceFitPlugin();
+    QString pluginName() const override { return "FilterRadianceFit"; }
+};

@@ -1,0 +1,3 @@
+#include "radiance_simplify_plugin.h"
+
+MESHLAB_PLUGIN_NAME_EXPORTER(RadianceSimplifyPlugin)

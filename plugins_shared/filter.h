@@ -1,0 +1,81 @@
+// One MeshLab filter, described once for both hosts (MeshLab 2020.09 and 2025.07): its name, help,
+// class, conditions, parameters and body. The host plugin classes (host_20xx/filter_plugin_base.h)
+// turn a list of these into MeshLab's interface; a filter body never sees which host runs it.
+//
+// The contract of a body (`apply`): read the parameters, call a core, change the layers only once
+// the core succeeded. To refuse, throw radml::Refusal with what is wrong and how to fix it; the host
+// shows it in MeshLab's log and dialog (2020.09) or raises it as pymeshlab's exception (2025.07),
+// and the layers are left as they were. std::invalid_argument from a core's validation is shown the
+// same way; std::bad_alloc becomes an out-of-memory refusal.
+#pragma once
+
+#include "meshlab_host.h"
+
+#include <QString>
+
+#include <chrono>
+#include <functional>
+#include <stdexcept>
+#include <string>
+
+namespace radml {
+
+// A refusal the user can act on: "what is wrong; how to fix it".
+class Refusal : public std::runtime_error {
+public:
+    explicit Refusal(const std::string& message) : std::runtime_error(message) {}
+    explicit Refusal(const char* message) : std::runtime_error(message) {}
+    explicit Refusal(const QString& message) : std::runtime_error(message.toStdString()) {}
+};
+
+// printf-style formatting of a log line.
+std::string formatLine(const char* format, ...) __attribute__((format(printf, 1, 2)));
+
+// "Degree d is not supported for PB: ..." for a basis parameter pair that the core refuses.
+std::string unsupportedDegreeMessage(bool sphericalHarmonics, int degree);
+
+// Progress toward MeshLab's callback, throttled to whole percents and at most ~20 updates a second
+// (the GUI repaints on each), mapped into [begin, end] of the whole filter.
+class FilterProgress {
+public:
+    explicit FilterProgress(vcg::CallBackPos* callback) : callback_(callback) {}
+    // Reports `percent` (0..100) of the current phase; returns false when the host asked to stop.
+    bool operator()(int percent, const char* what = nullptr);
+    // Subsequent reports are mapped into [begin, end] percent of the whole filter.
+    void setPhase(int begin, int end, const char* what);
+    vcg::CallBackPos* callback() const { return callback_; }
+
+private:
+    vcg::CallBackPos* callback_;
+    int begin_ = 0, end_ = 100;
+    int last_ = -1;
+    std::string phase_ = "Working";
+    std::chrono::steady_clock::time_point lastTime_{};
+};
+
+// Everything a filter body may use.
+struct FilterContext {
+    MeshDocument& document;
+    MeshModel& mesh;  // the current layer
+    const RichParameterList& parameters;
+    FilterProgress& progress;
+    std::function<void(const std::string&)> log;      // an information line in MeshLab's log
+    std::function<void(const std::string&)> warning;  // a warning line
+};
+
+class Filter {
+public:
+    virtual ~Filter() = default;
+    // The name shown in the menus and used by scripts (pymeshlab derives its Python name from it).
+    virtual QString name() const = 0;
+    // Help text (HTML), citing the paper the filter implements by authors and year.
+    virtual QString description() const = 0;
+    // MeshLab's FilterClass bits (same values in both hosts).
+    virtual int filterClass() const = 0;
+    virtual int preconditions() const { return 0; }
+    virtual int postconditions() const = 0;
+    virtual RichParameterList parameters(const MeshDocument& document, const MeshModel& current) const = 0;
+    virtual void apply(FilterContext& context) const = 0;
+};
+
+}  // namespace radml

@@ -1,0 +1,61 @@
+#include "io_plugin_base.h"
+
+#include <cstdio>
+
+namespace radml {
+
+QList<MeshIOInterface::Format> IoPluginBase::importFormats() const {
+    return {Format(format_->description(), format_->extension())};
+}
+
+QList<MeshIOInterface::Format> IoPluginBase::exportFormats() const {
+    return {Format(format_->description(), format_->extension())};
+}
+
+void IoPluginBase::GetExportMaskCapability(QString& format, int& capability, int& defaultBits) const {
+    capability = defaultBits = 0;
+    if (format.toUpper() != format_->extension()) return;
+    capability = defaultBits = format_->exportCapability();
+}
+
+bool IoPluginBase::refuse(const std::string& message) {
+    errorMessage = QString::fromStdString(message);
+    // The GUI shows errorMessage in a dialog, but meshlabserver's -i/-o paths drop it: say it on
+    // stderr too, so batch users learn what is wrong with their file.
+    std::fprintf(stderr, "%s\n", message.c_str());
+    return false;
+}
+
+bool IoPluginBase::open(const QString& format, const QString& fileName, MeshModel& m, int& mask,
+                        const RichParameterList&, vcg::CallBackPos* cb, QWidget*) {
+    if (format.toUpper() != format_->extension())
+        return refuse("This plugin only reads ." + format_->extension().toLower().toStdString() + " files.");
+    FilterProgress progress(cb);
+    try {
+        format_->read(fileName, m, mask, progress, [this](const std::string& s) { Log(GLLogStream::FILTER, s); },
+                      [this](const std::string& s) {
+                          Log(GLLogStream::WARNING, s);
+                          std::fprintf(stderr, "%s\n", s.c_str());
+                      });
+        return true;
+    } catch (const std::exception& e) {
+        // MeshLab discards the half-built layer of a failed open; the user's other layers are untouched.
+        m.cm.Clear();
+        return refuse(e.what());
+    }
+}
+
+bool IoPluginBase::save(const QString& format, const QString& fileName, MeshModel& m, const int mask,
+                        const RichParameterList&, vcg::CallBackPos* cb, QWidget*) {
+    if (format.toUpper() != format_->extension())
+        return refuse("This plugin only writes ." + format_->extension().toLower().toStdString() + " files.");
+    FilterProgress progress(cb);
+    try {
+        format_->write(fileName, m, mask, progress, [this](const std::string& s) { Log(GLLogStream::FILTER, s); });
+        return true;
+    } catch (const std::exception& e) {
+        return refuse(e.what());
+    }
+}
+
+}  // namespace radml

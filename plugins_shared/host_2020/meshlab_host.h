@@ -1,0 +1,84 @@
+// Compatibility header for MeshLab 2020.09 (Debian's meshlab, meshlabserver): the few API calls that
+// differ between the two MeshLab hosts, under one set of names. Its twin for MeshLab 2025.07
+// (pymeshlab) is host_2025/meshlab_host.h; CMake puts exactly one of the two folders on a target's
+// include path, so no code outside these folders needs an #ifdef.
+#pragma once
+
+#include <common/interfaces.h>
+#include <common/meshmodel.h>
+
+#include <Eigen/Core>
+
+#include <vector>
+
+#define RADML_FILTER_PLUGIN_IID MESH_FILTER_INTERFACE_IID
+#define RADML_FILTER_INTERFACE MeshFilterInterface
+#define RADML_IO_PLUGIN_IID MESH_IO_INTERFACE_IID
+#define RADML_IO_INTERFACE MeshIOInterface
+
+namespace radml {
+
+constexpr int kMeshLabHostYear = 2020;
+constexpr const char* kMeshLabHostName = "MeshLab 2020.09";
+
+inline std::vector<MeshModel*> documentMeshes(MeshDocument& md) {
+    return std::vector<MeshModel*>(md.meshList.begin(), md.meshList.end());
+}
+inline std::vector<RasterModel*> documentRasters(MeshDocument& md) {
+    return std::vector<RasterModel*>(md.rasterList.begin(), md.rasterList.end());
+}
+// Enables the optional per-element data named by vcg::tri::io::Mask bits (what a reader loaded).
+inline void enableLoadedData(MeshModel& m, int ioMask) { m.Enable(ioMask); }
+// Bounding box and normals after the geometry changed.
+inline void updateBoxAndNormals(MeshModel& m) { m.UpdateBoxAndNormals(); }
+
+// The image plane of a raster layer.
+using RasterImagePlane = Plane;
+inline bool rasterIsVisible(const RasterModel& raster) { return raster.visible; }
+
+// A new layer of the document; it does not become the current one.
+inline MeshModel* addLayer(MeshDocument& md, const QString& label) { return md.addNewMesh("", label, false); }
+
+// A parameter naming one of the document's layers.
+inline void addMeshParameter(RichParameterList& par, const QString& name, const MeshDocument& md,
+                             const MeshModel* initial, const QString& label, const QString& help) {
+    par.addParam(RichMesh(name, const_cast<MeshModel*>(initial), const_cast<MeshDocument*>(&md), label, help));
+}
+inline MeshModel* meshParameter(const RichParameterList& par, MeshDocument&, const QString& name) {
+    return par.getMesh(name);
+}
+
+// A point in space (MeshLab 2020 has no separate position / direction types).
+inline void addPointParameter(RichParameterList& par, const QString& name, const Eigen::Vector3d& initial,
+                              const QString& label, const QString& help) {
+    par.addParam(RichPoint3f(name, vcg::Point3f(float(initial.x()), float(initial.y()), float(initial.z())), label, help));
+}
+inline void addDirectionParameter(RichParameterList& par, const QString& name, const Eigen::Vector3d& initial,
+                                  const QString& label, const QString& help) {
+    addPointParameter(par, name, initial, label, help);
+}
+inline Eigen::Vector3d pointParameter(const RichParameterList& par, const QString& name) {
+    const vcg::Point3f p = par.getPoint3f(name);
+    return Eigen::Vector3d(p[0], p[1], p[2]);
+}
+
+// An absolute value that the dialog also shows as a percentage of [minimum, maximum].
+inline void addAbsoluteOrPercentParameter(RichParameterList& par, const QString& name, double initial,
+                                          double minimum, double maximum, const QString& label,
+                                          const QString& help) {
+    par.addParam(RichAbsPerc(name, float(initial), float(minimum), float(maximum), label, help));
+}
+inline double absoluteOrPercentParameter(const RichParameterList& par, const QString& name) {
+    return par.getAbsPerc(name);
+}
+
+inline void addOpenFileParameter(RichParameterList& par, const QString& name, const QString& initial,
+                                 const QStringList& extensions, const QString& label, const QString& help) {
+    par.addParam(RichOpenFile(name, initial, extensions, label, help));
+}
+inline void addDynamicFloatParameter(RichParameterList& par, const QString& name, double initial, double minimum,
+                                     double maximum, const QString& label, const QString& help) {
+    par.addParam(RichDynamicFloat(name, float(initial), float(minimum), float(maximum), label, help));
+}
+
+}  // namespace radml

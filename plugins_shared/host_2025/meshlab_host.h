@@ -1,0 +1,89 @@
+// Compatibility header for MeshLab 2025.07 (the double-precision build inside pymeshlab): the few API
+// calls that differ between the two MeshLab hosts, under one set of names. Its twin for MeshLab
+// 2020.09 is host_2020/meshlab_host.h; CMake puts exactly one of the two folders on a target's
+// include path, so no code outside these folders needs an #ifdef.
+#pragma once
+
+#include <common/ml_document/mesh_document.h>
+#include <common/mlexception.h>
+#include <common/plugins/interfaces/filter_plugin.h>
+#include <common/plugins/interfaces/io_plugin.h>
+
+#include <Eigen/Core>
+
+#include <vector>
+
+#define RADML_FILTER_PLUGIN_IID FILTER_PLUGIN_IID
+#define RADML_FILTER_INTERFACE FilterPlugin
+#define RADML_IO_PLUGIN_IID IO_PLUGIN_IID
+#define RADML_IO_INTERFACE IOPlugin
+
+namespace radml {
+
+constexpr int kMeshLabHostYear = 2025;
+constexpr const char* kMeshLabHostName = "MeshLab 2025.07";
+
+inline std::vector<MeshModel*> documentMeshes(MeshDocument& md) {
+    std::vector<MeshModel*> out;
+    for (MeshModel& m : md.meshIterator()) out.push_back(&m);
+    return out;
+}
+inline std::vector<RasterModel*> documentRasters(MeshDocument& md) {
+    std::vector<RasterModel*> out;
+    for (RasterModel& r : md.rasterIterator()) out.push_back(&r);
+    return out;
+}
+// Enables the optional per-element data named by vcg::tri::io::Mask bits (what a reader loaded).
+inline void enableLoadedData(MeshModel& m, int ioMask) { m.enable(ioMask); }
+// Bounding box and normals after the geometry changed.
+inline void updateBoxAndNormals(MeshModel& m) { m.updateBoxAndNormals(); }
+
+// The image plane of a raster layer.
+using RasterImagePlane = RasterPlane;
+inline bool rasterIsVisible(const RasterModel& raster) { return raster.isVisible(); }
+
+// A new layer of the document; it does not become the current one.
+inline MeshModel* addLayer(MeshDocument& md, const QString& label) { return md.addNewMesh("", label, false); }
+
+// A parameter naming one of the document's layers (MeshLab 2025 stores the layer's id).
+inline void addMeshParameter(RichParameterList& par, const QString& name, const MeshDocument& md,
+                             const MeshModel* initial, const QString& label, const QString& help) {
+    const unsigned int id = initial != nullptr ? initial->id() : (md.mm() != nullptr ? md.mm()->id() : 0u);
+    par.addParam(RichMesh(name, id, &md, label, help));
+}
+inline MeshModel* meshParameter(const RichParameterList& par, MeshDocument& md, const QString& name) {
+    return md.getMesh(par.getMeshId(name));
+}
+
+inline void addPointParameter(RichParameterList& par, const QString& name, const Eigen::Vector3d& initial,
+                              const QString& label, const QString& help) {
+    par.addParam(RichPosition(name, Point3m(initial.x(), initial.y(), initial.z()), label, help));
+}
+inline void addDirectionParameter(RichParameterList& par, const QString& name, const Eigen::Vector3d& initial,
+                                  const QString& label, const QString& help) {
+    par.addParam(RichDirection(name, Point3m(initial.x(), initial.y(), initial.z()), label, help));
+}
+inline Eigen::Vector3d pointParameter(const RichParameterList& par, const QString& name) {
+    const Point3m p = par.getPoint3m(name);
+    return Eigen::Vector3d(p[0], p[1], p[2]);
+}
+
+inline void addAbsoluteOrPercentParameter(RichParameterList& par, const QString& name, double initial,
+                                          double minimum, double maximum, const QString& label,
+                                          const QString& help) {
+    par.addParam(RichPercentage(name, initial, minimum, maximum, label, help));
+}
+inline double absoluteOrPercentParameter(const RichParameterList& par, const QString& name) {
+    return par.getAbsPerc(name);
+}
+
+inline void addOpenFileParameter(RichParameterList& par, const QString& name, const QString& initial,
+                                 const QStringList& extensions, const QString& label, const QString& help) {
+    par.addParam(RichFileOpen(name, initial, extensions, label, help));
+}
+inline void addDynamicFloatParameter(RichParameterList& par, const QString& name, double initial, double minimum,
+                                     double maximum, const QString& label, const QString& help) {
+    par.addParam(RichDynamicFloat(name, initial, minimum, maximum, label, help));
+}
+
+}  // namespace radml
