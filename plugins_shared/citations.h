@@ -7,4 +7,17 @@ inline constexpr const char* kCiteVanhoey2015 =
     "<br><br>Radiance functions as in <i>K. Vanhoey, B. Sauvage, P. Kraemer, F. Larue, J.-M. Dischler</i>, "
     "<b>\"Simplification of meshes with digitized radiance\"</b>, The Visual Computer 31 (2015).";
 
+inline constexpr const char* kCiteGranier2007WeberStamminger =
+    "<br><br>Normal maps from the full scan onto the simplified mesh, holes filled by diffusion: <i>X. Granier, "
+    "R. Pacanowski, C. Schlick</i>, <b>\"Managing Geometry Complexity for Illumination Computation of Cultural "
+    "Heritage Scenes\"</b> (2007). LEAN covariances relative to the averaged normal, level 0 omitted: <i>T. Weber, "
+    "M. Stamminger</i>, <b>\"Stateless Level of Detail Lighting for Automotive Visualization\"</b> (Alg. 2-4, "
+    "sec. 3.5), after <i>M. Olano, D. Baker</i>, \"LEAN Mapping\", I3D 2010.";
+
+inline constexpr const char* kCiteSloan2002Krivanek2004 =
+    "<br><br>Transfer vectors: <i>P.-P. Sloan, J. Kautz, J. Snyder</i>, <b>\"Precomputed radiance transfer for "
+    "real-time rendering in dynamic, low-frequency lighting environments\"</b>, SIGGRAPH 2002. Adaptive "
+    "subdivision: <i>J. Křivánek, S. Pattanaik, J. Žára</i>, <b>\"Adaptive Mesh Subdivision for "
+    "Precomputed Radiance Transfer\"</b>, SCCG 2004.";
+
 }  // namespace radml

@@ -73,6 +73,8 @@ public:
     // MeshLab's FilterClass bits (same values in both hosts).
     virtual int filterClass() const = 0;
     virtual int preconditions() const { return 0; }
+    // True when the filter reads layers besides the current one (MeshLab's FIXED arity).
+    virtual bool readsOtherLayers() const { return false; }
     virtual int postconditions() const = 0;
     virtual RichParameterList parameters(const MeshDocument& document, const MeshModel& current) const = 0;
     virtual void apply(FilterContext& context) const = 0;

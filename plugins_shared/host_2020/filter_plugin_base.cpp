@@ -35,6 +35,11 @@ int FilterPluginBase::getPreConditions(QAction* action) const {
     return f ? f->preconditions() : MeshModel::MM_NONE;
 }
 
+MeshFilterInterface::FILTER_ARITY FilterPluginBase::filterArity(QAction* action) const {
+    const Filter* f = filterOf(ID(action));
+    return f && f->readsOtherLayers() ? FIXED : SINGLE_MESH;
+}
+
 int FilterPluginBase::postCondition(QAction* action) const {
     const Filter* f = filterOf(ID(action));
     return f ? f->postconditions() : MeshModel::MM_NONE;
@@ -49,8 +54,7 @@ void FilterPluginBase::initParameterSet(QAction* action, MeshModel& m, RichParam
 void FilterPluginBase::initParameterSet(QAction* action, MeshDocument& md, RichParameterList& par) {
     const Filter* f = filterOf(ID(action));
     if (f == nullptr || md.mm() == nullptr) return;
-    const RichParameterList declared = f->parameters(md, *md.mm());
-    for (RichParameter* p : declared.paramList) par.addParam(*p);
+    par.join(f->parameters(md, *md.mm()));
 }
 
 bool FilterPluginBase::applyFilter(QAction* action, MeshDocument& md, const RichParameterList& par,

@@ -19,7 +19,7 @@ public:
     FilterClass getClass(QAction* action) override;
     int getPreConditions(QAction* action) const override;
     int postCondition(QAction* action) const override;
-    FILTER_ARITY filterArity(QAction*) const override { return SINGLE_MESH; }
+    FILTER_ARITY filterArity(QAction* action) const override;
     using MeshFilterInterface::initParameterSet;
     void initParameterSet(QAction* action, MeshModel& m, RichParameterList& par) override;
     void initParameterSet(QAction* action, MeshDocument& md, RichParameterList& par) override;

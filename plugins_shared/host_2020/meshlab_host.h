@@ -32,6 +32,13 @@ inline void enableLoadedData(MeshModel& m, int ioMask) { m.Enable(ioMask); }
 // Bounding box and normals after the geometry changed.
 inline void updateBoxAndNormals(MeshModel& m) { m.UpdateBoxAndNormals(); }
 
+// Makes the image file `file` the layer's only texture, under the name `name` (what a saved mesh
+// refers to). MeshLab 2020.09 loads the image itself when it draws the layer.
+inline void setLayerTexture(MeshModel& m, const std::string& name, const std::string& /*file*/) {
+    m.cm.textures.clear();
+    m.cm.textures.push_back(name);
+}
+
 // The image plane of a raster layer.
 using RasterImagePlane = Plane;
 inline bool rasterIsVisible(const RasterModel& raster) { return raster.visible; }

@@ -35,6 +35,11 @@ int FilterPluginBase::getPreConditions(const QAction* action) const {
     return f ? f->preconditions() : MeshModel::MM_NONE;
 }
 
+FilterPlugin::FilterArity FilterPluginBase::filterArity(const QAction* action) const {
+    const Filter* f = filterOf(ID(action));
+    return f && f->readsOtherLayers() ? FIXED : SINGLE_MESH;
+}
+
 int FilterPluginBase::postCondition(const QAction* action) const {
     const Filter* f = filterOf(ID(action));
     return f ? f->postconditions() : MeshModel::MM_NONE;

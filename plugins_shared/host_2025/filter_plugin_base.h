@@ -20,7 +20,7 @@ public:
     FilterClass getClass(const QAction* action) const override;
     int getPreConditions(const QAction* action) const override;
     int postCondition(const QAction* action) const override;
-    FilterArity filterArity(const QAction*) const override { return SINGLE_MESH; }
+    FilterArity filterArity(const QAction* action) const override;
     RichParameterList initParameterList(const QAction* action, const MeshModel& m) override;
     RichParameterList initParameterList(const QAction* action, const MeshDocument& md) override;
     std::map<std::string, QVariant> applyFilter(const QAction* action, const RichParameterList& par,

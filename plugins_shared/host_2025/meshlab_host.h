@@ -38,6 +38,13 @@ inline void enableLoadedData(MeshModel& m, int ioMask) { m.enable(ioMask); }
 // Bounding box and normals after the geometry changed.
 inline void updateBoxAndNormals(MeshModel& m) { m.updateBoxAndNormals(); }
 
+// Makes the image file `file` the layer's only texture, under the name `name` (what a saved mesh
+// refers to). MeshLab 2025.07 keeps the image in the layer (it saves it beside a saved mesh).
+inline void setLayerTexture(MeshModel& m, const std::string& name, const std::string& file) {
+    m.clearTextures();
+    m.addTexture(name, QImage(QString::fromStdString(file)));
+}
+
 // The image plane of a raster layer.
 using RasterImagePlane = RasterPlane;
 inline bool rasterIsVisible(const RasterModel& raster) { return raster.isVisible(); }

@@ -1,0 +1,265 @@
+// "Bake Normal Map": the full scan's normals (and colours) baked into a texture of the simplified
+// mesh (Granier et al. 2007), with LEAN covariance maps for filtered specular highlights (Weber and
+// Stamminger). A thin adapter: parameters in, a call into common/bake (normal_map_bake.h), the texture
+// coordinates and the texture attached to the layer, log out.
+#include "normal_bake_plugin.h"
+
+#include "citations.h"
+#include "mesh_conversion.h"
+
+#include "bake/normal_map_bake.h"
+#include "bake/texture_atlas.h"
+
+#include <QDir>
+#include <QFileInfo>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <vector>
+
+namespace radml {
+namespace {
+
+enum SpaceChoice { kObjectSpace = 0, kTangentSpace = 1 };
+enum BitsChoice { kBits16 = 0, kBits8 = 1 };
+enum AssignChoice { kAssignNormal = 0, kAssignDiffuse = 1 };
+
+// The layer with the most faces other than the current one: the full scan, usually.
+const MeshModel* defaultSource(const MeshDocument& md) {
+    const MeshModel* best = nullptr;
+    for (const MeshModel* layer : documentMeshes(const_cast<MeshDocument&>(md)))
+        if (layer != md.mm() && (!best || layer->cm.fn > best->cm.fn)) best = layer;
+    return best ? best : md.mm();
+}
+
+// Wedge texture coordinates of the live faces, in the order exportPlainMesh writes the faces;
+// empty when the layer has none (or all are zero, as MeshLab leaves them when it enables the
+// attribute without a parametrisation).
+std::vector<float> wedgeCoordinates(MeshModel& m) {
+    if (!m.hasDataMask(MeshModel::MM_WEDGTEXCOORD)) return {};
+    std::vector<float> uv = exportWedgeTexCoords(m.cm);
+    if (std::all_of(uv.begin(), uv.end(), [](float c) { return c == 0.0f; })) uv.clear();
+    return uv;
+}
+
+// Output base: the parameter when given (".png" and a trailing "_normal" dropped), else the
+// target's file name without extension, beside it; the source's directory when the target was
+// never saved.
+QString outputBase(const QString& given, MeshModel& target, MeshModel& source) {
+    QString base = given.trimmed();
+    if (!base.isEmpty()) {
+        if (base.endsWith(".png", Qt::CaseInsensitive)) base.chop(4);
+        if (base.endsWith("_normal")) base.chop(7);
+        return QFileInfo(base).absoluteFilePath();
+    }
+    const QString targetFile = target.fullName();
+    const QString directory = !targetFile.isEmpty() ? QFileInfo(targetFile).absolutePath()
+                              : !source.fullName().isEmpty() ? QFileInfo(source.fullName()).absolutePath()
+                                                              : QString();
+    if (directory.isEmpty()) return QString();
+    QString label = QFileInfo(target.label()).completeBaseName();
+    if (label.isEmpty()) label = "baked";
+    return QDir(directory).filePath(label);
+}
+
+// MeshLab loads a layer's textures relative to its working directory, which it moves to the
+// folder of the mesh it opens: the file name alone when the map is there, the absolute path
+// otherwise.
+std::string textureName(const std::string& path) {
+    const QFileInfo file(QString::fromStdString(path));
+    if (file.absolutePath() == QDir::current().absolutePath()) return file.fileName().toStdString();
+    return file.absoluteFilePath().toStdString();
+}
+
+// A core message as a sentence of the log: capital first letter, full stop at the end.
+std::string asSentence(const std::string& message) {
+    QString s = QString::fromStdString(message).trimmed();
+    if (!s.isEmpty()) s[0] = s[0].toUpper();
+    if (!s.endsWith('.')) s += '.';
+    return s.toStdString();
+}
+
+class BakeNormalMapFilter : public Filter {
+public:
+    QString name() const override { return "Bake Normal Map"; }
+    QString description() const override;
+    // Texture: MeshLab's GUI (re)loads the layer's textures after the filter.
+    int filterClass() const override { return 0x02000; /* Texture */ }
+    int postconditions() const override { return MeshModel::MM_WEDGTEXCOORD; }
+    bool readsOtherLayers() const override { return true; }
+
+    RichParameterList parameters(const MeshDocument& md, const MeshModel&) const override {
+        RichParameterList par;
+    const MeshModel* source = defaultSource(md);
+        const double diagonal = source ? double(source->cm.bbox.Diag()) : 1.0;
+        addMeshParameter(par, "sourceMesh", md, source, "Source mesh (full scan)",
+                         "The full-resolution mesh whose normals and colours are baked. The target is the current "
+                         "layer.");
+        par.addParam(RichInt("textureSize", 2048, "Texture size",
+                             "Width and height of the maps in texels: a power of two from 16 to 16384."));
+        par.addParam(RichEnum("space", kObjectSpace, QStringList() << "Object space" << "Tangent space", "Normal space",
+                              "Object space: the normal in the mesh's coordinates (needed for LEAN maps). Tangent space: "
+                              "in the texel's (T, B, N) frame, T from the UV derivatives (dP/du), '+Y up'."));
+        par.addParam(RichEnum("bits", kBits16, QStringList() << "16 bit" << "8 bit", "Bits per channel",
+                              "16-bit PNG keeps the quantisation error far below a tenth of a degree; 8 bit is about "
+                              "0.2 degrees."));
+        addAbsoluteOrPercentParameter(par, "maxDistance", 0.0, 0.0, diagonal, "Max ray distance",
+                                      "How far the rays search the scan from the target's surface. 0 = automatic: twice "
+                                      "the largest distance from the target's vertices and face centres to the scan.");
+        par.addParam(RichInt("gutter", 4, "Gutter (texels)",
+                             "Empty texels between any two triangles of a generated atlas (at least this many), filled by dilation of each triangle's border."));
+        par.addParam(RichBool("newAtlas", false, "Make a per-triangle atlas",
+                              "Replace the target's texture coordinates by a per-triangle atlas (always done when the "
+                              "target has none)."));
+        par.addParam(RichBool("diffuse", true, "Bake the vertex colours too",
+                              "Write the scan's vertex colours at the same points into a diffuse map (when the scan has "
+                              "vertex colours)."));
+        par.addParam(RichBool("lean", true, "Write LEAN maps",
+                              "Second moments of the normals about the averaged normal per MIP level 1..K (object-space "
+                              "maps only)."));
+        par.addParam(RichEnum("assign", kAssignNormal, QStringList() << "Normal map" << "Diffuse map",
+                              "Layer texture", "Which map becomes the layer's texture."));
+        par.addParam(RichString("outputFile", "", "Output file (optional)",
+                                "Path of the normal map (…_normal.png); empty = beside the target mesh, named after it."));
+        return par;
+    }
+
+    void apply(FilterContext& ctx) const override {
+        try {
+            bake(ctx);
+        } catch (const rad::BakeInputError& e) {
+            throw Refusal(asSentence(e.what()) + " The layers are unchanged.");
+        } catch (const rad::BakeCancelled&) {
+            throw Refusal("Cancelled; the layers are unchanged and no file was written.");
+        } catch (const std::bad_alloc&) {
+            throw Refusal("Out of memory: choose a smaller texture size. The layers are unchanged.");
+        } catch (const Refusal&) {
+            throw;
+        } catch (const std::exception& e) {
+            throw Refusal(asSentence(e.what()) + " The layers are unchanged.");
+        }
+    }
+
+private:
+    void bake(FilterContext& ctx) const {
+        const RichParameterList& par = ctx.parameters;
+        MeshDocument& md = ctx.document;
+        MeshModel* target = md.mm();
+        MeshModel* source = meshParameter(par, md, "sourceMesh");
+        if (!target || !source) throw Refusal("Open the simplified mesh (current layer) and the full scan (source) first.");
+        if (target == source)
+            throw rad::BakeInputError("The source and the target are the same layer: choose the full-resolution scan "
+                                      "as the source, with the simplified mesh as the current layer.");
+        if (target->cm.fn == 0)
+            throw rad::BakeInputError("The target layer '" + target->label().toStdString() +
+                                      "' has no faces: a normal map is baked onto triangles.");
+
+        ExportChoice geometryOnly;
+        geometryOnly.colors = geometryOnly.quality = geometryOnly.radiance = geometryOnly.transfer = false;
+        rad::RadianceMesh targetPlain, sourcePlain;
+        std::string why;
+        if (!exportPlainMesh(target->cm, geometryOnly, targetPlain, why) ||
+            !exportPlainMesh(source->cm, geometryOnly, sourcePlain, why))
+            throw rad::BakeInputError(why);
+        rad::TriangleMesh targetMesh{targetPlain.positions, targetPlain.normals, targetPlain.faces};
+        rad::TriangleMesh sourceMesh{sourcePlain.positions, sourcePlain.normals, sourcePlain.faces};
+
+        std::vector<float> sourceColors;
+        const bool sourceHasColors = source->hasDataMask(MeshModel::MM_VERTCOLOR);
+        if (par.getBool("diffuse") && sourceHasColors) {
+            sourceColors.reserve(3 * sourceMesh.vertexCount());
+            for (const CVertexO& v : source->cm.vert)
+                if (!v.IsD())
+                    for (int k = 0; k < 3; ++k) sourceColors.push_back(v.cC()[k] / 255.0f);
+        }
+        std::vector<float> existingUv = par.getBool("newAtlas") ? std::vector<float>() : wedgeCoordinates(*target);
+
+        rad::NormalMapBakeRequest request;
+        request.target = &targetMesh;
+        request.targetWedgeUv = &existingUv;
+        request.source = &sourceMesh;
+        request.sourceColors = sourceColors.empty() ? nullptr : &sourceColors;
+        request.textureSize = par.getInt("textureSize");
+        request.space = par.getEnum("space") == kTangentSpace ? rad::NormalSpace::Tangent : rad::NormalSpace::Object;
+        request.bits = par.getEnum("bits") == kBits8 ? 8 : 16;
+        request.maxRayDistance = absoluteOrPercentParameter(par, "maxDistance");
+        request.gutterTexels = par.getInt("gutter");
+        request.bakeDiffuse = par.getBool("diffuse");
+        request.writeLean = par.getBool("lean");
+        request.outputBase = outputBase(par.getString("outputFile"), *target, *source).toStdString();
+        ctx.progress.setPhase(0, 100, "Baking normal map");
+        request.progress = [&ctx](int percent) { return ctx.progress(percent); };
+
+        const rad::NormalMapBakeReport report = rad::bakeNormalMapFiles(request);
+
+        // Everything is written: only now is the layer changed.
+        target->updateDataMask(MeshModel::MM_WEDGTEXCOORD);
+        std::size_t face = 0;
+        for (CFaceO& f : target->cm.face) {
+            if (f.IsD()) continue;
+            for (int k = 0; k < 3; ++k) {
+                f.WT(k).U() = report.wedgeUv[6 * face + 2 * k];
+                f.WT(k).V() = report.wedgeUv[6 * face + 2 * k + 1];
+                f.WT(k).N() = 0;
+            }
+            ++face;
+        }
+        const bool assignDiffuse = par.getEnum("assign") == kAssignDiffuse && !report.diffuseMapFile.empty();
+        const std::string& assigned = assignDiffuse ? report.diffuseMapFile : report.normalMapFile;
+        setLayerTexture(*target, textureName(assigned), assigned);
+
+        const rad::NormalBakeResult& stats = report.bake;
+        const double chart = std::max<double>(1.0, double(stats.chartTexels));
+        ctx.log(formatLine("Bake Normal Map: %s %dx%d, %d bit, %s, from '%s' (%zu faces) onto '%s' (%zu faces) in %.2f s "
+            "(bake %.2f, fill %.2f, LEAN %.2f, write %.2f)",
+            request.space == rad::NormalSpace::Object ? "object space" : "tangent space", request.textureSize,
+            request.textureSize, request.bits,
+            report.atlasGenerated ? qUtf8Printable(QString("per-triangle atlas (cells of %1 texels)").arg(report.atlasCellSize))
+                                  : "the target's texture coordinates",
+            qUtf8Printable(source->label()), sourceMesh.faceCount(), qUtf8Printable(target->label()),
+            targetMesh.faceCount(), report.totalSeconds, report.bakeSeconds, report.fillSeconds, report.leanSeconds,
+            report.writeSeconds));
+        ctx.log(formatLine("Bake Normal Map: %zu chart texels: %.2f %% ray hits, %.2f %% closest-point fallbacks, %zu holes filled by "
+            "pull-push; %zu gutter texels dilated; max ray distance %g",
+            stats.chartTexels, 100.0 * stats.rayHits / chart, 100.0 * stats.closestPointFallbacks / chart,
+            report.holesFilled, report.gutterTexelsDilated, double(stats.maxRayDistance)));
+        ctx.log(formatLine("Bake Normal Map: wrote %s%s%s%s", report.normalMapFile.c_str(),
+            report.diffuseMapFile.empty() ? "" : (", " + report.diffuseMapFile).c_str(),
+            report.leanFile.empty() ? "" : (", " + report.leanFile).c_str(),
+            (", " + report.descriptionFile).c_str()));
+        if (par.getBool("diffuse") && !sourceHasColors)
+            ctx.log(formatLine("Bake Normal Map: the source has no vertex colours, so no diffuse map was written."));
+        if (par.getBool("lean") && request.space == rad::NormalSpace::Tangent)
+            ctx.log(formatLine("Bake Normal Map: LEAN maps filter object-space normals (paper 002); bake in object space to get them."));
+}
+};
+
+QString BakeNormalMapFilter::description() const {
+    return QString(
+               "Bakes the normals of a full-resolution scan (the source layer) into a normal map of the current, "
+               "simplified layer (the target), so that the simplified mesh keeps the scan's shading. If the target "
+               "has no texture coordinates (or you ask for it), a per-triangle atlas is made: faces in pairs in the "
+               "square cells of a grid, as 'Parametrization: Trivial Per-Triangle' does, with a gutter of at least "
+               "the given number of empty texels between any two triangles. Existing coordinates must lie in [0, 1] and "
+               "must not overlap. For every texel, two rays leave the target's surface point along its "
+               "interpolated normal, forward and backward (Embree); the nearer hit on the scan gives the "
+               "interpolated scan normal, and when no ray hits within the maximum distance, the closest point of "
+               "the scan does. Object-space maps store the normal; tangent-space maps store it in the texel's "
+               "frame (N = interpolated target normal, T = dP/du of the face made orthogonal to N, B = N x T, "
+               "flipped for mirrored UVs: the OpenGL '+Y up' convention). Encoding (x + 1) / 2 in 8 or 16 bits. "
+               "Texels the bake could not fill are filled by pull-push diffusion, the gutters by dilation of the "
+               "charts' border texels, and the rest of the texture too, so mip-mapping never mixes in an empty "
+               "texel. Also written: the scan's vertex colours as a diffuse map, and LEAN second moments for MIP "
+               "levels 1 and up (object space only) in an OpenEXR file. Files: &lt;base&gt;_normal.png, "
+               "_diffuse.png, _lean.exr, _bake.txt, beside the target mesh unless a file is given. The map is "
+               "assigned as the layer's texture; the 'Radiance Field' decoration shows it with Blinn-Phong or LEAN "
+               "shading.") +
+           kCiteGranier2007WeberStamminger;
+}
+
+}  // namespace
+
+std::unique_ptr<Filter> makeBakeNormalMapFilter() { return std::make_unique<BakeNormalMapFilter>(); }
+
+}  // namespace radml

@@ -1,0 +1,3 @@
+#include "normal_bake_plugin.h"
+
+MESHLAB_PLUGIN_NAME_EXPORTER(NormalBakePlugin)
