@@ -1,5 +1,5 @@
 // Accuracy of "Fit Radiance Functions from Rasters" on a real scan photographed virtually
-// (paper 000 sec. 7; issue targets in the README):
+// (Vanhoey et al. 2015 sec. 7; issue targets in the README):
 //  1. ground truth: the fitted RF of every vertex against the scene's exact outgoing radiance
 //     (VirtualScene::radiance, with cast shadows) over the vertex's OBSERVED hemisphere: the
 //     directions of a dense hemisphere set (1,000 Fibonacci directions per vertex) lying within

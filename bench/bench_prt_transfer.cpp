@@ -17,7 +17,7 @@
 // Usage: bench_prt_transfer [mesh.off | mesh.rply] [--subdivide L] [--vertices N] [--rays N]
 //                           [--degree D] [--threads T] [--repeat R]
 // Defaults: data-cache/meshes/armadillo.off, 256 rays, degree 5, 2 threads, 1 repeat (best of R).
-// --subdivide 3 on the armadillo gives the 1.66M-vertex mesh of paper 000's scale.
+// --subdivide 3 on the armadillo gives the 1.66M-vertex mesh of Vanhoey et al. 2015's scale.
 #include "geometry/mesh_normals.h"
 #include "geometry/midpoint_subdivision.h"
 #include "io/off_reader.h"

@@ -1,10 +1,10 @@
-// bench_radiance_collapse: figures of the half-edge radiance error of paper 000 eq. (7)
+// bench_radiance_collapse: figures of the half-edge radiance error of Vanhoey et al. 2015 eq. (7)
 // (simplify/radiance_collapse_error.h), printed, never asserted.
 //   1. rule table: relative error of every half-edge cost with small Gauss product hemisphere rules
 //      against the 12 x 24 = 288-point rule of radiance_distance.h, and time per source vertex, on
 //      (a) random smooth RF on bumpy patches, vertex normals tilted up to 15 degrees from the mean
 //          (up to 30 between neighbours),
-//      (b) the analytic striped glossy material (paper 000 Fig. 8) projected on icospheres of level
+//      (b) the analytic striped glossy material (Vanhoey et al. 2015 Fig. 8) projected on icospheres of level
 //          1, 2, 3 (normals 32-36, 16-19, 8-9.5 degrees apart between neighbours);
 //   2. speed: every vertex of a >= 100k-vertex icosphere priced (all its half-edges), PB4 and SH6,
 //      default rule and 288-point rule, 1 thread and all threads, with the number of heap

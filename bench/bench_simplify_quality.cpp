@@ -1,5 +1,5 @@
 // Image-space quality of radiance-aware simplification against the paper's comparisons
-// (paper 000, Vanhoey et al. 2015), in numbers rather than pictures:
+// (Vanhoey et al. 2015, Vanhoey et al. 2015), in numbers rather than pictures:
 //  [1] Fig. 8: a sphere with alternating diffuse and specular stripes (PB4, 10,242 vertices),
 //      half-edge collapse to 50 % of the faces with the radiance metric (eq. 7), the colour QEM
 //      (Garland-Heckbert 1998 on the mean colour), the 2010 light-field metric and geometry alone.
@@ -96,7 +96,7 @@ void fig8() {
     };
     const Run runs[] = {{"radiance (eq. 7)", rad::SimplificationMetric::Radiance},
                         {"colour QEM (GH98, mean colour)", rad::SimplificationMetric::ColorQuadric},
-                        {"light field 2010 (paper 003)", rad::SimplificationMetric::LightField2010},
+                        {"light field 2010 (Vanhoey et al. 2010)", rad::SimplificationMetric::LightField2010},
                         {"geometry only (memoryless QEM)", rad::SimplificationMetric::GeometryOnly}};
     double radianceRmse = 0.0, colorRmse = 0.0;
     for (const Run& run : runs) {

@@ -231,7 +231,7 @@ private:
         if (par.getBool("diffuse") && !sourceHasColors)
             ctx.log(formatLine("Bake Normal Map: the source has no vertex colours, so no diffuse map was written."));
         if (par.getBool("lean") && request.space == rad::NormalSpace::Tangent)
-            ctx.log(formatLine("Bake Normal Map: LEAN maps filter object-space normals (paper 002); bake in object space to get them."));
+            ctx.log(formatLine("Bake Normal Map: LEAN maps filter object-space normals (Weber and Stamminger); bake in object space to get them."));
 }
 };
 

@@ -161,7 +161,7 @@ std::string NormalMapGlRenderer::setLeanMoments(const std::vector<rad::MipImage>
     if (!program_) return shaderProblem_;
     if (!normalTexture_) return "set the normal map before its LEAN moments";
     if (tangentSpace_)
-        return "LEAN mapping needs an object-space normal map (it filters object-space normals, paper 002); this one is in "
+        return "LEAN mapping needs an object-space normal map (it filters object-space normals, Weber and Stamminger); this one is in "
                "tangent space";
     if (mapLevels_ < 2) return "a 1 x 1 normal map has no LEAN moments";
     if (static_cast<int>(levels1toK.size()) != mapLevels_ - 1)

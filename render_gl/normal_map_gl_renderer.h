@@ -1,4 +1,4 @@
-// Draws a mesh with a normal map, and with LEAN mapping (paper 002, Weber & Stamminger, Alg. 3-4),
+// Draws a mesh with a normal map, and with LEAN mapping (Weber and Stamminger, Weber & Stamminger, Alg. 3-4),
 // with OpenGL: one directional light, Blinn-Phong or the LEAN Gaussian lobe (common/bake/lean_maps.h),
 // for comparing a baked normal map's appearance at every distance. No Qt, no MeshLab headers: a
 // current context with GLEW initialised is all it needs. GLSL in normal_map_shaders.h.
@@ -67,7 +67,7 @@ public:
     std::string setNormalMap(const std::vector<rad::MipImage>& pyramid, bool tangentSpace);
     // LEAN moments, MIP levels 1..K of the current normal map (LeanMaps::moments or
     // readLeanMoments). Refused (reason returned) for a tangent-space map: LEAN filters
-    // object-space normals (paper 002 sec. 3.2-3.3), or when the sizes do not match the map.
+    // object-space normals (Weber and Stamminger sec. 3.2-3.3), or when the sizes do not match the map.
     std::string setLeanMoments(const std::vector<rad::MipImage>& levels1toK);
     bool hasNormalMap() const { return normalTexture_ != 0; }
     bool hasLeanMoments() const { return momentTexture_ != 0; }

@@ -8,7 +8,7 @@
 //    a tangent-space map is decoded as n = t.x T + t.y B + t.z N in the frame of normal_baker.h
 //    (N the interpolated vertex normal, T = dP/du made orthogonal to N, B = s N x T, s = the sign
 //    of (dP/du x dP/dv) . N);
-//  - Lean: paper 002 Alg. 3-4 (common/bake/lean_maps.h): N = the trilinear averaged normal,
+//  - Lean: Weber and Stamminger Alg. 3-4 (common/bake/lean_maps.h): N = the trilinear averaged normal,
 //    mu2 = textureLod(moments, uv, max(lambda - 1, 0)), times clamp(lambda, 0, 1) below
 //    lambda = 1; frame T = dP/du orthogonalised against N, B = N x T; the 2D Gaussian of leanSpecular.
 // lambda = log2 of the larger screen-space footprint of a level-0 texel,

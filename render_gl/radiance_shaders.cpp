@@ -26,7 +26,7 @@ vec3 evalReflected(int v, vec3 d) {
     vec3 n = frameNormal(v);
     vec3 t = frameTangent(v);
     float z = dot(n, d);
-    if (z < 0.0) {  // paper 000 sec. 7: the border of the hemisphere with the same azimuth
+    if (z < 0.0) {  // Vanhoey et al. 2015 sec. 7: the border of the hemisphere with the same azimuth
         vec3 p = d - z * n;
         float r = length(p);
         d = (r < 1e-12) ? t : p / r;

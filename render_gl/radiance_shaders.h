@@ -6,11 +6,11 @@
 //  - uFrames  (samplerBuffer, RGB32F or RGBA32F): texel 3v = position p_v, 3v+1 = RF normal n_v,
 //    3v+2 = RF tangent t_v (radiance_field.h frames; bitangent b = n x t);
 //  - uCoefficients (samplerBuffer): texel v*K + k = (r, g, b) coefficient k of vertex v's REFLECTED
-//    RF L~_v (paper 000 sec. 3.1; plain storage is converted at upload);
+//    RF L~_v (Vanhoey et al. 2015 sec. 3.1; plain storage is converted at upload);
 //  - uFaces (usamplerBuffer, R32UI): the three vertex indices of triangle f at 3f .. 3f+2, fetched
 //    with gl_PrimitiveID (the triangle's index in the draw call).
 //
-// evalReflected(v, d) = L~_v(d), border-extended about n_v below its hemisphere (paper 000 sec. 7),
+// evalReflected(v, d) = L~_v(d), border-extended about n_v below its hemisphere (Vanhoey et al. 2015 sec. 7),
 // in the basis of the field (radiance/basis.h): PB(d) monomials u^i v^j of the local coordinates
 // (t.d, b.d), or real SH in the global frame (radiance/spherical_harmonics.h, no Condon-Shortley
 // phase), evaluated with the same recurrences as the CPU code:

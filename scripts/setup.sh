@@ -111,12 +111,67 @@ if [ -z "$MESHLAB_SRC" ]; then
 fi
 log "MeshLab source tree: $MESHLAB_SRC"
 
+# MeshLab 2025.07 headers (what pymeshlab 2025.7.post1 bundles): the orig tarball of Debian's source
+# package 'meshlab 2025.07~dfsg', fetched through a private apt configuration whose suites are the
+# development suites of the machine's own Debian entries (no host is named here). Source only: no
+# binary package of that suite is ever installed, and the system's apt state is not touched.
+MESHLAB2025_DIR="$THIRD_PARTY/meshlab-2025.07"
+if [ ! -f "$MESHLAB2025_DIR/src/common/plugins/interfaces/filter_plugin.h" ]; then
+  log "fetching MeshLab 2025.07 sources (headers only are used)"
+  APT_PRIVATE="$THIRD_PARTY/apt-2025"
+  rm -rf "$APT_PRIVATE"; mkdir -p "$APT_PRIVATE/lists/partial" "$APT_PRIVATE/download"
+  for f in /etc/apt/sources.list.d/*.sources; do
+    [ -f "$f" ] || continue
+    awk 'BEGIN{RS=""; ORS="\n\n"} /Types:[ \t]*deb([ \t\n]|$)/ && /debian-archive-keyring/ && !/security/ {
+           sub(/Types:[ \t]*deb/, "Types: deb-src"); sub(/Suites:[^\n]*/, "Suites: unstable testing"); print }' "$f"
+  done > "$APT_PRIVATE/sources.sources"
+  if [ ! -s "$APT_PRIVATE/sources.sources" ] && [ -f /etc/apt/sources.list ]; then
+    grep -E '^[[:space:]]*deb[[:space:]]' /etc/apt/sources.list | grep -v security | head -1 |
+      awk '{print "deb-src", $2, "unstable", "main"}' > "$APT_PRIVATE/sources.list"
+  fi
+  APT_OPTS=(-o "Dir::Etc::SourceParts=$APT_PRIVATE/none" -o "Dir::State::Lists=$APT_PRIVATE/lists"
+            -o "Dir::Cache=$APT_PRIVATE/cache" -o Debug::NoLocking=1 -o APT::Sandbox::User=root)
+  if [ -s "$APT_PRIVATE/sources.sources" ]; then APT_OPTS+=(-o "Dir::Etc::SourceList=$APT_PRIVATE/sources.sources");
+  else APT_OPTS+=(-o "Dir::Etc::SourceList=$APT_PRIVATE/sources.list"); fi
+  mkdir -p "$APT_PRIVATE/cache/archives/partial" "$APT_PRIVATE/none"
+  apt-get "${APT_OPTS[@]}" update -qq
+  # Only the orig tarball is needed (and on some mirrors only it downloads): ignore the rest's errors.
+  ML2025_VERSION="$(apt-cache "${APT_OPTS[@]}" showsrc meshlab 2>/dev/null | awk '/^Version: 2025\.07/ {print $2; exit}')"
+  if [ -n "$ML2025_VERSION" ]; then
+    ( cd "$APT_PRIVATE/download" && apt-get "${APT_OPTS[@]}" source --download-only -qq "meshlab=$ML2025_VERSION" || true )
+  fi
+  ORIG="$(ls "$APT_PRIVATE"/download/meshlab_2025.07*.orig.tar.* 2>/dev/null | head -1)"
+  if [ -z "$ORIG" ]; then
+    echo "[setup] could not fetch the MeshLab 2025.07 source tarball through apt (source package 'meshlab'" \
+         "2025.07~dfsg of Debian's unstable/testing suites); put MeshLab 2025.07's sources in $MESHLAB2025_DIR" >&2
+    exit 1
+  fi
+  rm -rf "$APT_PRIVATE/extract" && mkdir -p "$APT_PRIVATE/extract"
+  tar -xf "$ORIG" -C "$APT_PRIVATE/extract"
+  rm -rf "$MESHLAB2025_DIR" && mv "$APT_PRIVATE/extract"/* "$MESHLAB2025_DIR"
+  rm -rf "$APT_PRIVATE"
+fi
+log "MeshLab 2025.07 source tree: $MESHLAB2025_DIR ($(cat "$MESHLAB2025_DIR/ML_VERSION"))"
+
+# The Python side: a virtual environment in the build tree with pymeshlab (MeshLab 2025.07), numpy,
+# pytest and the package builder; our package is installed into it by scripts/test.sh and the main job.
+VENV="$BUILD_DIR/python-venv"
+if [ ! -x "$VENV/bin/python" ]; then
+  log "python virtual environment $VENV"
+  mkdir -p "$BUILD_DIR"
+  python3 -m venv "$VENV"
+fi
+"$VENV/bin/python" -m pip install -q --disable-pip-version-check 'pymeshlab==2025.7.post1' 'numpy>=1.21' pytest \
+  'scikit-build-core>=0.8' 2>&1 | grep -v "is ignored" || true
+"$VENV/bin/python" -c "import pymeshlab" || { echo "[setup] pymeshlab does not import in $VENV" >&2; exit 1; }
+
 if [ "${SKIP_DATA:-0}" != "1" ]; then
   "$REPO/samples/fetch_data.sh"
 fi
 
 log "configuring in $BUILD_DIR"
-cmake -S "$REPO" -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DMESHLAB_SOURCE_DIR="$MESHLAB_SRC" >/dev/null
+cmake -S "$REPO" -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DMESHLAB_SOURCE_DIR="$MESHLAB_SRC" \
+  -DMESHLAB2025_SOURCE_DIR="$MESHLAB2025_DIR" -DRADIANCE_PYTHON="$VENV/bin/python" >/dev/null
 log "building with $JOBS jobs"
 cmake --build "$BUILD_DIR" -j "$JOBS"
 log "private MeshLab prefix"

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# The README's test command: sets everything up (apt packages, MeshLab source headers, data, build,
-# private MeshLab prefix), runs every test with ctest (unit tests of the cores, meshlabserver
-# integration tests, the GUI smoke test), then the core tests once more under
+# The README's test command: sets everything up (apt packages, MeshLab 2020.09 and 2025.07 source
+# headers, pymeshlab in build/python-venv, data, build, private MeshLab prefix), runs every test with
+# ctest (unit tests of the cores, meshlabserver integration tests, GUI tests), installs the Python
+# package from the repository into the venv (pip install: it compiles the pymeshlab plugins) and runs
+# the pytest suite through the real pymeshlab, then the core tests once more under
 # AddressSanitizer + UndefinedBehaviorSanitizer in a separate build.
 set -euo pipefail
 REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -12,6 +14,13 @@ bash "$REPO/scripts/setup.sh"
 
 echo "[test] ctest (unit + integration + GUI)"
 ctest --test-dir "$BUILD_DIR" --output-on-failure -j 2
+
+VENV="$BUILD_DIR/python-venv"
+echo "[test] pip install of the Python package into $VENV (compiles the MeshLab 2025.07 plugins)"
+"$VENV/bin/python" -m pip install -q --disable-pip-version-check --no-build-isolation --no-deps "$REPO"
+"$VENV/bin/python" -c "import pymeshlab_radiance, sys; sys.stdout.write('[test] plugins loaded from %s\\n' % pymeshlab_radiance.plugin_dir())"
+echo "[test] pytest through pymeshlab 2025.7"
+( cd "$REPO" && RADIANCE_BUILD_DIR="$BUILD_DIR" "$VENV/bin/python" -m pytest -q -p no:cacheprovider tests/python )
 
 echo "[test] core tests under AddressSanitizer + UndefinedBehaviorSanitizer"
 SAN_DIR="${BUILD_DIR}-sanitize"

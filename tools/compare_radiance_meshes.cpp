@@ -39,7 +39,7 @@ void usage(std::ostream& out) {
     out << "usage: compare_radiance_meshes ORIGINAL.rply OTHER.rply [more.rply ...] [options]\n"
            "  --views N                 cameras around the original's bounding sphere [16]\n"
            "  --size WxH                image size [512x512]\n"
-           "  --mode per-fragment|per-vertex   eq. (8) or per-vertex (paper 000 sec. 5) shading [per-fragment]\n"
+           "  --mode per-fragment|per-vertex   eq. (8) or per-vertex (Vanhoey et al. 2015 sec. 5) shading [per-fragment]\n"
            "  --supersampling N         N x N rays per pixel, 1..16 [1]\n"
            "  --elevation MIN,MAX       elevation band of the cameras in degrees [-90,90]\n"
            "  --up X,Y,Z                world up axis of the cameras (elevation measured from it) [0,0,1]\n"

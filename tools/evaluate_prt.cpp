@@ -1,11 +1,11 @@
-// evaluate_prt: adaptive (paper 001, Krivanek et al., Fig. 2) against uniform PRT subdivision at the
+// evaluate_prt: adaptive (Křivánek et al. 2004, Krivanek et al., Fig. 2) against uniform PRT subdivision at the
 // same triangle count, judged by the relighting error of the interpolated shading against transfer
 // ray-cast at dense sample points (common/prt/relighting_error.h), over many lightings: random
 // directional lights (Hanning-windowed SH) and HDR environment maps in several rotations.
 //
 //   evaluate_prt [--scene column | --mesh FILE] [options]
 //
-// Scenes: "column" is paper 001 Fig. 1's column on a ground plane (~200 vertices); --mesh puts a
+// Scenes: "column" is Křivánek et al. 2004 Fig. 1's column on a ground plane (~200 vertices); --mesh puts a
 // real scan (OFF / PLY), optionally simplified first (geometry-only QEM), standing on a square ground
 // plane (its lowest point on the plane, up axis --up).
 // The uniform baseline splits every triangle --levels times (faces x 4^levels); the adaptive
@@ -51,13 +51,13 @@ using radtools::toNumber;
 
 void usage(std::ostream& out) {
     out << "usage: evaluate_prt [--scene column | --mesh FILE] [options]\n"
-           "  --scene column            paper 001 Fig. 1 column on a plane [default]\n"
+           "  --scene column            Křivánek et al. 2004 Fig. 1 column on a plane [default]\n"
            "  --mesh FILE               a scan (.off/.ply) standing on a ground plane instead\n"
            "  --up x|y|z|-x|-y|-z       the scan's up axis [y]\n"
            "  --simplify-to F           simplify the scan to F faces first (geometry QEM) [0: no]\n"
            "  --ground N                ground plane cells per side for --mesh [8]\n"
            "  --levels L                uniform subdivision levels; budget = faces x 4^L [2]\n"
-           "  --measure 2|3|4           paper 001 error estimate [4]\n"
+           "  --measure 2|3|4           Křivánek et al. 2004 error estimate [4]\n"
            "  --alpha A                 eq. 4 alpha [library default]\n"
            "  --order N                 SH order (N^2 coefficients) [6]\n"
            "  --rays N                  rays per transfer vector [256]\n"
@@ -397,7 +397,7 @@ int run(int argc, char** argv) {
     }
 
     std::printf("scene: %s, %zu vertices, %zu faces; SH order %d, %d rays; estimate %s, alpha %.3g\n",
-                s.scene == "column" ? "column on a plane (paper 001 Fig. 1)" : s.meshPath.c_str(),
+                s.scene == "column" ? "column on a plane (Křivánek et al. 2004 Fig. 1)" : s.meshPath.c_str(),
                 scene.vertexCount(), scene.faceCount(), s.order, s.rays,
                 s.measure == rad::TransferErrorMeasure::Contrast     ? "eq. 2"
                 : s.measure == rad::TransferErrorMeasure::Difference ? "eq. 3"

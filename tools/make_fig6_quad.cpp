@@ -1,4 +1,4 @@
-// make_fig6_quad: the toy scene of paper 000 Fig. 6 as a radiance mesh (.rply): the quad of
+// make_fig6_quad: the toy scene of Vanhoey et al. 2015 Fig. 6 as a radiance mesh (.rply): the quad of
 // makeDivergingQuad (4 vertices, 2 triangles, corner normals tilted outwards) carrying the RF of a
 // dark glossy material under a directional light along the quad's normal +z, so that a camera in
 // front of the quad (+z, as MeshLab's default and "Front" views) sees the lobe's peak only near the
@@ -6,7 +6,7 @@
 //  - at vertex i (normal n_i tilted by `tilt` outwards) the lobe peaks toward the mirror direction of
 //    +z about n_i, 2 tilt away from +z, outwards; the frontal camera sees the corner from a direction
 //    tilted inwards, far from that peak: every vertex is dark toward the eye;
-//  - per-vertex shading (paper 000 sec. 5) interpolates those dark colours: no highlight (Fig. 6 left);
+//  - per-vertex shading (Vanhoey et al. 2015 sec. 5) interpolates those dark colours: no highlight (Fig. 6 left);
 //  - per-fragment shading (eq. 8) evaluates the reflected RF at R_n w with the interpolated normal,
 //    which is +z at the centre: L~_i(R_z w) = L_i(R_{n_i} z) for w = z, the lobe's peak of every
 //    vertex: a highlight in the middle (Fig. 6 right).
@@ -41,7 +41,7 @@ void usage(std::ostream& out) {
            "  --tilt DEG        outward tilt of the corner normals [30]\n"
            "  --size S          half size of the square [1]\n"
            "  --basis PB6|SH8   basis of the radiance functions [PB6]\n"
-           "  --reflected       store reflected functions (paper 000 sec. 3.1)\n"
+           "  --reflected       store reflected functions (Vanhoey et al. 2015 sec. 3.1)\n"
            "  --exponent E      Blinn-Phong exponent [40]\n"
            "  --specular KS     lobe reflectance (grey) [0.6]\n"
            "  --albedo A        Lambert reflectance (grey) [0.1]\n"

@@ -25,7 +25,7 @@ using radtools::toInt;
 void usage(std::ostream& out) {
     out << "usage: make_radiance_mesh MESH.{off,ply} -o OUT.rply [options]\n"
            "  --basis PB4|SH6|...      basis of the radiance functions [PB4]\n"
-           "  --reflected              store reflected functions (paper 000 sec. 3.1)\n"
+           "  --reflected              store reflected functions (Vanhoey et al. 2015 sec. 3.1)\n"
            "  --material glossy|diffuse|stripes   sample material of virtual_acquisition [glossy]\n"
            "  --up x|y|z|-x|-y|-z      world up axis (lights, stripes) [y]\n"
            "  --subdivide L            midpoint-subdivide L times first (normals interpolated) [0]\n"

@@ -1,11 +1,11 @@
 // make_scene: writes one of the generated scenes of geometry/primitive_meshes.h (exact per-vertex
 // normals) as a binary little-endian PLY or an ASCII NOFF file, for MeshLab and the tests.
 //
-//   make_scene sphere  [--level 4] [--radius 1] -o sphere.ply          icosphere (paper 000 Fig. 8)
+//   make_scene sphere  [--level 4] [--radius 1] -o sphere.ply          icosphere (Vanhoey et al. 2015 Fig. 8)
 //   make_scene uvsphere [--stacks 32] [--slices 64] [--radius 1] -o uv.ply
-//   make_scene quad    [--tilt 30] [--size 1] -o quad.ply              paper 000 Fig. 6 (tilt in degrees)
+//   make_scene quad    [--tilt 30] [--size 1] -o quad.ply              Vanhoey et al. 2015 Fig. 6 (tilt in degrees)
 //   make_scene column  [--segments 16] [--rings 4] [--radius 0.15] [--height 1]
-//                      [--ground 8] [--ground-size 1] -o column.ply    paper 001 Fig. 1
+//                      [--ground 8] [--ground-size 1] -o column.ply    Křivánek et al. 2004 Fig. 1
 //   make_scene torus   [--major 1] [--minor 0.35] [--major-segments 48] [--minor-segments 24] -o torus.off
 //
 // The format follows the output's extension: .ply -> binary_little_endian PLY with
@@ -38,9 +38,9 @@ void usage(std::ostream& out) {
            "  sphere    --level [4] --radius [1]                  icosphere, 10*4^level+2 vertices\n"
            "  uvsphere  --stacks [32] --slices [64] --radius [1]  latitude/longitude sphere\n"
            "  quad      --tilt [30] --size [1]                    4-vertex quad, normals tilted outwards\n"
-           "                                                      by --tilt degrees (paper 000 Fig. 6)\n"
+           "                                                      by --tilt degrees (Vanhoey et al. 2015 Fig. 6)\n"
            "  column    --segments [16] --rings [4] --radius [0.15] --height [1]\n"
-           "            --ground [8] --ground-size [1]            column on a ground plane (paper 001 Fig. 1)\n"
+           "            --ground [8] --ground-size [1]            column on a ground plane (Křivánek et al. 2004 Fig. 1)\n"
            "  torus     --major [1] --minor [0.35] --major-segments [48] --minor-segments [24]\n"
            "output: .ply = binary little-endian PLY (x y z nx ny nz, faces as uchar/int lists),\n"
            "        .off = ASCII NOFF (positions and normals)\n";

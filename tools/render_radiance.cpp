@@ -5,7 +5,7 @@
 //                   [--mode vertex|fragment] [--supersampling N] [--exposure E]
 //                   [--background R,G,B] [--compare PHOTO|raster] [--side-by-side FILE.png]
 //
-// --mode: paper 000 sec. 5 per-vertex ("Gouraud-like") or eq. (8) per-fragment shading [fragment].
+// --mode: Vanhoey et al. 2015 sec. 5 per-vertex ("Gouraud-like") or eq. (8) per-fragment shading [fragment].
 // --compare: the photograph to compare with; "raster" takes the image of raster K of the project.
 //   Prints RMSE and PSNR (render/image_metrics.h) in 8-bit sRGB and linear units over the pixels
 //   the mesh covers fully, and over the whole image.
@@ -39,7 +39,7 @@ using radtools::toNumber;
 
 void usage(std::ostream& out) {
     out << "usage: render_radiance MESH.rply --project project.mlp --view K -o out.png [options]\n"
-           "  --mode vertex|fragment   per-vertex (paper 000 sec. 5) or per-fragment eq. (8) shading [fragment]\n"
+           "  --mode vertex|fragment   per-vertex (Vanhoey et al. 2015 sec. 5) or per-fragment eq. (8) shading [fragment]\n"
            "  --supersampling N        N x N rays per pixel [2]\n"
            "  --exposure E             linear scale before sRGB encoding [1]\n"
            "  --background R,G,B       linear background colour [0,0,0]\n"

@@ -1,4 +1,4 @@
-// virtual_acquisition: "virtually acquired photographs" (paper 000 sec. 7) of a mesh, written as a
+// virtual_acquisition: "virtually acquired photographs" (Vanhoey et al. 2015 sec. 7) of a mesh, written as a
 // MeshLab project, so that radiance fitting is exercised exactly as on a user's calibrated
 // photographs loaded as raster layers.
 //

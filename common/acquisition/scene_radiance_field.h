@@ -1,6 +1,6 @@
 // The exact radiance of a virtual scene (virtual_scene.h) at every vertex, projected onto a basis:
 // radiance data with known ground truth and no photographs, for the simplification benchmarks and
-// the main job (paper 000 Fig. 7-8 compare simplifications of such fields).
+// the main job (Vanhoey et al. 2015 Fig. 7-8 compare simplifications of such fields).
 #pragma once
 
 #include "acquisition/virtual_scene.h"

@@ -1,4 +1,4 @@
-// "Virtually acquired photographs" (paper 000 sec. 7): a VirtualScene (virtual_scene.h) seen
+// "Virtually acquired photographs" (Vanhoey et al. 2015 sec. 7): a VirtualScene (virtual_scene.h) seen
 // through a PinholeCamera (camera/pinhole_camera.h), rendered by ray casting.
 //
 // For every pixel (column c, row r from the top), NxN primary rays go through the sub-pixel

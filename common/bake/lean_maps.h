@@ -1,4 +1,4 @@
-// LEAN covariance maps relative to the averaged normal (paper 002, Weber & Stamminger, sec. 3.3,
+// LEAN covariance maps relative to the averaged normal (Weber and Stamminger, Weber & Stamminger, sec. 3.3,
 // Alg. 2; storage without level 0, sec. 3.5) and the specular lobes they are rendered with
 // (Alg. 3-4), on the CPU: for the bake, the tests and the reference images.
 //

@@ -178,7 +178,7 @@ NormalMapBakeReport bakeNormalMapFiles(const NormalMapBakeRequest& request) {
         };
     };
     const bool withColor = request.bakeDiffuse && request.sourceColors != nullptr;
-    // LEAN filters object-space normals (paper 002, sec. 3.3): a tangent-space bake writes none.
+    // LEAN filters object-space normals (Weber and Stamminger, sec. 3.3): a tangent-space bake writes none.
     const bool withLean = request.writeLean && request.space == NormalSpace::Object;
 
     NormalBakeOptions options;

@@ -1,5 +1,5 @@
 // "Fit Radiance Functions from Rasters": per-vertex radiance functions (RF) of a whole mesh fitted
-// on calibrated photographs (paper 000, Vanhoey et al. 2015, sec. 7 "Data acquisition and
+// on calibrated photographs (Vanhoey et al. 2015, Vanhoey et al. 2015, sec. 7 "Data acquisition and
 // reconstruction"). The driver the MeshLab filter and the benchmarks call:
 //
 //   1. validation of everything before any work (FitError with a sentence saying what is wrong and
@@ -18,7 +18,7 @@
 // does not depend on the vertex order or the thread count) receives the plain average of its known
 // neighbours' coefficients and mean colours. Averaging coefficients is exact for SH (one global
 // frame: the average of the coefficients is the coefficients of the average function; with
-// reflected storage it is the r-RF interpolation of paper 000 eq. 1). For PB it is an approximation:
+// reflected storage it is the r-RF interpolation of Vanhoey et al. 2015 eq. 1). For PB it is an approximation:
 // each vertex's coefficients live in its own local frame, and neighbouring frames differ by the small
 // rotation between their normals (frameFromNormal is continuous away from n = -z), so the average
 // mixes functions expressed in slightly rotated frames. Exact re-projection would cost a fit per

@@ -284,7 +284,7 @@ VertexFitResult RobustRadianceFitter::fit(const Frame& frame, const DirectionalS
         const double len = w.norm();
         if (!(len > 0.0)) continue;
         double x = frame.t.dot(w) / len, y = frame.b.dot(w) / len, z = frame.n.dot(w) / len;
-        borderExtendLocal(x, y, z);  // paper 000 sec. 7
+        borderExtendLocal(x, y, z);  // Vanhoey et al. 2015 sec. 7
         local[3 * n] = x;
         local[3 * n + 1] = y;
         local[3 * n + 2] = z;

@@ -1,5 +1,5 @@
 // Robust per-vertex fitting of a radiance function (RF) to colour samples seen from a few
-// directions, as in "Fit Radiance Functions from Rasters" (paper 000, Vanhoey et al. 2015, sec. 7
+// directions, as in "Fit Radiance Functions from Rasters" (Vanhoey et al. 2015, Vanhoey et al. 2015, sec. 7
 // "Data acquisition and reconstruction": RF "are fitted on photographs ... projected onto the mesh").
 //
 // The difficulty is the sampling: a vertex of a scan is seen by a handful of photographs, often from
@@ -17,7 +17,7 @@
 // Algorithm for one vertex with frame (t, b, n) and samples (w_j unit world direction toward the
 // camera, y_j linear RGB, weight a_j > 0):
 //  1. Local directions l_j = (t.w_j, b.w_j, n.w_j); a sample below the tangent plane is moved to its
-//     border direction (the border extension of paper 000 sec. 7, as radiance_projection.h does).
+//     border direction (the border extension of Vanhoey et al. 2015 sec. 7, as radiance_projection.h does).
 //     Invalid samples (non-finite, zero direction, weight <= 0) are ignored.
 //  2. Weighted mean colour m = sum a_j y_j / sum a_j: the diffuse colour, returned, and the prior.
 //     Zero samples -> Unseen (zero coefficients). Fewer than minSamples -> the constant RF m
@@ -66,7 +66,7 @@
 //     nearly every vertex of a real acquisition (10-50 photographs) is poorly sampled for PB4 (30
 //     samples) and SH6 (98).
 //  7. Result: the coefficients (3K floats, PB in the local frame, SH in the global frame; plain L or
-//     reflected L~ of paper 000 sec. 3.1 per option), mean colour, sample count, weighted RMS
+//     reflected L~ of Vanhoey et al. 2015 sec. 3.1 per option), mean colour, sample count, weighted RMS
 //     residual of the real samples, status, guard retries.
 //
 // Frames: the whole fit is done in the vertex's local frame, for SH too (SH expressed in the local
@@ -75,7 +75,7 @@
 // SH6 rotation costs ~5 us per vertex, evaluating SH6 in the global frame at the ~770 directions of
 // C and the uncovered part of D ~13 us (17 ns each), hence the rotation. The Tikhonov term is
 // rotation invariant (SH rotations are orthogonal within each band and keep Y_0^0), so this is
-// exactly the global-frame fit. The reflection of paper 000 sec. 3.1 is, in the local frame,
+// exactly the global-frame fit. The reflection of Vanhoey et al. 2015 sec. 3.1 is, in the local frame,
 // (x, y, z) -> (-x, -y, z): the sign (-1)^(i+j) for PB monomials u^i v^j and (-1)^|m| for Y_l^m,
 // both keeping E, so the reflected fit is the sign-flipped plain fit.
 //
@@ -137,7 +137,7 @@ inline constexpr double kGuardMarginFraction = 0.75;
 
 struct RobustFitOptions {
     BasisSpec basis;
-    // Store the reflected RF L~(w) = L(R_n w) (paper 000 sec. 3.1) instead of L.
+    // Store the reflected RF L~(w) = L(R_n w) (Vanhoey et al. 2015 sec. 3.1) instead of L.
     bool storeReflected = false;
     // Tikhonov weight, dimensionless, scaled by trace(G) / K (see the file comment). >= 0.
     double lambda = 1e-3;

@@ -1,4 +1,4 @@
-// Gathering the colour samples of mesh vertices from calibrated photographs (paper 000 sec. 7:
+// Gathering the colour samples of mesh vertices from calibrated photographs (Vanhoey et al. 2015 sec. 7:
 // radiance functions "are fitted on photographs ... projected onto the mesh"), for the robust
 // per-vertex fit of fit/robust_radiance_fit.h.
 //

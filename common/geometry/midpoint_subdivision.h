@@ -4,7 +4,7 @@
 // triangles on both sides (no cracks, no duplicated vertices), so a watertight mesh stays
 // watertight and orientations are kept. The shape does not change (no smoothing, unlike Loop):
 // this makes dense meshes of a real scan's exact shape, e.g. 1.66M vertices from the 26k-vertex
-// armadillo with 3 levels, for benchmarks at the scale of paper 000's acquisitions.
+// armadillo with 3 levels, for benchmarks at the scale of Vanhoey et al. 2015's acquisitions.
 //
 // Counts per level: V' = V + E, F' = 4 F, E' = 2 E + 3 F. Vertex order: the original vertices
 // first (same indices), then one midpoint per edge in increasing (min index, max index) order.

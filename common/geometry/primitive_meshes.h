@@ -1,9 +1,9 @@
 // Small generated scenes with exact normals, for tests, benchmarks and synthetic acquisitions.
 //
-//  - icosphere / UV sphere: the sphere of paper 000 Fig. 8 (stripes of diffuse and specular
+//  - icosphere / UV sphere: the sphere of Vanhoey et al. 2015 Fig. 8 (stripes of diffuse and specular
 //    material are painted on it by radiance/analytic_material.h, not here);
-//  - the toy quad of paper 000 Fig. 6: four vertices, two triangles, normals diverging outwards;
-//  - the 'column' scene of paper 001 Fig. 1: a capped cylinder standing on a ground plane
+//  - the toy quad of Vanhoey et al. 2015 Fig. 6: four vertices, two triangles, normals diverging outwards;
+//  - the 'column' scene of Křivánek et al. 2004 Fig. 1: a capped cylinder standing on a ground plane
 //    (200 vertices / 246 triangles in the paper; ~200 vertices here with the defaults);
 //  - a torus (genus 1, a closed surface with negative curvature).
 //

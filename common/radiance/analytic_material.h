@@ -1,5 +1,5 @@
 // Ground-truth outgoing radiance of an analytic material under analytic lights, for synthetic
-// ("virtually acquired") data whose exact radiance functions the tests know (paper 000 sec. 9:
+// ("virtually acquired") data whose exact radiance functions the tests know (Vanhoey et al. 2015 sec. 9:
 // "The radiance functions attached to the plane and the spheres (Fig. 6 and 8) are fitted on
 // virtually acquired photographs of a synthetic scene characterized by point light sources and
 // BRDF"; docs data.md: no measured BRDF is packaged, so analytic ones are used).
@@ -30,7 +30,7 @@
 // w_o = -n, an arbitrary tangent), so it stays continuous and finite. The projection code calls
 // it only for w_o.n >= 0: this is a safety net, not data.
 //
-// Spatial stripes (paper 000 Fig. 8, "a sphere alternating diffuse and specular materials"): with
+// Spatial stripes (Vanhoey et al. 2015 Fig. 8, "a sphere alternating diffuse and specular materials"): with
 // stripes enabled, the bands floor((p.axis - offset) / bandWidth) alternate between diffuse only
 // (ks = 0) and diffuse + specular; `specularOnOdd` chooses which parity carries the lobe.
 #pragma once

@@ -23,7 +23,7 @@ enum class BasisKind : std::uint8_t {
 
 inline constexpr int kMaxPolynomialDegree = 8;
 inline constexpr int kMaxHarmonicDegree = 10;
-inline constexpr int kColorChannels = 3;  // RGB, treated separately (paper 000 sec. 7)
+inline constexpr int kColorChannels = 3;  // RGB, treated separately (Vanhoey et al. 2015 sec. 7)
 
 struct BasisSpec {
     BasisKind kind = BasisKind::HemisphericalPolynomial;

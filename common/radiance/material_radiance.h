@@ -1,7 +1,7 @@
 // Radiance data made from an analytic material: at every vertex the outgoing radiance of the
 // material under the given lights (analytic_material.h) is projected onto the chosen basis
 // (radiance_projection.h). It makes samples, tests and benchmarks possible without photographs;
-// paper 000 (sec. 7) fitted its synthetic scenes (Fig. 6, Fig. 8) from such materials too.
+// Vanhoey et al. 2015 (sec. 7) fitted its synthetic scenes (Fig. 6, Fig. 8) from such materials too.
 #pragma once
 
 #include "radiance/analytic_material.h"
@@ -15,7 +15,7 @@ namespace rad {
 
 struct MaterialRadianceOptions {
     BasisSpec basis;
-    bool reflected = false;  // store L~ (paper 000 sec. 3.1) instead of L
+    bool reflected = false;  // store L~ (Vanhoey et al. 2015 sec. 3.1) instead of L
 };
 
 // Called with a percentage 0..100 from the calling thread.

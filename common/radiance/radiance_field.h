@@ -19,7 +19,7 @@ namespace rad {
 
 struct RadianceField {
     BasisSpec basis;
-    // True when the coefficients encode the reflected RF L~(w) = L(R_n w) (paper 000 sec. 3.1).
+    // True when the coefficients encode the reflected RF L~(w) = L(R_n w) (Vanhoey et al. 2015 sec. 3.1).
     bool reflected = false;
     std::vector<float> coefficients;
     std::vector<float> frames;

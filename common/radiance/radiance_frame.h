@@ -54,7 +54,7 @@ Frame frameFromStored(const float* f);
 // Writes tangent and normal as the 6 floats of radiance_field.h.
 void storeFrame(const Frame& frame, float* f);
 
-// R_n(w) = 2 (n . w) n - w, paper 000 sec. 3.1 (n must be unit).
+// R_n(w) = 2 (n . w) n - w, Vanhoey et al. 2015 sec. 3.1 (n must be unit).
 inline Eigen::Vector3d reflect(const Eigen::Vector3d& n, const Eigen::Vector3d& w) { return 2.0 * n.dot(w) * n - w; }
 
 }  // namespace rad

@@ -1,10 +1,10 @@
 // Computing the coefficients of a per-vertex radiance function (RF) in a basis (basis.h):
-//  (a) weighted, regularised least-squares fit of RGB samples (acquisition data, paper 000 sec. 7
+//  (a) weighted, regularised least-squares fit of RGB samples (acquisition data, Vanhoey et al. 2015 sec. 7
 //      "Data acquisition and reconstruction": RF "are fitted on photographs");
 //  (b) L2 projection of an analytic function f(w) -> RGB (synthetic scenes, tests).
 //
 // Both produce, for one vertex with frame `frame` (radiance_frame.h), kColorChannels * K doubles
-// (channel-major, the vertex layout of radiance_field.h) encoding L, or L~ (paper 000 sec. 3.1,
+// (channel-major, the vertex layout of radiance_field.h) encoding L, or L~ (Vanhoey et al. 2015 sec. 3.1,
 // L~(w) = L(R_n w)) when the reflected storage is requested. Directions are world-frame unit
 // vectors; PB coefficients are in the frame's local coordinates, SH coefficients in the global
 // frame (basis.h).
@@ -47,7 +47,7 @@ struct FitOptions {
 // in double precision. d_j is the direction at which the stored function is evaluated to give
 // L(direction_j) (basisDirection of radiance_evaluation.h: local frame for PB, reflected when
 // storeReflected; a sample below the tangent plane is moved to its border direction, consistently
-// with the border extension of paper 000 sec. 7). Directions are normalised here.
+// with the border extension of Vanhoey et al. 2015 sec. 7). Directions are normalised here.
 // Scaling: s makes lambda invariant to the number of samples (duplicating every sample changes
 // nothing), to a common scale of the weights and to a common scale of the basis functions, so lambda is a fraction of the average data term (1e-3..1e-1
 // are sensible). The constant function (index 0, both bases: PB u^0 v^0 = 1, SH Y_0^0) is NOT
@@ -78,7 +78,7 @@ struct ProjectionOptions {
     // radiance_evaluation.h: exact sign flips for PB, SH rotation by pi about n).
     bool storeReflected = false;
     // SH only: project the border-extended function (f below the tangent plane replaced by its
-    // border value, paper 000 sec. 7) over the whole sphere, so that the SH approximates exactly what
+    // border value, Vanhoey et al. 2015 sec. 7) over the whole sphere, so that the SH approximates exactly what
     // evaluateRadiance returns. false: project f as given on the whole sphere. Ignored for PB.
     bool borderExtension = true;
     // Polynomial precision of the quadrature rule; 0 = automatic: 2 * degree + 10, clamped to the

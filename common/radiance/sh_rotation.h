@@ -68,7 +68,7 @@ private:
     void applyImpl(const Real* in, Real* out) const;
 };
 
-// The reflection about the axis n of paper 000 sec. 3.1: w -> 2 (n.w) n - w, i.e. the matrix
+// The reflection about the axis n of Vanhoey et al. 2015 sec. 3.1: w -> 2 (n.w) n - w, i.e. the matrix
 // 2 n n^T - I. It is the rotation by pi about n (det +1), its own inverse and symmetric, so
 // "rotate f by it" and "by its transpose" coincide. n is normalised here.
 Eigen::Matrix3d reflectionAbout(const Eigen::Vector3d& n);

@@ -1,5 +1,5 @@
 // Vertex colours from radiance functions: L(p, w) toward a viewpoint (per-vertex evaluation, the
-// "Gouraud-like" mode of paper 000 sec. 5), and the linear -> 8-bit sRGB encoding used whenever
+// "Gouraud-like" mode of Vanhoey et al. 2015 sec. 5), and the linear -> 8-bit sRGB encoding used whenever
 // linear radiance becomes a displayable colour.
 #pragma once
 
@@ -14,7 +14,7 @@ namespace rad {
 std::uint8_t encodeSrgb8(float linear);
 
 // rgbOut[3 v + c] = exposure * L_v(normalize(eye - p_v)) for every vertex (border-extended below
-// the horizon, paper 000 sec. 7). A vertex at the eye gets its normal direction. Parallel (OpenMP).
+// the horizon, Vanhoey et al. 2015 sec. 7). A vertex at the eye gets its normal direction. Parallel (OpenMP).
 void radianceTowardViewpoint(const RadianceField& field, const float* positions, const double eye[3],
                              float exposure, float* rgbOut);
 

@@ -1,6 +1,6 @@
 // The baseline "extended colour QEM": M. Garland and P. S. Heckbert, "Simplifying surfaces with
 // color and texture using quadric error metrics", IEEE Visualization 1998 (GH98; not in
-// shared/papers, cited by paper 003 sec. 2.2.1 as [GH98]). Each vertex is a point v = (p, c) of R^6
+// shared/papers, cited by Vanhoey et al. 2010 sec. 2.2.1 as [GH98]). Each vertex is a point v = (p, c) of R^6
 // (position x, y, z and linear RGB colour r, g, b) and each face a 2D affine subspace of R^6, the
 // plane through its three 6D points. GH98: with an orthonormal basis e1, e2 of that plane
 // (Gram-Schmidt on q - p, r - p), the squared distance of v to it is
@@ -14,7 +14,7 @@
 //    colour discontinuity does not make a face weigh more;
 //  - a vertex's quadric is the sum of its faces' quadrics, and quadrics are ACCUMULATED on collapse
 //    (Q1 += Q0): the error is measured against the planes of every original face the survivor
-//    stands for (the "cumulative" QEM of paper 003 sec. 3.1, unlike the memoryless E_G of
+//    stands for (the "cumulative" QEM of Vanhoey et al. 2010 sec. 3.1, unlike the memoryless E_G of
 //    quadric_error.h that the engine adds separately);
 //  - geometry is normalised, x' = scale (x - centre) with centre the bounding-box centre and scale
 //    1 / bounding-box diagonal by default, so that positions span about [-0.5, 0.5] like linear RGB

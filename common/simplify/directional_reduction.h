@@ -1,4 +1,4 @@
-// Directional reduction: the alternative to mesh simplification that paper 000 (Vanhoey et al.
+// Directional reduction: the alternative to mesh simplification that Vanhoey et al. 2015 (Vanhoey et al.
 // 2015, Fig. 7 and its discussion) compares against at equal memory. Every vertex is kept, but its
 // radiance function (RF) is re-expressed in a basis of lower degree, so the memory saved comes from
 // the directional resolution instead of the spatial one.

@@ -1,5 +1,5 @@
 // Iterative edge-collapse simplification (Hoppe 1996 "Progressive meshes"; Garland & Heckbert 1997)
-// with pluggable pricing (collapse_metric.h), as used by paper 000 (Vanhoey et al. 2015) sec. 4:
+// with pluggable pricing (collapse_metric.h), as used by Vanhoey et al. 2015 (Vanhoey et al. 2015) sec. 4:
 // "build a priority queue of all collapsible edges; until the mesh is simplified enough, collapse
 // the first edge and update the queue".
 //
@@ -28,7 +28,7 @@
 //    an edge joining two boundary vertices must itself be a boundary edge (no pinching);
 //  - face flip: every face that survives keeps its orientation within maxNormalDeviationDegrees
 //    and does not become degenerate;
-//  - optional valence bounds [minValence, maxValence] (paper 003 uses 4..11) on the vertices
+//  - optional valence bounds [minValence, maxValence] (Vanhoey et al. 2010 uses 4..11) on the vertices
 //    whose valence changes.
 #pragma once
 

@@ -1,6 +1,6 @@
-// The light-field error of paper 003 (Vanhoey, Sauvage, Dischler 2010, "Simplification de maillages
+// The light-field error of Vanhoey et al. 2010 (Vanhoey, Sauvage, Dischler 2010, "Simplification de maillages
 // surfaciques avec champs de lumière", shared/papers/003_ceec425f85ef6fb3.txt) sec. 4, the
-// predecessor of the radiance error of paper 000:
+// predecessor of the radiance error of Vanhoey et al. 2015:
 //     E = E_G + lambda (E_L + E_F)                                                         (eq. 2)
 // for a collapse (v1, v2) -> v, with, for the new vertex's light field (F, L) against each endpoint k,
 //     E_L(L, L_k) = int_{H cap H_k} (L(h) - L_k(h))^2 dh                                  (eq. 3)
@@ -12,7 +12,7 @@
 // A a = -b with A = A_1 + A_2, b = b_1 + b_2 (eq. 6).
 //
 // What this unit computes: E_L + E_F only (lambda-free). E_G is the memoryless QEM that the engine
-// adds itself (quadric_error.h; paper 003 sec. 4.4 also uses the memoryless one) and the engine's
+// adds itself (quadric_error.h; Vanhoey et al. 2010 sec. 4.4 also uses the memoryless one) and the engine's
 // attributeWeight plays the role of lambda.
 //
 // Mapping onto this project's radiance functions (radiance_field.h, radiance_evaluation.h):
@@ -20,13 +20,13 @@
 //    frame (not the mesh normal), L_k(w) = evaluateRadiance (plain L, whatever the storage). The
 //    paper compares the functions at the same view direction after "geometric transformations that
 //    describe both functions in a common domain", i.e. it compares L(w) at world directions w;
-//    option compareReflected = true compares the reflected RF L~ of paper 000 sec. 3.1 instead.
+//    option compareReflected = true compares the reflected RF L~ of Vanhoey et al. 2015 sec. 3.1 instead.
 //    Inside H cap H_k neither function needs the border extension (w is above both horizons).
 //  - colours: RGB, every channel treated alike (paper sec. 4.1); E_L sums the three channels'
-//    squared differences (the 2-norm of paper 000 sec. 7), so E_F counts every lost direction as a
+//    squared differences (the 2-norm of Vanhoey et al. 2015 sec. 7), so E_F counts every lost direction as a
 //    maximal error on each channel: E_F = 2 alpha * kColorChannels * E_max^2, E_max = option
 //    channelMaxDifference (paper: "RGB components are normalised, so E_max = 1").
-//  - units: solid angle in steradians, no 1/(2 pi) (unlike paper 000 eq. 6), as in eq. 3-4. With
+//  - units: solid angle in steradians, no 1/(2 pi) (unlike Vanhoey et al. 2015 eq. 6), as in eq. 3-4. With
 //    every channel in [0, E_max], a half-edge collapse costs 0 <= E_L + E_F <= 2 pi * 3 * E_max^2
 //    (the paper's bound 2 pi per channel, sec. 4.4): E_L <= 2 (pi - alpha) 3 E_max^2 and E_F =
 //    2 alpha 3 E_max^2. A full collapse sums two such terms, and slerp splits alpha between them
@@ -86,7 +86,7 @@ struct LightFieldQuadricOptions {
     int phiNodes = 0;                    // 0: idem
     double channelMaxDifference = 1.0;   // E_max of eq. 4, per colour channel
     double ridge = 1e-8;                 // relative Tikhonov term of the eq. 6 solve (see above)
-    bool compareReflected = false;       // compare L~ (paper 000) instead of L (paper 003)
+    bool compareReflected = false;       // compare L~ (Vanhoey et al. 2015) instead of L (Vanhoey et al. 2010)
 };
 
 // Unit directions and weights (sum = 2 (pi - alpha)) integrating over H(n1) cap H(n2), the
@@ -127,7 +127,7 @@ public:
     // range (node counts < 0, channelMaxDifference < 0, ridge < 0, non-finite values).
     LightFieldQuadricMetric(const CollapseMesh& mesh, RadianceField& field, LightFieldQuadricOptions options = {});
 
-    std::string name() const override { return "light-field quadric (paper 003)"; }
+    std::string name() const override { return "light-field quadric (Vanhoey et al. 2010)"; }
     void priceHalfEdges(const CollapseMesh& mesh, const HalfEdgeQuery& query, double* costs) const override;
     bool supportsFullCollapse(std::string& why) const override {
         why.clear();

@@ -1,4 +1,4 @@
-// The radiance error of a collapse, paper 000 (Vanhoey et al. 2015, shared/papers/000_b7a005d9cb9d34c2.txt)
+// The radiance error of a collapse, Vanhoey et al. 2015 (Vanhoey et al. 2015, shared/papers/000_b7a005d9cb9d34c2.txt)
 // sec. 4.1 and 4.3, as a pricing module of the edge-collapse engine (collapse_metric.h).
 //
 // Half-edge collapse v0 -> v1, eq. (7):
@@ -56,7 +56,7 @@
 // Default rule, chosen by measurement (bench/bench_radiance_collapse, rule tables): relative error
 // |E_rule - E_288| / E_288 of every half-edge cost against the 12 x 24 = 288-point Gauss rule of
 // radiance_distance.h, worst over four data sets: random smooth RF on a bumpy patch of 1600
-// vertices (normals up to 30 deg apart) and the striped glossy sphere of paper 000 Fig. 8
+// vertices (normals up to 30 deg apart) and the striped glossy sphere of Vanhoey et al. 2015 Fig. 8
 // (analytic material projected per vertex) on icospheres of level 1, 2, 3 (neighbour normals 32-36,
 // 16-19, 8-9.5 deg apart); time per source vertex with all its half-edges, 1 thread (CPU time, patch
 // data, AMD EPYC, SSE2 build):

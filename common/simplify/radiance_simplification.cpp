@@ -49,7 +49,7 @@ std::string checkSimplificationInput(const RadianceMesh& mesh, SimplificationMet
     if (const std::string problem = validateRadianceMesh(mesh); !problem.empty()) return problem;
     if (needsRadiance(metric) && kind == CollapseKind::Full && metric == SimplificationMetric::Radiance &&
         mesh.radiance->basis.kind != BasisKind::SphericalHarmonics)
-        return "full edge collapse with the radiance metric needs spherical harmonics (paper 000 sec. 4.3: the new "
+        return "full edge collapse with the radiance metric needs spherical harmonics (Vanhoey et al. 2015 sec. 4.3: the new "
                "vertex's function is interpolated between two frames, which needs a rotation-invariant basis); the mesh "
                "has " + mesh.radiance->basis.name() + ": choose half-edge collapse";
 

@@ -1,7 +1,7 @@
 // The normal-map renderer (render_gl/normal_map_gl_renderer.h) in a real OpenGL context (Mesa
 // under Xvfb): a constant object-space map equals tilted vertex normals; a tangent-space map in a
 // rotated and in a mirrored UV layout decodes to the same normal (vectors computed by hand in the
-// frame of normal_baker.h); far away, LEAN mapping (paper 002) is closer to a supersampled
+// frame of normal_baker.h); far away, LEAN mapping (Weber and Stamminger) is closer to a supersampled
 // Blinn-Phong ground truth than the mip-mapped normal map; up close LEAN equals the normal map;
 // refusals, GL state restored, no GL error.
 #include "normal_map_gl_renderer.h"

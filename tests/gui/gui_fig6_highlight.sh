@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# GUI test of paper 000 Fig. 6 in MeshLab: the toy quad (4 vertices, normals diverging outwards)
+# GUI test of Vanhoey et al. 2015 Fig. 6 in MeshLab: the toy quad (4 vertices, normals diverging outwards)
 # with the RF of a narrow Blinn-Phong lobe lit along its normal (make_fig6_quad) is shown by the
 # decoration per vertex, then per fragment (two MeshLab sessions). In front of the quad, the lobe's
 # peak is seen only through the per-fragment interpolation of eq. 8, near the centre; the vertices

@@ -10,7 +10,7 @@ create_radiance_mlx "$WORK/create.mlx" 0 4 false 0.5 0
 run_meshlabserver "$WORK/server.log" -i "$WORK/sphere.ply" -o "$out/sphere.rply" -m vc vn -s "$WORK/create.mlx" \
     || { cat "$WORK/server.log" >&2; fail "meshlabserver could not create the GUI input"; }
 [ -s "$out/sphere.rply" ] || fail "no GUI input written"
-# PRT input: the column on its ground (paper 001 Fig. 1) with order-4 transfer vectors.
+# PRT input: the column on its ground (Křivánek et al. 2004 Fig. 1) with order-4 transfer vectors.
 "$MAKE_SCENE" column --ground 8 -o "$WORK/column.ply"
 bash "$RADIANCE_SOURCE_DIR/scripts/write_prt_mlx.sh" "$WORK/prt.mlx" transfer:4:128
 run_meshlabserver "$WORK/server_prt.log" -i "$WORK/column.ply" -o "$out/column_prt.rply" -m vc vn -s "$WORK/prt.mlx" \

@@ -11,7 +11,7 @@ for name in "Radiance: Create Radiance Data from Analytic Material" \
     grep -qF "$name" "$WORK/dump.txt" || fail "filter '$name' missing from meshlabserver -d"
 done
 # Help text, with the paper it implements.
-grep -qF "Simplification of meshes with digitized radiance" "$WORK/dump.txt" || fail "help text does not cite paper 000"
+grep -qF "Simplification of meshes with digitized radiance" "$WORK/dump.txt" || fail "help text does not cite Vanhoey et al. 2015"
 grep -qF "hemispherical polynomials" "$WORK/dump.txt" || fail "help text of the create filter missing"
 # Parameters are listed with their descriptions.
 grep -qF "Store reflected functions" "$WORK/dump.txt" || fail "parameter descriptions missing"

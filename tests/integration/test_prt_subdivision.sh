@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The PRT filters through the real meshlabserver on paper 001's column-on-plane scene:
+# The PRT filters through the real meshlabserver on Křivánek et al. 2004's column-on-plane scene:
 #  - "Compute PRT Transfer": ground vertices' transfer matches a brute-force geometric visibility
 #    computed in Python; the .rply keeps the transfer (save -> reload -> save is bit-identical);
 #  - "Adaptive PRT Subdivision" (4x budget): conforming output (no T-junctions), surface unchanged,

@@ -1,4 +1,4 @@
-// Tests of prt/adaptive_subdivision.h (paper 001 sec. 3.2, Fig. 2-3), all checked on the output
+// Tests of prt/adaptive_subdivision.h (Křivánek et al. 2004 sec. 3.2, Fig. 2-3), all checked on the output
 // geometry with code independent of the refiner:
 //   - conforming output: every interior position-edge used by exactly two faces in opposite
 //     directions, one-face edges only on the input boundary, no vertex strictly inside any edge

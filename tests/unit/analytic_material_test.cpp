@@ -1,6 +1,6 @@
 // Tests of radiance/analytic_material.h against closed forms (Lambert under one light, inverse
 // square falloff, ambient), geometric facts (the Blinn-Phong highlight peaks at the mirror
-// direction, BRDF reciprocity), the stripes of paper 000 Fig. 8, the horizon clamp, and the
+// direction, BRDF reciprocity), the stripes of Vanhoey et al. 2015 Fig. 8, the horizon clamp, and the
 // energy of the lobe by white-furnace integration on a midpoint (theta, phi) grid.
 #include "radiance/analytic_material.h"
 

@@ -1,4 +1,4 @@
-// LEAN maps (common/bake/lean_maps.h, paper 002 Alg. 2-4, sec. 3.5). Oracles are hand-derived
+// LEAN maps (common/bake/lean_maps.h, Weber and Stamminger Alg. 2-4, sec. 3.5). Oracles are hand-derived
 // (tilted normal pairs give slopes +-tan a, the Gaussian integrates to 2 pi / s over the slope
 // plane, cos^s vs exp(-s/2 tan^2) differ by at most ~0.54 / s) or recomputed here by brute force
 // from the definition, never taken from the code under test.

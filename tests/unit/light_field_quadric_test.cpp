@@ -1,4 +1,4 @@
-// Tests of light_field_quadric.h: the light-field error E_L + E_F of paper 003 (eq. 3-6) as a
+// Tests of light_field_quadric.h: the light-field error E_L + E_F of Vanhoey et al. 2010 (eq. 3-6) as a
 // collapse metric.
 #include "simplify/light_field_quadric.h"
 

@@ -1,6 +1,6 @@
 // Tests of geometry/primitive_meshes.h: topology (Euler characteristic, closed 2-manifold with a
 // consistent orientation), counts as functions of the parameters, exact normals, and the shapes of
-// the paper scenes (Fig. 6 quad of paper 000, column of paper 001 Fig. 1).
+// the paper scenes (Fig. 6 quad of Vanhoey et al. 2015, column of Křivánek et al. 2004 Fig. 1).
 #include "geometry/primitive_meshes.h"
 
 #include <gtest/gtest.h>

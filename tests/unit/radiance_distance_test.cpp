@@ -1,4 +1,4 @@
-// Tests of radiance_distance.h: the L2 distance of paper 000 eq. (5)-(6) between (reflected) RF.
+// Tests of radiance_distance.h: the L2 distance of Vanhoey et al. 2015 eq. (5)-(6) between (reflected) RF.
 #include "radiance/radiance_distance.h"
 
 #include "radiance/radiance_evaluation.h"

@@ -1,4 +1,4 @@
-// Tests of radiance_evaluation.h: evaluation of vertex RF, reflected storage (paper 000 sec. 3.1) and
+// Tests of radiance_evaluation.h: evaluation of vertex RF, reflected storage (Vanhoey et al. 2015 sec. 3.1) and
 // the border extension (sec. 7 "Exceeding hemispheres").
 #include "radiance/radiance_evaluation.h"
 

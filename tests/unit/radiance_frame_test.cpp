@@ -1,4 +1,4 @@
-// Tests of radiance_frame.h: per-vertex frames and the reflection R_n of paper 000 sec. 3.1.
+// Tests of radiance_frame.h: per-vertex frames and the reflection R_n of Vanhoey et al. 2015 sec. 3.1.
 #include "radiance/radiance_frame.h"
 
 #include "test_support.h"

@@ -1,4 +1,4 @@
-// Tests of radiance_interpolation.h: paper 000 eq. (1)-(4) and (8), function and SH coefficient level.
+// Tests of radiance_interpolation.h: Vanhoey et al. 2015 eq. (1)-(4) and (8), function and SH coefficient level.
 #include "radiance/radiance_interpolation.h"
 
 #include "radiance/basis.h"

@@ -1,4 +1,4 @@
-// Tests of prt/relighting_error.h (paper 001 eq. 1 measured at sample points). References are built
+// Tests of prt/relighting_error.h (Křivánek et al. 2004 eq. 1 measured at sample points). References are built
 // independently here: areas and barycentrics from cross products, subdivisions split by hand (with
 // originFace), transfer fields given in closed form (an affine field is interpolated exactly by
 // any subdivision), the Weber-normalised error and the weighted 95th percentile written out from

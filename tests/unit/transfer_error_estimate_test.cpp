@@ -1,4 +1,4 @@
-// Tests of prt/transfer_error_estimate.h (paper 001 sec. 3.3): eq. 2, 3 and 4 on hand-computed
+// Tests of prt/transfer_error_estimate.h (Křivánek et al. 2004 sec. 3.3): eq. 2, 3 and 4 on hand-computed
 // values, the t1 + t2 = 0 and n1 + n2 + n3 = 0 conventions, eq. 4's angle taken at n1, all channels
 // used, and a small angle computed accurately.
 #include "prt/transfer_error_estimate.h"
