@@ -134,8 +134,6 @@ rad::ToneMapping toneMapping(const RichParameterList& par) {
     return tm;
 }
 
-Eigen::Vector3d axisVector(int upAxis) { return Eigen::Vector3d::Unit(upAxis < 0 || upAxis > 2 ? 1 : upAxis); }
-
 // What to do when a layer has neither radiance functions nor PRT transfer.
 std::string missingDataAdvice() {
     return radml::missingRadianceAdvice() +
@@ -325,7 +323,9 @@ void DecorateRadiancePlugin::initGlobalParameterSet(QAction* action, RichParamet
                               "Latitude-longitude HDR map (.exr or .hdr) for the PRT mode."));
     par.addParam(RichDynamicFloat(kPrtRotation, 0.0f, 0.0f, 360.0f, "PRT light rotation (degrees)",
                                   "Turns the light (map or direction) about the up axis."));
-    par.addParam(RichEnum(kPrtUpAxis, 1, QStringList() << "X" << "Y" << "Z", "PRT up axis",
+    QStringList axes;  // one axis list, in the core's order, shared with the relighting filter
+    for (const char* axis : rad::kUpAxisNames) axes << axis;
+    par.addParam(RichEnum(kPrtUpAxis, static_cast<int>(rad::UpAxis::Y), axes, "PRT up axis",
                           "The world axis the map's zenith goes to, and the axis of the rotation."));
 }
 
@@ -457,20 +457,24 @@ void DecorateRadiancePlugin::decorateMesh(QAction* action, MeshModel& m, const R
             const int degree = view.stored.field.degree;
             std::vector<double> lighting;
             try {
-                const double radians = light.rotation * M_PI / 180.0;
+                // The one PRT lighting of the decoration and the relighting filter; the core validates.
+                rad::PrtLightingSettings settings;
+                settings.source = light.kind == kEnvironment ? rad::PrtLightSource::EnvironmentMap
+                                                             : rad::PrtLightSource::Directional;
+                settings.upAxis = static_cast<rad::UpAxis>(light.upAxis);
+                settings.rotationDegrees = light.rotation;
+                settings.intensity = light.intensity;
+                settings.direction = Eigen::Vector3d(light.direction[0], light.direction[1], light.direction[2]);
+                settings.degree = degree;
                 if (light.kind == kEnvironment) {
                     if (light.map.isEmpty()) throw std::runtime_error("choose an environment map (.exr or .hdr) in the options");
                     if (light.map != view.loadedMapPath) {
                         view.map = rad::readEnvironmentMap(light.map.toStdString());
                         view.loadedMapPath = light.map;
                     }
-                    lighting = rad::environmentLightSH(view.map, degree, radians);
-                    rad::rotateLighting(lighting, degree, rad::zenithToAxis(light.upAxis));
-                    for (double& c : lighting) c *= light.intensity;
+                    lighting = rad::prtLightingSH(settings, &view.map);
                 } else {
-                    const Eigen::Vector3d d(light.direction[0], light.direction[1], light.direction[2]);
-                    const Eigen::Vector3d turned = Eigen::AngleAxisd(radians, axisVector(light.upAxis)) * d;
-                    lighting = rad::directionalLightSH(degree, turned, Eigen::Vector3d::Constant(light.intensity));
+                    lighting = rad::prtLightingSH(settings);
                 }
             } catch (const std::exception& e) {
                 reportOnce(GLLogStream::WARNING, std::string("cannot set the PRT light: ") + e.what());

@@ -5,7 +5,7 @@
 #   adaptive:FACTOR[:MEASURE(0 eq.2|1 eq.3|2 eq.4)[:ALPHA[:THRESHOLD[:BUDGET]]]]
 #   uniform:FACTOR[:BUDGET]
 #   relight-dir:X:Y:Z[:INTENSITY]
-#   relight-env:FILE[:ROTATION_DEGREES[:UP(0 +Z|1 +Y|2 +X)]]
+#   relight-env:FILE[:ROTATION_DEGREES[:UP(0 +X|1 +Y|2 +Z)]]   (the map at intensity 1)
 # FACTOR: budget as a multiple of the face count (0: use BUDGET, an absolute face count).
 set -euo pipefail
 out="$1"; shift
@@ -48,14 +48,14 @@ MLX
 MLX
         ;;
     relight-dir|relight-env)
-        if [ "$kind" = relight-dir ]; then lighting=1; map=""; x="$a"; y="$b"; z="$c"; intensity="${d:-3}"; rot=0; up=0
-        else lighting=0; map="$a"; x=0.5; y=0.5; z=1; intensity=3; rot="${b:-0}"; up="${c:-0}"; fi
+        if [ "$kind" = relight-dir ]; then lighting=1; map=""; x="$a"; y="$b"; z="$c"; intensity="${d:-3}"; rot=0; up=2
+        else lighting=0; map="$a"; x=0.5; y=0.5; z=1; intensity=1; rot="${b:-0}"; up="${c:-2}"; fi
         cat <<MLX
  <filter name="Radiance: PRT Relighting as Vertex Color">
   <Param type="RichEnum" name="lighting" value="$lighting" enum_cardinality="2" enum_val0="map" enum_val1="directional"/>
   <Param type="RichString" name="environmentMap" value="$map"/>
   <Param type="RichFloat" name="rotation" value="$rot"/>
-  <Param type="RichEnum" name="upAxis" value="$up" enum_cardinality="3" enum_val0="z" enum_val1="y" enum_val2="x"/>
+  <Param type="RichEnum" name="upAxis" value="$up" enum_cardinality="3" enum_val0="x" enum_val1="y" enum_val2="z"/>
   <Param type="RichPoint3f" name="lightDirection" x="$x" y="$y" z="$z"/>
   <Param type="RichFloat" name="lightIntensity" value="$intensity"/>
   <Param type="RichFloat" name="exposure" value="1"/>

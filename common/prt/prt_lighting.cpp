@@ -1,4 +1,4 @@
-// SH lightings for PRT relighting and the relit colour L = <t, l> of paper 001 sec. 3.3 (the
+// SH lightings for PRT relighting and the relit colour L = <t, l> of Křivánek et al. 2004, sec. 3.3 (the
 // shading whose interpolation error eq. 1 measures); see prt_lighting.h for the conventions, the
 // Hanning window (Sloan, "Stupid Spherical Harmonics Tricks", GDC 2008) and the layout.
 #include "prt/prt_lighting.h"
@@ -7,8 +7,11 @@
 #include "radiance/sh_rotation.h"
 #include "radiance/spherical_harmonics.h"
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 #include <cstddef>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -24,14 +27,14 @@ void checkDegree(const char* who, int degree) {
                                 std::to_string(kMaxHarmonicDegree) + "]");
 }
 
-}  // namespace
-
-std::vector<double> directionalLightSH(int degree, const Eigen::Vector3d& toLight, const Eigen::Vector3d& rgb) {
-    checkDegree("directionalLightSH", degree);
+// directionalLightSH with a Hanning window of width `width` > 0 (h_l = 0 for l >= width).
+std::vector<double> windowedDirectionalLight(const char* who, int degree, const Eigen::Vector3d& toLight,
+                                             const Eigen::Vector3d& rgb, double width) {
+    checkDegree(who, degree);
     const double length = toLight.norm();
     if (!(length > 0.0) || !std::isfinite(length))
-        throw std::invalid_argument("directionalLightSH: the light direction must be non-zero and finite");
-    if (!rgb.allFinite()) throw std::invalid_argument("directionalLightSH: the light colour must be finite");
+        throw std::invalid_argument(std::string(who) + ": the light direction must be non-zero and finite");
+    if (!rgb.allFinite()) throw std::invalid_argument(std::string(who) + ": the light colour must be finite");
     const Eigen::Vector3d d = toLight / length;
 
     const int K = (degree + 1) * (degree + 1);
@@ -40,13 +43,29 @@ std::vector<double> directionalLightSH(int degree, const Eigen::Vector3d& toLigh
     // Windowing band by band keeps the delta's rotational symmetry about d (a zonal filter), so
     // the windowed light is still "a light from d", only blurred.
     for (int l = 0; l <= degree; ++l) {
-        const double window = 0.5 * (1.0 + std::cos(kPi * l / (degree + 1)));
+        const double window = l < width ? 0.5 * (1.0 + std::cos(kPi * l / width)) : 0.0;
         for (int m = -l; m <= l; ++m) y[harmonicIndex(l, m)] *= window;
     }
     std::vector<double> coefficients(static_cast<std::size_t>(kColorChannels) * K);
     for (int ch = 0; ch < kColorChannels; ++ch)
         for (int k = 0; k < K; ++k) coefficients[static_cast<std::size_t>(ch) * K + k] = rgb[ch] * y[k];
     return coefficients;
+}
+
+std::string formatNumber(double value) {
+    std::ostringstream out;
+    out << value;
+    return out.str();
+}
+
+std::string formatVector(const Eigen::Vector3d& v) {
+    return "(" + formatNumber(v.x()) + ", " + formatNumber(v.y()) + ", " + formatNumber(v.z()) + ")";
+}
+
+}  // namespace
+
+std::vector<double> directionalLightSH(int degree, const Eigen::Vector3d& toLight, const Eigen::Vector3d& rgb) {
+    return windowedDirectionalLight("directionalLightSH", degree, toLight, rgb, degree + 1.0);
 }
 
 std::vector<double> environmentLightSH(const EnvironmentMap& map, int degree, double rotationRadians) {
@@ -115,6 +134,54 @@ void rotateLighting(std::vector<double>& lighting, int degree, const Eigen::Matr
     if (lighting.size() != 3 * k) throw std::invalid_argument("rotateLighting: the lighting does not have 3 (degree + 1)^2 coefficients");
     const ShRotation rotation(degree, R);
     for (int ch = 0; ch < 3; ++ch) rotation.apply(lighting.data() + ch * k, lighting.data() + ch * k);
+}
+
+Eigen::Vector3d upAxisVector(UpAxis axis) {
+    const int index = static_cast<int>(axis);
+    if (index < 0 || index >= kUpAxisCount)
+        throw std::invalid_argument("upAxis " + std::to_string(index) + " outside [0, 2] (0 = +X, 1 = +Y, 2 = +Z)");
+    return Eigen::Vector3d::Unit(index);
+}
+
+std::vector<double> prtLightingSH(const PrtLightingSettings& s, const EnvironmentMap* map) {
+    const std::string who = "PRT lighting: ";
+    if (s.degree < 0 || s.degree > kMaxHarmonicDegree)
+        throw std::invalid_argument(who + "degree " + std::to_string(s.degree) + " outside [0, " +
+                                    std::to_string(kMaxHarmonicDegree) + "]");
+    const int axis = static_cast<int>(s.upAxis);
+    if (axis < 0 || axis >= kUpAxisCount)
+        throw std::invalid_argument(who + "upAxis " + std::to_string(axis) + " outside [0, 2] (0 = +X, 1 = +Y, 2 = +Z)");
+    const int source = static_cast<int>(s.source);
+    if (source != static_cast<int>(PrtLightSource::EnvironmentMap) && source != static_cast<int>(PrtLightSource::Directional))
+        throw std::invalid_argument(who + "source " + std::to_string(source) +
+                                    " outside [0, 1] (0 = environment map, 1 = directional light)");
+    if (!std::isfinite(s.rotationDegrees))
+        throw std::invalid_argument(who + "rotation " + formatNumber(s.rotationDegrees) +
+                                    " degrees is not finite (valid: any finite number of degrees)");
+    if (!std::isfinite(s.intensity) || !(s.intensity >= 0.0))
+        throw std::invalid_argument(who + "intensity " + formatNumber(s.intensity) + " outside [0, +inf) (finite, >= 0)");
+    if (!std::isfinite(s.windowWidth) || !(s.windowWidth >= 0.0))
+        throw std::invalid_argument(who + "window width " + formatNumber(s.windowWidth) +
+                                    " outside [0, +inf) (finite; 0 = degree + 1)");
+
+    const double radians = s.rotationDegrees * (kPi / 180.0);
+    const Eigen::Vector3d up = Eigen::Vector3d::Unit(axis);
+    if (s.source == PrtLightSource::EnvironmentMap) {
+        if (map == nullptr) throw std::invalid_argument(who + "the environment map source needs a map (none given)");
+        // World from map frame: zenithToAxis(up) * rotationAboutZ(a) = AngleAxis(a, up) * zenithToAxis(up)
+        // (zenithToAxis is a proper rotation taking +Z to up), i.e. the map turned about the world up axis.
+        std::vector<double> lighting = environmentLightSH(*map, s.degree, radians);
+        rotateLighting(lighting, s.degree, zenithToAxis(axis));
+        for (double& c : lighting) c *= s.intensity;
+        return lighting;
+    }
+    const double length = s.direction.norm();
+    if (!s.direction.allFinite() || !(length > 0.0) || !std::isfinite(length))
+        throw std::invalid_argument(who + "direction " + formatVector(s.direction) +
+                                    " must be finite and non-zero (toward the light)");
+    const Eigen::Vector3d turned = Eigen::AngleAxisd(radians, up) * (s.direction / length);
+    const double width = s.windowWidth > 0.0 ? s.windowWidth : s.degree + 1.0;
+    return windowedDirectionalLight("PRT lighting", s.degree, turned, Eigen::Vector3d::Constant(s.intensity), width);
 }
 
 }  // namespace rad

@@ -48,7 +48,7 @@ $CHECK shadowed "$WORK/relit.ply" 1 0.3 0.8
 
 hdr=$(ls "$RADIANCE_SOURCE_DIR"/data-cache/hdr/*.exr "$RADIANCE_SOURCE_DIR"/data-cache/hdr/*.hdr 2>/dev/null | head -n 1 || true)
 [ -n "$hdr" ] || fail "no HDR map in data-cache/hdr (the test command fetches them)"
-$MLX "$WORK/env.mlx" "relight-env:$hdr:90:0"
+$MLX "$WORK/env.mlx" "relight-env:$hdr:90:2"
 run_meshlabserver "$WORK/env.log" -i "$WORK/adaptive.rply" -s "$WORK/env.mlx" -o "$WORK/env.ply" -m vc \
     || { cat "$WORK/env.log" >&2; fail "environment relighting failed"; }
 grep -q "Relit .* under the environment map" "$WORK/env.log" || { cat "$WORK/env.log" >&2; fail "no env relight log"; }

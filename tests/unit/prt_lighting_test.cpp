@@ -1,4 +1,5 @@
-// Tests of prt/prt_lighting.h (the lightings l of paper 001's L(x, l) = <t_x | l>, sec. 3.3).
+// Tests of prt/prt_lighting.h (the lightings l of L(x, l) = <t_x | l>, Křivánek et al. 2004 sec. 3.3;
+// Sloan, Kautz, Snyder 2002).
 // Expected values do not come from the code under test: the Hanning window and the SH constants
 // are written out again here, the transfer of an unoccluded plane is integrated by brute-force
 // quadrature, its relit value is checked against the Legendre series of the clamped cosine in
@@ -16,8 +17,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace {
@@ -100,6 +103,60 @@ rad::EnvironmentMap testMap(int width, int height, unsigned seed) {
             p[2] = static_cast<float>(1.5 + w.x() * w.y() + 0.3 * w.x()) + noise(rng);
         }
     return rad::EnvironmentMap(width, height, std::move(rgb));
+}
+
+// Right-handed rotation by `angle` about world axis `axis` (0 = X, 1 = Y, 2 = Z), the elemental
+// rotation matrices written out (no Eigen::AngleAxis, which the code under test uses).
+Eigen::Matrix3d elementalRotation(int axis, double angle) {
+    const double c = std::cos(angle), s = std::sin(angle);
+    Eigen::Matrix3d r;
+    if (axis == 0) r << 1, 0, 0, 0, c, -s, 0, s, c;
+    else if (axis == 1) r << c, 0, s, 0, 1, 0, -s, 0, c;
+    else r << c, -s, 0, s, c, 0, 0, 0, 1;
+    return r;
+}
+
+// The documented placement of the map frame in the world for each up axis (prt_lighting.h): the
+// map's (x, y, z) becomes (z, x, y) for +X, (y, z, x) for +Y, itself for +Z.
+Eigen::Vector3d mapToWorld(int axis, const Eigen::Vector3d& m) {
+    if (axis == 0) return {m.z(), m.x(), m.y()};
+    if (axis == 1) return {m.y(), m.z(), m.x()};
+    return m;
+}
+
+// The Hanning-windowed SH projection of a directional light of irradiance E toward unit d,
+// written out again: E h_l Y_k(d), the same vector on the three channels.
+std::vector<double> expectedDirectional(int degree, const Eigen::Vector3d& d, double E, double width) {
+    const int K = (degree + 1) * (degree + 1);
+    std::vector<double> y(K);
+    rad::evaluateSphericalHarmonics(degree, d.x(), d.y(), d.z(), y.data());
+    std::vector<double> out(3 * K);
+    for (int ch = 0; ch < 3; ++ch)
+        for (int k = 0; k < K; ++k) {
+            const int l = bandOf(k);
+            const double h = l < width ? 0.5 * (1.0 + std::cos(kPi * l / width)) : 0.0;
+            out[ch * K + k] = E * h * y[k];
+        }
+    return out;
+}
+
+rad::PrtLightingSettings directionalSettings(int degree, const Eigen::Vector3d& d, double intensity) {
+    rad::PrtLightingSettings s;
+    s.source = rad::PrtLightSource::Directional;
+    s.degree = degree;
+    s.direction = d;
+    s.intensity = intensity;
+    return s;
+}
+
+rad::PrtLightingSettings environmentSettings(int degree, rad::UpAxis up, double rotationDegrees, double intensity) {
+    rad::PrtLightingSettings s;
+    s.source = rad::PrtLightSource::EnvironmentMap;
+    s.degree = degree;
+    s.upAxis = up;
+    s.rotationDegrees = rotationDegrees;
+    s.intensity = intensity;
+    return s;
 }
 
 }  // namespace
@@ -304,4 +361,240 @@ TEST(PrtLighting, EnvironmentTurnComposesWithTheMapsOwnRotation) {
     for (std::size_t i = 0; i < reference.size(); ++i) EXPECT_NEAR(composed[i], reference[i], 1e-10);
     // The map passed const keeps its rotation.
     EXPECT_TRUE(map.rotation().isApprox(rad::rotationAboutZ(0.3), 1e-15));
+}
+
+// ---- prtLightingSH: the one lighting of the relighting filter and the decoration ----
+
+TEST(PrtLightingSettings, UpAxisNamesAreInTheOneOrder) {
+    ASSERT_EQ(rad::kUpAxisCount, 3);
+    EXPECT_STREQ(rad::kUpAxisNames[static_cast<int>(rad::UpAxis::X)], "+X");
+    EXPECT_STREQ(rad::kUpAxisNames[static_cast<int>(rad::UpAxis::Y)], "+Y");
+    EXPECT_STREQ(rad::kUpAxisNames[static_cast<int>(rad::UpAxis::Z)], "+Z");
+    for (int a = 0; a < 3; ++a) {
+        EXPECT_EQ(rad::upAxisVector(static_cast<rad::UpAxis>(a)), Eigen::Vector3d::Unit(a));
+        // zenithToAxis takes the map's zenith to the same axis.
+        EXPECT_TRUE((rad::zenithToAxis(a) * Eigen::Vector3d::UnitZ()).isApprox(Eigen::Vector3d::Unit(a), 1e-15));
+    }
+}
+
+TEST(PrtLightingSettings, UnturnedDirectionalIsTheWindowedDelta) {
+    std::mt19937 rng(21);
+    for (int degree : {0, 3, 5}) {
+        const Eigen::Vector3d d = radtest::randomUnit(rng);
+        for (int axis = 0; axis < 3; ++axis) {
+            rad::PrtLightingSettings s = directionalSettings(degree, 2.5 * d, 1.75);  // need not be unit
+            s.upAxis = static_cast<rad::UpAxis>(axis);  // no rotation: the up axis does not move it
+            const std::vector<double> c = rad::prtLightingSH(s);
+            const std::vector<double> expected = expectedDirectional(degree, d, 1.75, degree + 1.0);
+            ASSERT_EQ(c.size(), expected.size());
+            for (std::size_t i = 0; i < c.size(); ++i) EXPECT_NEAR(c[i], expected[i], 1e-13) << "i " << i;
+        }
+    }
+}
+
+TEST(PrtLightingSettings, QuarterTurnOfDirectionalEqualsLightAlongTurnedDirection) {
+    // Right-handed quarter turns about each axis, written by hand.
+    const auto turn = [](int axis, const Eigen::Vector3d& v) -> Eigen::Vector3d {
+        if (axis == 0) return {v.x(), -v.z(), v.y()};  // y -> z
+        if (axis == 1) return {v.z(), v.y(), -v.x()};  // z -> x
+        return {-v.y(), v.x(), v.z()};                 // x -> y
+    };
+    std::mt19937 rng(22);
+    const int degree = 5;
+    for (int axis = 0; axis < 3; ++axis)
+        for (int trial = 0; trial < 4; ++trial) {
+            const Eigen::Vector3d d = radtest::randomUnit(rng);
+            rad::PrtLightingSettings s = directionalSettings(degree, d, 2.0);
+            s.upAxis = static_cast<rad::UpAxis>(axis);
+            s.rotationDegrees = 90.0;
+            const std::vector<double> turned = rad::prtLightingSH(s);
+            const std::vector<double> expected = expectedDirectional(degree, turn(axis, d), 2.0, degree + 1.0);
+            for (std::size_t i = 0; i < turned.size(); ++i)
+                EXPECT_NEAR(turned[i], expected[i], 1e-12) << "axis " << axis << " i " << i;
+            // A full turn (and -270 degrees) gives the same light.
+            s.rotationDegrees = -270.0;
+            const std::vector<double> again = rad::prtLightingSH(s);
+            for (std::size_t i = 0; i < turned.size(); ++i) EXPECT_NEAR(again[i], expected[i], 1e-12);
+        }
+}
+
+TEST(PrtLightingSettings, RotationTurnsBothSourcesAboutTheUpAxisInTheSameSense) {
+    // f_a(R_up(a) w) = f_0(w): the lighting with rotation a, looked up along the turned direction,
+    // is the unturned lighting, for the map and for the directional light alike.
+    const rad::EnvironmentMap map = testMap(64, 32, 23);
+    std::mt19937 rng(24);
+    const int degree = 4;
+    const Eigen::Vector3d d = radtest::randomUnit(rng);
+    for (int axis = 0; axis < 3; ++axis)
+        for (double degrees : {37.0, 90.0, 200.0}) {
+            const Eigen::Matrix3d R = elementalRotation(axis, degrees * kPi / 180.0);
+            for (int source = 0; source < 2; ++source) {
+                rad::PrtLightingSettings s = source == 0
+                                                 ? environmentSettings(degree, static_cast<rad::UpAxis>(axis), 0.0, 1.0)
+                                                 : directionalSettings(degree, d, 1.0);
+                s.upAxis = static_cast<rad::UpAxis>(axis);
+                const std::vector<double> unturned = rad::prtLightingSH(s, &map);
+                s.rotationDegrees = degrees;
+                const std::vector<double> turned = rad::prtLightingSH(s, &map);
+                for (int trial = 0; trial < 6; ++trial) {
+                    const Eigen::Vector3d w = radtest::randomUnit(rng);
+                    for (int ch = 0; ch < 3; ++ch)
+                        EXPECT_NEAR(shValue(degree, turned, ch, R * w), shValue(degree, unturned, ch, w), 1e-9)
+                            << "source " << source << " axis " << axis << " degrees " << degrees;
+                }
+            }
+        }
+}
+
+TEST(PrtLightingSettings, EnvironmentUpAxisPlacesTheMapAsDocumented) {
+    const rad::EnvironmentMap map = testMap(96, 48, 25);
+    const int degree = 4;
+    // +Z, no turn, intensity 1: the map's own projection (environment_map.h), untouched.
+    const std::vector<double> own = rad::projectOntoSphericalHarmonics(map, degree);
+    const std::vector<double> zUp = rad::prtLightingSH(environmentSettings(degree, rad::UpAxis::Z, 0.0, 1.0), &map);
+    ASSERT_EQ(zUp.size(), own.size());
+    for (std::size_t i = 0; i < own.size(); ++i) EXPECT_NEAR(zUp[i], own[i], 1e-12);
+    // Other axes: the light the map shows in its direction m arrives from mapToWorld(axis, m).
+    std::mt19937 rng(26);
+    for (int axis = 0; axis < 3; ++axis) {
+        const std::vector<double> placed =
+            rad::prtLightingSH(environmentSettings(degree, static_cast<rad::UpAxis>(axis), 0.0, 1.0), &map);
+        for (int trial = 0; trial < 8; ++trial) {
+            const Eigen::Vector3d m = radtest::randomUnit(rng);
+            for (int ch = 0; ch < 3; ++ch)
+                EXPECT_NEAR(shValue(degree, placed, ch, mapToWorld(axis, m)), shValue(degree, own, ch, m), 1e-9)
+                    << "axis " << axis;
+        }
+    }
+}
+
+TEST(PrtLightingSettings, EnvironmentSkyBrightestAtTheChosenUpAxis) {
+    // A sky lit only near its zenith (texel values max(0, cos theta)^8): of the six axis directions,
+    // the lighting is brightest toward the chosen up axis.
+    const int width = 128, height = 64, degree = 4;
+    std::vector<float> rgb(std::size_t(width) * height * 3);
+    for (int r = 0; r < height; ++r)
+        for (int c = 0; c < width; ++c) {
+            const double z = mapDirection((c + 0.5) / width, (r + 0.5) / height).z();
+            for (int ch = 0; ch < 3; ++ch) rgb[(std::size_t(r) * width + c) * 3 + ch] = float(std::pow(std::max(0.0, z), 8));
+        }
+    const rad::EnvironmentMap sky(width, height, std::move(rgb));
+    for (int axis = 0; axis < 3; ++axis)
+        for (double degrees : {0.0, 123.0}) {  // a turn about up leaves a zenith cap in place
+            const std::vector<double> c =
+                rad::prtLightingSH(environmentSettings(degree, static_cast<rad::UpAxis>(axis), degrees, 1.0), &sky);
+            const double atUp = shValue(degree, c, 0, Eigen::Vector3d::Unit(axis));
+            // (The truncated cap rings, so the nadir need not be darker than the horizon.)
+            EXPECT_GT(atUp, shValue(degree, c, 0, -Eigen::Vector3d::Unit(axis)) + 0.1) << "axis " << axis;
+            for (int other = 0; other < 3; ++other)
+                if (other != axis) {
+                    EXPECT_GT(atUp, shValue(degree, c, 0, Eigen::Vector3d::Unit(other)) + 0.1) << "axis " << axis;
+                    EXPECT_GT(atUp, shValue(degree, c, 0, -Eigen::Vector3d::Unit(other)) + 0.1) << "axis " << axis;
+                }
+        }
+}
+
+TEST(PrtLightingSettings, IntensityScalesEveryCoefficientOfBothSources) {
+    const rad::EnvironmentMap map = testMap(64, 32, 27);
+    std::mt19937 rng(28);
+    const int degree = 5;
+    const Eigen::Vector3d d = radtest::randomUnit(rng);
+    for (int source = 0; source < 2; ++source) {
+        rad::PrtLightingSettings s =
+            source == 0 ? environmentSettings(degree, rad::UpAxis::Y, 40.0, 1.5) : directionalSettings(degree, d, 1.5);
+        s.upAxis = rad::UpAxis::Y;
+        s.rotationDegrees = 40.0;
+        const std::vector<double> once = rad::prtLightingSH(s, &map);
+        s.intensity = 3.0;
+        const std::vector<double> twice = rad::prtLightingSH(s, &map);
+        ASSERT_EQ(once.size(), twice.size());
+        double largest = 0.0;
+        for (std::size_t i = 0; i < once.size(); ++i) {
+            EXPECT_NEAR(twice[i], 2.0 * once[i], 1e-12 * (1.0 + std::fabs(once[i]))) << "source " << source << " i " << i;
+            largest = std::max(largest, std::fabs(once[i]));
+        }
+        EXPECT_GT(largest, 0.1);  // not a trivially zero lighting
+        s.intensity = 0.0;
+        for (double c : rad::prtLightingSH(s, &map)) EXPECT_EQ(c, 0.0);
+    }
+}
+
+TEST(PrtLightingSettings, WindowWidthDefaultsToDegreePlusOneAndCutsBandsBeyond) {
+    std::mt19937 rng(29);
+    const int degree = 6;
+    const Eigen::Vector3d d = radtest::randomUnit(rng);
+    // Default (0) = directionalLightSH's window.
+    const std::vector<double> byDefault = rad::prtLightingSH(directionalSettings(degree, d, 1.0));
+    const std::vector<double> legacy = rad::directionalLightSH(degree, d, Eigen::Vector3d::Ones());
+    for (std::size_t i = 0; i < legacy.size(); ++i) EXPECT_NEAR(byDefault[i], legacy[i], 1e-15);
+    for (double width : {2.5, 4.0, 20.0}) {
+        rad::PrtLightingSettings s = directionalSettings(degree, d, 1.0);
+        s.windowWidth = width;
+        const std::vector<double> c = rad::prtLightingSH(s);
+        const std::vector<double> expected = expectedDirectional(degree, d, 1.0, width);
+        for (std::size_t i = 0; i < c.size(); ++i) EXPECT_NEAR(c[i], expected[i], 1e-13) << "width " << width;
+        const int K = (degree + 1) * (degree + 1);
+        for (int k = 0; k < K; ++k)
+            if (bandOf(k) >= width) EXPECT_EQ(c[k], 0.0) << "width " << width << " k " << k;
+    }
+}
+
+namespace {
+
+// The call throws std::invalid_argument whose message names `parameter` and contains `range`.
+template <typename F>
+void expectRefusal(F call, const std::string& parameter, const std::string& range) {
+    try {
+        call();
+        ADD_FAILURE() << "no exception for " << parameter;
+    } catch (const std::invalid_argument& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find(parameter), std::string::npos) << what;
+        EXPECT_NE(what.find(range), std::string::npos) << what;
+    } catch (...) {
+        ADD_FAILURE() << "another exception for " << parameter;
+    }
+}
+
+}  // namespace
+
+TEST(PrtLightingSettings, RefusesInvalidParameters) {
+    const rad::EnvironmentMap map = testMap(32, 16, 30);
+    const double nan = std::nan(""), inf = std::numeric_limits<double>::infinity();
+    for (int source = 0; source < 2; ++source) {
+        const rad::PrtLightingSettings good = source == 0 ? environmentSettings(3, rad::UpAxis::Y, 10.0, 1.0)
+                                                          : directionalSettings(3, Eigen::Vector3d(0, 1, 1), 1.0);
+        EXPECT_NO_THROW(rad::prtLightingSH(good, &map));
+        auto with = [&](auto change) {
+            rad::PrtLightingSettings s = good;
+            change(s);
+            return [s, &map] { rad::prtLightingSH(s, &map); };
+        };
+        for (double bad : {nan, -1.0, -1e-300, inf, -inf})
+            expectRefusal(with([&](rad::PrtLightingSettings& s) { s.intensity = bad; }), "intensity", "[0, +inf)");
+        for (double bad : {nan, inf, -inf})
+            expectRefusal(with([&](rad::PrtLightingSettings& s) { s.rotationDegrees = bad; }), "rotation", "finite");
+        for (int bad : {-1, 3})
+            expectRefusal(with([&](rad::PrtLightingSettings& s) { s.upAxis = static_cast<rad::UpAxis>(bad); }), "upAxis",
+                          "[0, 2]");
+        for (int bad : {-1, rad::kMaxHarmonicDegree + 1})
+            expectRefusal(with([&](rad::PrtLightingSettings& s) { s.degree = bad; }), "degree",
+                          "[0, " + std::to_string(rad::kMaxHarmonicDegree) + "]");
+        for (double bad : {nan, -0.5, inf})
+            expectRefusal(with([&](rad::PrtLightingSettings& s) { s.windowWidth = bad; }), "window width", "[0, +inf)");
+        expectRefusal(with([&](rad::PrtLightingSettings& s) { s.source = static_cast<rad::PrtLightSource>(2); }), "source",
+                      "[0, 1]");
+        // A rotation of any finite size is fine, and so is intensity 0.
+        EXPECT_NO_THROW(with([&](rad::PrtLightingSettings& s) { s.rotationDegrees = -1234.5; })());
+        EXPECT_NO_THROW(with([&](rad::PrtLightingSettings& s) { s.intensity = 0.0; })());
+    }
+    // The direction matters for the directional light only.
+    for (const Eigen::Vector3d& bad : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(nan, 0, 1), Eigen::Vector3d(inf, 0, 1)}) {
+        rad::PrtLightingSettings s = directionalSettings(3, bad, 1.0);
+        expectRefusal([s] { rad::prtLightingSH(s); }, "direction", "non-zero");
+        s.source = rad::PrtLightSource::EnvironmentMap;
+        EXPECT_NO_THROW(rad::prtLightingSH(s, &map));
+    }
+    // The map source needs a map.
+    expectRefusal([] { rad::prtLightingSH(environmentSettings(3, rad::UpAxis::Z, 0.0, 1.0), nullptr); }, "map", "none");
 }
