@@ -61,15 +61,6 @@ def test_refusal_raises_our_message_and_leaves_the_meshset_unchanged():
     assert np.array_equal(before, ms.current_mesh().vertex_color_matrix())
 
 
-def test_bad_rply_is_refused_with_the_reason(tmp_path):
-    bad = tmp_path / "bad.rply"
-    bad.write_text("ply\nformat ascii 1.0\n")
-    ms = pymeshlab.MeshSet()
-    with pytest.raises(pymeshlab.PyMeshLabException, match="ASCII"):
-        ms.load_new_mesh(str(bad))
-    assert ms.mesh_number() == 0
-
-
 def test_prt_transfer_subdivision_and_relighting():
     ms = pymeshlab.MeshSet()
     ms.create_sphere(subdiv=2)
