@@ -1,0 +1,157 @@
+"""'Radiance: Radiance-Aware Simplification' through pymeshlab 2025.7, mirroring tests/integration/
+test_simplify_radiance.sh and test_simplify_refusals.sh: the target face count reached exactly, the
+level-of-detail layers, the progressive file replayed by the C++ tool, the variants, the refusals.
+
+Checks independent of the C++ code: topology (every directed edge once with its twin, Euler
+characteristic 2), half-edge collapses keep original vertices with their own radiance rows (numpy
+.rply reader), expected face counts from the arguments.
+"""
+import numpy as np
+import pytest
+
+from pymeshlab_radiance import rply
+
+import pymeshlab_test_helpers as h
+
+
+@pytest.fixture(scope="module")
+def striped(scenes, tmp_path_factory):
+    """PB4 radiance of the striped glossy sample material on a sphere of 5120 faces (C++ tool)."""
+    path = tmp_path_factory.mktemp("simplify") / "sphere.rply"
+    h.run_tool("make_radiance_mesh", scenes("sphere", level=4), "--material", "stripes", "--basis", "PB4",
+               "--no-shadows", "-o", path)
+    return path
+
+
+def simplify_parameters(**overrides):
+    """Every parameter, as scripts/write_simplify_mlx.sh lists them."""
+    parameters = dict(metric=0, collapse=0, targetfaces=0, targetpercentage=0.25, lodlevels="",
+                      geometryweight=0.01, attributeweight=0.99, preserveboundary=True, minvalence=0,
+                      maxvalence=0, maxnormalchange=90.0, lazy=True, progressivefile="")
+    parameters.update(overrides)
+    return parameters
+
+
+def saved(ms, mesh_id, path):
+    ms.set_current_mesh(mesh_id)
+    ms.save_current_mesh(str(path))
+    return rply.read_rply(str(path))
+
+
+def test_simplification_to_a_percentage_with_levels_of_detail(striped, tmp_path):
+    original = rply.read_rply(str(striped))
+    faces = original.face_count
+    assert faces == 5120
+    ms = h.load(striped)
+    progressive = tmp_path / "sphere.rpm"
+    ms.apply_filter(h.SIMPLIFY, **simplify_parameters(lodlevels="0.5 0.1", progressivefile=str(progressive)))
+    # The layer itself is simplified in place; one new layer per level of detail.
+    assert ms.mesh_number() == 3
+    assert ms.current_mesh_id() == 0 and ms.current_mesh().face_number() == faces // 4
+    levels = {ms.mesh(i).label(): ms.mesh(i).face_number() for i in (1, 2)}
+    assert levels == {"sphere_LOD50": faces // 2, "sphere_LOD10": faces // 10}, levels
+    for mesh_id, target in ((0, faces // 4), (1, faces // 2), (2, faces // 10)):
+        mesh = saved(ms, mesh_id, tmp_path / f"layer{mesh_id}.rply")
+        assert mesh.face_count == target
+        h.check_closed_genus0_manifold(mesh.faces, f"layer {mesh_id}")
+        h.check_original_vertices_and_rows(original, mesh, f"layer {mesh_id}")
+        assert mesh.basis == "PB4"
+    # The progressive mesh, replayed by the C++ tool, gives exactly the layer's faces.
+    assert progressive.stat().st_size > 0 and (tmp_path / "sphere_base.rply").stat().st_size > 0
+    h.run_tool("simplify_radiance", progressive, "-o", tmp_path / "replay", "--ratios", "0.25,0.1")
+    for layer, replay in ((0, "replay_250.rply"), (2, "replay_100.rply")):
+        mine = rply.read_rply(str(tmp_path / f"layer{layer}.rply"))
+        theirs = rply.read_rply(str(tmp_path / replay))
+        assert h.face_triples(mine.positions, mine.faces) == h.face_triples(theirs.positions, theirs.faces), \
+            f"the replayed {replay} differs from layer {layer}"
+
+
+def test_simplification_to_an_absolute_target(striped, tmp_path):
+    ms = h.load(striped)
+    ms.apply_filter(h.SIMPLIFY, **simplify_parameters(targetfaces=1000, targetpercentage=0.0))
+    assert ms.mesh_number() == 1 and ms.current_mesh().face_number() == 1000
+    mesh = saved(ms, 0, tmp_path / "thousand.rply")
+    h.check_closed_genus0_manifold(mesh.faces, "1000 faces")
+    h.check_original_vertices_and_rows(rply.read_rply(str(striped)), mesh, "1000 faces")
+
+
+@pytest.mark.parametrize("metric", [1, 2, 3], ids=["lightfield", "color-qem", "geometry"])
+def test_other_metrics_reach_the_target(metric, striped, tmp_path):
+    ms = h.load(striped)
+    ms.apply_filter(h.SIMPLIFY, **simplify_parameters(metric=metric))
+    assert ms.current_mesh().face_number() == 1280
+    mesh = saved(ms, 0, tmp_path / "out.rply")
+    h.check_closed_genus0_manifold(mesh.faces, f"metric {metric}")
+    h.check_original_vertices_and_rows(rply.read_rply(str(striped)), mesh, f"metric {metric}")
+
+
+def test_full_collapse_on_spherical_harmonics(scenes, tmp_path):
+    sh = tmp_path / "sphere_sh.rply"
+    h.run_tool("make_radiance_mesh", scenes("sphere", level=4), "--material", "glossy", "--basis", "SH4",
+               "--no-shadows", "-o", sh)
+    ms = h.load(sh)
+    ms.apply_filter(h.SIMPLIFY, **simplify_parameters(collapse=1))
+    assert ms.current_mesh().face_number() == 1280
+    mesh = saved(ms, 0, tmp_path / "full.rply")
+    h.check_closed_genus0_manifold(mesh.faces, "full collapse")
+    assert mesh.basis == "SH4" and np.isfinite(mesh.coefficients).all()
+    # Full collapses place new vertices: some are not original positions.
+    original = {tuple(p) for p in rply.read_rply(str(sh)).positions.tolist()}
+    assert any(tuple(p) not in original for p in mesh.positions.tolist())
+
+
+def test_open_strip_stops_at_its_boundary(tmp_path):
+    """A 2 x 8 strip of quads: its 7 interior vertices go, the 20 boundary vertices stay (boundary
+    preserved), so the target of 16 faces (50 %) stops at 18 faces."""
+    vertices, faces = h.grid(8, 2)
+    ms = h.load(h.write_ascii_ply(tmp_path / "strip.ply", vertices, faces))
+    ms.apply_filter(h.SIMPLIFY, **simplify_parameters(metric=3, targetpercentage=0.5))
+    assert ms.current_mesh().face_number() == 18 and ms.current_mesh().vertex_number() == 20
+
+
+# ---------------------------------------------------------------------------------------------------
+# Refusals: our message in the exception, the MeshSet as it was (layers, vertices, faces, colours).
+
+def test_refuses_a_mesh_without_radiance(scenes):
+    h.expect_refusal(h.load(scenes("sphere", level=2)), h.SIMPLIFY, "The current mesh has no radiance data",
+                     **simplify_parameters(targetpercentage=0.5))
+
+
+def test_refuses_a_target_not_below_the_face_count(striped, tmp_path):
+    ms = h.load(striped)
+    ms.save_current_mesh(str(tmp_path / "before.rply"))
+    h.expect_refusal(ms, h.SIMPLIFY, "is not below the layer's",
+                     **simplify_parameters(targetfaces=100000, targetpercentage=0.0))
+    ms.save_current_mesh(str(tmp_path / "after.rply"))
+    assert (tmp_path / "before.rply").read_bytes() == (tmp_path / "after.rply").read_bytes()
+
+
+def test_refuses_full_collapse_on_a_pb_field(striped, tmp_path):
+    ms = h.load(striped)
+    h.expect_refusal(ms, h.SIMPLIFY, "full edge collapse with the radiance metric needs spherical harmonics",
+                     **simplify_parameters(collapse=1))
+    ms.save_current_mesh(str(tmp_path / "after.rply"))
+    assert striped.read_bytes() == (tmp_path / "after.rply").read_bytes(), "the refused filter changed the layer"
+
+
+@pytest.mark.parametrize("case,message", [("nonmanifold", "non-manifold edge"), ("duplicate", "duplicate face"),
+                                          ("points", "has no faces")])
+def test_refuses_bad_geometry(case, message, tmp_path):
+    vertices, faces = h.grid(8, 2)
+    if case == "nonmanifold":  # two more faces on the edge (0, 1): three faces on one edge
+        vertices = vertices + [(0.5, -0.5, 1.0), (0.5, -0.5, -1.0)]
+        faces = faces + [(1, 0, 27), (0, 1, 28)]
+    elif case == "duplicate":
+        faces = faces + [faces[3]]
+    else:
+        faces = []
+    ms = h.load(h.write_ascii_ply(tmp_path / f"{case}.ply", vertices, faces))
+    h.expect_refusal(ms, h.SIMPLIFY, message, **simplify_parameters(metric=3, targetpercentage=0.5))
+
+
+def test_meshset_still_works_after_a_refusal(striped):
+    ms = h.load(striped)
+    h.expect_refusal(ms, h.SIMPLIFY, "is not below the layer's",
+                     **simplify_parameters(targetfaces=100000, targetpercentage=0.0))
+    ms.apply_filter(h.SIMPLIFY, **simplify_parameters(targetpercentage=0.5))
+    assert ms.current_mesh().face_number() == 2560
