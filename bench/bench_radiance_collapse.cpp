@@ -155,7 +155,7 @@ rad::RadianceField randomSmoothField(const rad::BasisSpec& basis, std::size_t co
     return f;
 }
 
-// Paper 000 Fig. 8: a sphere alternating diffuse and glossy stripes, lit by a point and a
+// Vanhoey et al. 2015 Fig. 8: a sphere alternating diffuse and glossy stripes, lit by a point and a
 // directional light, projected on the basis at every vertex with the vertex's own normal.
 rad::RadianceField materialField(const rad::BasisSpec& basis, const std::vector<float>& positions,
                                  const std::vector<float>& normals) {

@@ -287,7 +287,7 @@ void DecorateRadiancePlugin::initGlobalParameterSet(QAction* action, RichParamet
     if (ID(action) == DP_NORMAL_MAP) {
         par.addParam(RichEnum(kNormalShading, 2,
                               QStringList() << "Vertex normals (Blinn-Phong)" << "Normal map (Blinn-Phong)"
-                                            << "Normal map with LEAN specular (paper 002)",
+                                            << "Normal map with LEAN specular (Weber and Stamminger)",
                               "Normal map shading",
                               "How the Baked Normal Map decoration shades the layer: the simplified mesh's own "
                               "normals, the baked normal map, or the normal map with the LEAN Gaussian lobe whose "

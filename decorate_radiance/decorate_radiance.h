@@ -1,11 +1,11 @@
 // MeshLab decorations "Radiance Field" and "Baked Normal Map".
 // "Radiance Field" draws the current mesh's radiance functions per vertex or per
-// fragment (paper 000 sec. 5, eq. 8), or its PRT transfer relit by a light, over MeshLab's own
+// fragment (Vanhoey et al. 2015 sec. 5, eq. 8), or its PRT transfer relit by a light, over MeshLab's own
 // rendering. A thin adapter: the drawing is render_gl/radiance_gl_renderer.h, the relighting
 // prt/prt_lighting.h; this file reads parameters, gathers the layer's data, logs and writes the
 // optional view file (docs/decorate-radiance.md).
 // "Baked Normal Map" draws a layer with the normal map of the "Bake Normal Map" filter, with
-// Blinn-Phong or with the LEAN Gaussian lobe (paper 002, Alg. 3-4; render_gl/normal_map_gl_renderer.h),
+// Blinn-Phong or with the LEAN Gaussian lobe (Weber and Stamminger, Alg. 3-4; render_gl/normal_map_gl_renderer.h),
 // so that the highlight's behaviour at a distance can be compared (docs/normal-map-baking.md).
 #pragma once
 

@@ -3,7 +3,7 @@
 // (virtual_photographs.h) exercise the radiance fitting exactly as a user's calibrated photographs
 // do, and radiance() at the vertices is the ground truth the fitting benchmarks compare to.
 //
-// Paper 000 (Vanhoey et al. 2015) sec. 7, "Data acquisition and reconstruction": "The radiance
+// Vanhoey et al. 2015, sec. 7, "Data acquisition and reconstruction": "The radiance
 // functions attached to the plane and the spheres (Fig. 6 and 8) are fitted on virtually acquired
 // photographs of a synthetic scene characterized by point light sources and BRDF."
 //

@@ -1,4 +1,4 @@
-// Paper 002 (shared/papers/002_5662fb0477b62e99.txt, Weber & Stamminger, "modified LEAN mapping"):
+// Weber and Stamminger ("modified LEAN mapping"):
 // Alg. 2 (covariance relative to the averaged normal and tangent, per MIP texel), Alg. 3 (the 2D
 // Gaussian specular lobe, eq. 4 for the Blinn-Phong equivalence), Alg. 4 and sec. 3.5 (level 0 not
 // stored, the covariance of level 1 scaled by lambda below level 1).

@@ -1,6 +1,6 @@
 // Filling the texels a bake could not compute, and the empty texels between charts.
 //
-// Paper 004 (Granier et al., sec. "simplification"): texels of a baked normal map that received
+// Granier et al. 2007 (sec. "simplification"): texels of a baked normal map that received
 // no sample are filled by diffusion from their neighbours. We use pull-push (Gortler et al. 1996,
 // the standard fast form of that diffusion): the valid texels are averaged down a pyramid
 // (pull), then every hole takes the coarser levels' value, blended bilinearly (push). It is

@@ -1,7 +1,7 @@
 // Normal (and colour) map baking from a full-resolution source onto a simplified target
 // (normal_baker.h).
 //
-// Paper 004 (Granier et al.), sec. "simplification": the normals of the full scan are stored in a
+// Granier et al. 2007, sec. "simplification": the normals of the full scan are stored in a
 // texture of the simplified mesh. The ray set-up is the usual cage-less baker's (as in xNormal or
 // Blender): from the target point along +/- its interpolated normal, nearer hit first. The tangent
 // frame is the per-face one of Lengyel ("Computing tangent space basis vectors for an arbitrary

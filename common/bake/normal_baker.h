@@ -1,6 +1,6 @@
 // Baking the full scan's normals (and colours) into a texture of the simplified mesh.
 //
-// Paper 004 (Granier et al.): a simplified mesh plus normal maps baked from the full-resolution
+// Granier et al. 2007: a simplified mesh plus normal maps baked from the full-resolution
 // scan keeps the object's appearance. Per covered texel (texel_coverage.h), the point p and the
 // interpolated normal n of the target at the texel centre cast two rays, p + t n and p - t n for
 // t in [0, maxRayDistance] (Embree); the nearer hit gives the source point, and the source's

@@ -29,13 +29,13 @@ std::size_t icosphereFaceCount(int level);
 // (stacks - 1) * slices + 2 vertices, 2 * slices * (stacks - 1) faces.
 TriangleMesh makeUvSphere(int stacks, int slices, float radius = 1.0f);
 
-// Paper 000 Fig. 6: the square [-halfSize, halfSize]^2 in the plane z = 0, two triangles, the normal
+// Vanhoey et al. 2015 Fig. 6: the square [-halfSize, halfSize]^2 in the plane z = 0, two triangles, the normal
 // of each corner tilted away from +z by `tiltRadians` towards that corner (outwards), so the four
 // normals diverge. Vertex order: (-,-), (+,-), (+,+), (-,+); faces (0,1,2), (0,2,3).
 // |tiltRadians| < pi/2 (a negative tilt makes the normals converge).
 TriangleMesh makeDivergingQuad(float tiltRadians, float halfSize = 1.0f);
 
-// Paper 001 Fig. 1: a column (cylinder with both caps) standing on a square ground plane at z = 0,
+// Křivánek et al. 2004 Fig. 1: a column (cylinder with both caps) standing on a square ground plane at z = 0,
 // its axis the z axis. Separate components (the column is not stitched into the ground).
 struct ColumnSceneOptions {
     int segments = 16;          // around the axis, >= 3

@@ -1,4 +1,4 @@
-// Adaptive subdivision of a PRT mesh under a triangle budget, paper 001 (Krivanek, Pattanaik, Zara,
+// Adaptive subdivision of a PRT mesh under a triangle budget, Křivánek et al. 2004
 // "Adaptive Mesh Subdivision for Precomputed Radiance Transfer") sec. 3.2, Fig. 2 (the priority-queue
 // loop), Fig. 3a (regular 1-to-4 split), Fig. 3b/c (T-vertex removal), with the error estimates of
 // sec. 3.3 (eq. 2-4, transfer_error_estimate.h). Design: docs/prt-subdivision.md.

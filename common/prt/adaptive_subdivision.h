@@ -1,5 +1,5 @@
 // Adaptive subdivision of a mesh with per-vertex PRT transfer vectors under a triangle budget,
-// paper 001 (Krivanek, Pattanaik, Zara) sec. 3.2, Fig. 2 and Fig. 3:
+// Křivánek et al. 2004 sec. 3.2, Fig. 2 and Fig. 3:
 //   - every triangle whose error estimate (transfer_error_estimate.h) exceeds the threshold enters a
 //     max-priority queue;
 //   - while the budget is not reached and the queue is not empty: pop the worst triangle, split it
@@ -17,7 +17,7 @@
 // contributes 1 + its hanging-vertex count; an operation that would pass the budget is not done
 // and ends the loop).
 // Edges are matched by vertex POSITION (exact equality), not by index, so attribute seams
-// (vertices duplicated with different normals, e.g. the rim of paper 001's column) are split on
+// (vertices duplicated with different normals, e.g. the rim of Křivánek et al. 2004's column) are split on
 // both sides and leave no geometric T-junction; a midpoint vertex is created per side (each side's
 // midpoint normal is normalize(n_a + n_b) of that side's end vertices) and the oracle is asked once
 // per created vertex.

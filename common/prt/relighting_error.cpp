@@ -1,4 +1,4 @@
-// Measured relighting error of interpolated PRT: paper 001 (Krivanek, Pattanaik, Zara, "Adaptive
+// Measured relighting error of interpolated PRT: Křivánek et al. 2004 ("Adaptive
 // Mesh Subdivision for Precomputed Radiance Transfer") eq. 1, |L(x, l) - L_int(x, l)| / L(x, l),
 // evaluated at dense sample points and over many lightings instead of estimated per triangle;
 // the floor of the Weber normalisation and the statistics are documented in relighting_error.h.

@@ -1,9 +1,9 @@
-// Relighting error of interpolated PRT (paper 001 eq. 1, measured instead of estimated): at dense
+// Relighting error of interpolated PRT (Křivánek et al. 2004 eq. 1, measured instead of estimated): at dense
 // sample points x inside every triangle, the exact shading L(x, l) = <t(x), l> with t(x) ray-cast AT
 // x, against the interpolated shading L_int(x, l) = <sum_i b_i t_vi, l> (b_i the barycentrics of x in
 // the triangle of the evaluated mesh that contains x), over many lightings l.
 //
-// Weber-law normalisation (paper 001 eq. 1: relative error, "according to the Weber law"):
+// Weber-law normalisation (Křivánek et al. 2004 eq. 1: relative error, "according to the Weber law"):
 //     e(x, l) = |L(x, l) - L_int(x, l)| / max(L(x, l), floor(l)),
 // with floor(l) = kWeberFloorFraction times the area-weighted mean of L(., l) over the samples. The
 // floor stands for the eye's adaptation level: Weber's law holds above it and fails toward black

@@ -1,4 +1,4 @@
-// Triangle error estimates of paper 001 (Krivanek, Pattanaik, Zara) sec. 3.3: eq. 2 (edge contrast
+// Triangle error estimates of Křivánek et al. 2004 sec. 3.3: eq. 2 (edge contrast
 // |t1 - t2| / |t1 + t2|), eq. 3 (edge difference |t1 - t2|), both summed over the three edges, and
 // eq. 4 (the eq. 3 sum divided by 1 + alpha * the angle between n1 and the mean normal).
 #include "prt/transfer_error_estimate.h"

@@ -1,4 +1,4 @@
-// Per-triangle estimates of the PRT interpolation error, paper 001 (Krivanek, Pattanaik, Zara,
+// Per-triangle estimates of the PRT interpolation error, Křivánek et al. 2004
 // "Adaptive Mesh Subdivision for Precomputed Radiance Transfer") sec. 3.3. The triangle error is
 // the sum of the three edge errors (eq. 2 or eq. 3), or eq. 4:
 //   eq. 2 (Contrast):          e(v1, v2) = |t1 - t2| / |t1 + t2|   (0 when t1 + t2 = 0)
@@ -20,7 +20,7 @@ enum class TransferErrorMeasure {
 };
 
 // Per radian. The paper leaves alpha to the user; 4 halves the error of a triangle whose normals
-// spread ~0.25 rad from n1 (a coarse curved tessellation, e.g. paper 001's 16-segment column) and
+// spread ~0.25 rad from n1 (a coarse curved tessellation, e.g. Křivánek et al. 2004's 16-segment column) and
 // never divides by more than 1 + 4 pi/2 ~ 7.3. Reasoning in docs/prt-subdivision.md.
 constexpr double kDefaultNormalDivergenceAlpha = 4.0;
 

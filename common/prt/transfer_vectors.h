@@ -6,11 +6,11 @@
 // k < (degree + 1)^2, Y_k the real spherical harmonics of radiance/spherical_harmonics.h (global
 // frame), V(x, w) = 1 when the ray from x toward w escapes the scene. The exit radiance of a white
 // Lambertian surface under a distant lighting with SH coefficients l_k is then
-//     L(x) = <t(x), l>                          (paper 001 sec. 3.3, L(x, l) = <t_x | l>)
+//     L(x) = <t(x), l>                          (Křivánek et al. 2004 sec. 3.3, L(x, l) = <t_x | l>)
 // so a constant unit lighting on an unoccluded point gives L = 1. Albedo (per channel) multiplies
 // t; it is applied by the caller (TransferField::channels == 3 then), not here.
 //
-// Paper 001 uses "SH of order 6" = 36 coefficients, i.e. degree 5 in our convention (order =
+// Křivánek et al. 2004 uses "SH of order 6" = 36 coefficients, i.e. degree 5 in our convention (order =
 // degree + 1): kDefaultTransferDegree.
 //
 // Estimator: N cosine-weighted directions (pdf = max(0, n.w) / pi), so
@@ -18,7 +18,7 @@
 // The directions are a fixed low-discrepancy set in the vertex's LOCAL frame (Hammersley points
 // mapped by Shirley-Chiu's concentric disc map and lifted to the hemisphere: Malley's method), the
 // same for every point, so neighbouring points with similar normals see correlated sample patterns
-// and the differences of their transfer vectors (what paper 001's error estimates measure) carry
+// and the differences of their transfer vectors (what Křivánek et al. 2004's error estimates measure) carry
 // little Monte-Carlo noise. The local frame (tangent, bitangent, normal) is built from n alone by
 // Duff et al., "Building an orthonormal basis, revisited", JCGT 6(1) 2017, listing 3: orthonormal
 // and right-handed for every unit n (no singularity at n = -z, unlike Frisvad's original), smooth
@@ -49,7 +49,7 @@
 
 namespace rad {
 
-constexpr int kDefaultTransferDegree = 5;        // 36 coefficients, paper 001's "order 6"
+constexpr int kDefaultTransferDegree = 5;        // 36 coefficients, Křivánek et al. 2004's "order 6"
 constexpr int kDefaultTransferRayCount = 256;
 
 struct TransferOptions {

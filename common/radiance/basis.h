@@ -1,6 +1,6 @@
 // Basis functions for per-vertex radiance functions (RF).
 //
-// Paper 000 (Vanhoey et al. 2015), sec. 6 "Basis functions":
+// Vanhoey et al. 2015, sec. 6 "Basis functions":
 //  - PB(d): hemispherical polynomials of total degree <= d in the coordinates (u, v) of the direction
 //    orthogonally projected on the tangent plane, expressed in a per-vertex local frame
 //    (x = tangent, y = bitangent, z = normal). (d+1)(d+2)/2 functions per colour channel.

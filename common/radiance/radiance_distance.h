@@ -1,4 +1,4 @@
-// L2 distance between radiance functions over a hemisphere, Vanhoey et al. 2015 (Vanhoey et al. 2015)
+// L2 distance between radiance functions over a hemisphere, Vanhoey et al. 2015
 // sec. 3.5, equations (5) and (6):
 //     d(L1, L2) = || L~1 - L~2 ||_{L2(Omega)},   ||L||_{L2(Omega)} = ( 1/(2 pi) int_Omega L(w)^2 dw )^(1/2)
 // where Omega is the hemisphere around a chosen normal n0 (sec. 4.1: the normal of the vertex where

@@ -1,5 +1,5 @@
 // Evaluation of per-vertex radiance functions (RF) at world directions, with the border extension
-// of Vanhoey et al. 2015 (Vanhoey et al. 2015) sec. 7, and conversion between plain and reflected storage
+// of Vanhoey et al. 2015 sec. 7, and conversion between plain and reflected storage
 // (sec. 3.1).
 //
 // Definitions (w: unit world direction, n: vertex normal, R_n(w) = 2 (n.w) n - w):

@@ -1,6 +1,6 @@
 // Per-vertex orthonormal frames for radiance functions (RF), and the reflection about a normal.
 //
-// Paper 000 (Vanhoey et al. 2015):
+// Vanhoey et al. 2015:
 //  - sec. 3: the RF of a vertex is defined on the hemisphere centred on the vertex normal n;
 //  - sec. 3.1: the reflected RF (r-RF) is L~(w) = L(R_n w) with the reflection about n
 //        R_n(w) = 2 (n . w) n - w          (a rotation by pi about n; R_n R_n = identity)

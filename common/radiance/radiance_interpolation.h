@@ -1,5 +1,5 @@
 // Interpolation, gradient and extrapolation of radiance functions (RF) over a triangle,
-// Vanhoey et al. 2015 (Vanhoey et al. 2015) sec. 3.2-3.4 and 5.
+// Vanhoey et al. 2015 sec. 3.2-3.4 and 5.
 //
 // Triangle t = (v1, v2, v3) with positions p_i, normals n_i and RF L_i; L~_i(w) = L_i(R_{n_i} w) is
 // the reflected RF (sec. 3.1), border-extended outside its hemisphere (sec. 7,

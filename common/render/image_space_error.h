@@ -1,7 +1,7 @@
 // Image-space error between an original radiance mesh and processed versions of it (simplified,
 // directionally reduced, refitted...): both are rendered on the CPU from the same ring of cameras
 // around the object and the renderings are compared pixel by pixel. This is the evaluation of
-// Vanhoey et al. 2015 (Vanhoey et al. 2015) Fig. 7, which compares mesh simplification against "directional
+// Vanhoey et al. 2015 Fig. 7, which compares mesh simplification against "directional
 // reduction" (a lower RF degree, simplify/directional_reduction.h) at equal memory; the memory
 // figure it uses is defined here too.
 //

@@ -2,7 +2,7 @@
 // with Embree (raycast/ray_scene.h): the reference renderer for image-space comparisons (fitted RF
 // against the photographs, simplified against original meshes).
 //
-// Paper 000 (Vanhoey et al. 2015) sec. 5 ("Rendering") describes two ways to shade a triangle
+// Vanhoey et al. 2015, sec. 5 ("Rendering") describes two ways to shade a triangle
 // (v1, v2, v3) whose vertices carry RF L_i, at a fragment with barycentrics alpha seen from the
 // eye e:
 //  - PerVertex ("Gouraud-like", the vertex-shader approach): every vertex's RF is evaluated toward

@@ -1,6 +1,6 @@
 // The baseline "extended colour QEM": M. Garland and P. S. Heckbert, "Simplifying surfaces with
-// color and texture using quadric error metrics", IEEE Visualization 1998 (GH98; not in
-// shared/papers, cited by Vanhoey et al. 2010 sec. 2.2.1 as [GH98]). Each vertex is a point v = (p, c) of R^6
+// color and texture using quadric error metrics", IEEE Visualization 1998 (GH98;
+// cited by Vanhoey et al. 2010 sec. 2.2.1 as [GH98]). Each vertex is a point v = (p, c) of R^6
 // (position x, y, z and linear RGB colour r, g, b) and each face a 2D affine subspace of R^6, the
 // plane through its three 6D points. GH98: with an orthonormal basis e1, e2 of that plane
 // (Gram-Schmidt on q - p, r - p), the squared distance of v to it is

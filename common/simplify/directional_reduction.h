@@ -1,5 +1,5 @@
-// Directional reduction: the alternative to mesh simplification that Vanhoey et al. 2015 (Vanhoey et al.
-// 2015, Fig. 7 and its discussion) compares against at equal memory. Every vertex is kept, but its
+// Directional reduction: the alternative to mesh simplification that Vanhoey et al. 2015
+// (Fig. 7 and its discussion) compare against at equal memory. Every vertex is kept, but its
 // radiance function (RF) is re-expressed in a basis of lower degree, so the memory saved comes from
 // the directional resolution instead of the spatial one.
 //

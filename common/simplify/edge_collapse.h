@@ -1,5 +1,5 @@
 // Iterative edge-collapse simplification (Hoppe 1996 "Progressive meshes"; Garland & Heckbert 1997)
-// with pluggable pricing (collapse_metric.h), as used by Vanhoey et al. 2015 (Vanhoey et al. 2015) sec. 4:
+// with pluggable pricing (collapse_metric.h), as used by Vanhoey et al. 2015 sec. 4:
 // "build a priority queue of all collapsible edges; until the mesh is simplified enough, collapse
 // the first edge and update the queue".
 //

@@ -1,5 +1,5 @@
-// The light-field error of Vanhoey et al. 2010 (Vanhoey, Sauvage, Dischler 2010, "Simplification de maillages
-// surfaciques avec champs de lumière", shared/papers/003_ceec425f85ef6fb3.txt) sec. 4, the
+// The light-field error of Vanhoey et al. 2010 (Vanhoey, Sauvage, Dischler, "Simplification de maillages
+// surfaciques avec champs de lumière") sec. 4, the
 // predecessor of the radiance error of Vanhoey et al. 2015:
 //     E = E_G + lambda (E_L + E_F)                                                         (eq. 2)
 // for a collapse (v1, v2) -> v, with, for the new vertex's light field (F, L) against each endpoint k,

@@ -2,7 +2,7 @@
 //
 // Garland & Heckbert 1997 define the quadric of a plane n.x + d = 0 as Q = (n n^T, d n, d^2) so that
 // Q(x) = (n.x + d)^2 is the squared distance to the plane; a vertex's quadric is the sum over its
-// faces. The MEMORYLESS variant (Lindstrom & Turk 1998, the one Vanhoey et al. 2015 (Vanhoey et al. 2015)
+// faces. The MEMORYLESS variant (Lindstrom & Turk 1998, the one Vanhoey et al. 2015
 // sec. 4.4 combines with its radiance metric, citing Hoppe 1999) does not accumulate quadrics over
 // the history of collapses: a collapse is priced with the planes of the faces that are around the
 // edge right now. Hence:

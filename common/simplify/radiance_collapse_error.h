@@ -1,4 +1,4 @@
-// The radiance error of a collapse, Vanhoey et al. 2015 (Vanhoey et al. 2015, shared/papers/000_b7a005d9cb9d34c2.txt)
+// The radiance error of a collapse, Vanhoey et al. 2015,
 // sec. 4.1 and 4.3, as a pricing module of the edge-collapse engine (collapse_metric.h).
 //
 // Half-edge collapse v0 -> v1, eq. (7):

@@ -4,7 +4,7 @@
 // all go through here.
 //
 // Metrics (the engine adds the memoryless QEM with the geometry weight in every case):
-//  - Radiance: the radiance error of Vanhoey et al. 2015 (Vanhoey et al. 2015) eq. 7 (half-edge) / sec. 4.3
+//  - Radiance: the radiance error of Vanhoey et al. 2015 eq. 7 (half-edge) / sec. 4.3
 //    (full, SH only), radiance_collapse_error.h; weights 1 % geometry / 99 % radiance (sec. 4.4);
 //  - LightField2010: the earlier metric of Vanhoey et al. 2010 (E_G + lambda (E_L + E_F)),
 //    light_field_quadric.h; attribute weight = lambda;

@@ -40,7 +40,7 @@ add_test(NAME gui.decoration_prt COMMAND bash "${PROJECT_SOURCE_DIR}/tests/gui/g
   "${PROJECT_BINARY_DIR}/tests/gui-input/column_prt.rply" 2 5)
 set_tests_properties(gui.decoration_prt PROPERTIES ENVIRONMENT "${_integration_env}" LABELS gui
   TIMEOUT 300 FIXTURES_REQUIRED gui_input RUN_SERIAL TRUE)
-# Paper 000 Fig. 6 in MeshLab: highlight inside the quad per fragment, none per vertex.
+# Vanhoey et al. 2015 Fig. 6 in MeshLab: highlight inside the quad per fragment, none per vertex.
 add_test(NAME gui.fig6_highlight COMMAND bash "${PROJECT_SOURCE_DIR}/tests/gui/gui_fig6_highlight.sh")
 set_tests_properties(gui.fig6_highlight PROPERTIES ENVIRONMENT "${_integration_env}" LABELS gui TIMEOUT 300
   RUN_SERIAL TRUE)

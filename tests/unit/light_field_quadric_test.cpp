@@ -147,7 +147,7 @@ TEST(LightFieldQuadric, HalfEdgeCostOfEqualFunctionsIsTheOrientationError) {
 }
 
 TEST(LightFieldQuadric, MaximalColourDifferenceCostsTwoPiPerChannelAtAnyAngle) {
-    // Paper 003 sec. 4.2.3-4.4: E_L + E_F is continuous in alpha and bounded by 2 pi (per channel,
+    // Vanhoey et al. 2010 sec. 4.2.3-4.4: E_L + E_F is continuous in alpha and bounded by 2 pi (per channel,
     // E_max = 1). A black RF against a white one reaches the bound whatever the angle.
     std::mt19937 rng(24);
     const rad::CollapseMesh mesh = square();

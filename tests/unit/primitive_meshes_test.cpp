@@ -205,7 +205,7 @@ TEST(ColumnOnPlane, DefaultCountsAreThoseOfThePaperScene) {
     EXPECT_EQ(m.faceCount(), 288u);
     EXPECT_EQ(m.vertexCount(), rad::columnOnPlaneVertexCount(o));
     EXPECT_EQ(m.faceCount(), rad::columnOnPlaneFaceCount(o));
-    // Paper 001 Fig. 1: 200 vertices, 246 triangles; ours is of the same size.
+    // Křivánek et al. 2004 Fig. 1: 200 vertices, 246 triangles; ours is of the same size.
     EXPECT_NEAR(double(m.vertexCount()), 200.0, 10.0);
     expectUnitNormals(m);
     expectWindingMatchesNormals(m);

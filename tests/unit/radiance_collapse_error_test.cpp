@@ -1,4 +1,4 @@
-// Tests of simplify/radiance_collapse_error.h: the radiance error of Vanhoey et al. 2015 (Vanhoey et al. 2015)
+// Tests of simplify/radiance_collapse_error.h: the radiance error of Vanhoey et al. 2015
 // eq. (7) for half-edge collapses and its sec. 4.3 variant for full edge collapses. Expected values
 // come from the slow generic path (TriangleGradient + squaredDistanceToCombination, one direction at
 // a time, evaluateReflectedRadiance with its own border extension) or from closed forms worked out

@@ -157,7 +157,7 @@ TEST(RadianceDistance, SymmetricZeroForEqualAndTriangleInequality) {
 }
 
 TEST(RadianceDistance, ConstantFunctionsGiveColourDistance) {
-    // Paper 000 sec. 3.5, second bullet: between diffuse RF the distance is the RGB 2-norm of the
+    // Vanhoey et al. 2015 sec. 3.5, second bullet: between diffuse RF the distance is the RGB 2-norm of the
     // colour difference, whatever the normals (the border extension of a constant is that constant).
     std::mt19937 rng(5);
     for (const BasisSpec& basis : {BasisSpec{BasisKind::HemisphericalPolynomial, 0},

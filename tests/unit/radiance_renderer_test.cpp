@@ -79,7 +79,7 @@ TEST(RadianceRenderer, ConstantFieldRendersItsConstantInBothModes) {
             }
 }
 
-// Paper 000 Fig. 6: a quad whose four normals diverge by 30 degrees, glossy RF, light and eye
+// Vanhoey et al. 2015 Fig. 6: a quad whose four normals diverge by 30 degrees, glossy RF, light and eye
 // straight above the centre. At the centre the interpolated normal is +z and the eye direction
 // reflects onto the light: eq. (8) shows the peak. Every vertex, seen from the eye, is ~42 degrees
 // off its own highlight: per-vertex shading shows no highlight anywhere in the quad.
