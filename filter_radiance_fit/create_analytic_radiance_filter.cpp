@@ -2,6 +2,7 @@
 // material and light (common/radiance/material_radiance.h), for tests, figures and demonstrations.
 #include "radiance_fit_plugin.h"
 
+#include "basis_parameters.h"
 #include "citations.h"
 #include "radiance_attribute.h"
 #include "vertex_colors.h"
@@ -79,15 +80,7 @@ public:
 
     RichParameterList parameters(const MeshDocument&, const MeshModel&) const override {
         RichParameterList par;
-        par.addParam(RichEnum("basis", 0,
-                              QStringList() << "Hemispherical polynomials PB(d), local frame"
-                                            << "Spherical harmonics SH(d), global frame",
-                              "Basis", "Function basis of the radiance functions (Vanhoey et al. 2015, sec. 6)."));
-        par.addParam(RichInt("degree", 4, "Degree",
-                             QString("Degree d: PB(d) has (d+1)(d+2)/2 coefficients per channel (0..%1), SH(d) "
-                                     "has (d+1)^2 (0..%2). Vanhoey et al. 2015 use PB(4) and SH(6), SH(8).")
-                                 .arg(rad::kMaxPolynomialDegree)
-                                 .arg(rad::kMaxHarmonicDegree)));
+        addBasisParameters(par, "Vanhoey et al. 2015 use PB(4) and SH(6), SH(8).");
         par.addParam(RichBool("reflected", false, "Store reflected functions",
                               "Store the reflected RF L~(w) = L(R_n w) (Vanhoey et al. 2015, sec. 3.1) instead "
                               "of L. Either evaluates to the same radiance."));
@@ -124,13 +117,8 @@ public:
         QElapsedTimer timer;
         timer.start();
         rad::MaterialRadianceOptions options;
-        options.basis.kind = par.getEnum("basis") == 0 ? rad::BasisKind::HemisphericalPolynomial
-                                                       : rad::BasisKind::SphericalHarmonics;
-        options.basis.degree = par.getInt("degree");
+        options.basis = basisParameters(par);
         options.reflected = par.getBool("reflected");
-        if (!options.basis.isValid())
-            throw Refusal(unsupportedDegreeMessage(options.basis.kind == rad::BasisKind::SphericalHarmonics,
-                                                   options.basis.degree));
         const VertexArrays vertices = collectVertexArrays(m.cm);
         const std::size_t n = vertices.count();
         const std::string inputProblem =

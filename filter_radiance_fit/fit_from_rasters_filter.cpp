@@ -3,6 +3,7 @@
 // mesh out of MeshLab, one core call, then the layer is changed only after everything succeeded.
 #include "radiance_fit_plugin.h"
 
+#include "basis_parameters.h"
 #include "citations.h"
 #include "mesh_conversion.h"
 #include "radiance_attribute.h"
@@ -35,15 +36,7 @@ public:
         par.addParam(RichBool("visibleOnly", false, "Only visible rasters",
                               "Use only the raster layers that are visible in the raster list (the eye icon); "
                               "otherwise every raster of the document."));
-        par.addParam(RichEnum("basis", 0,
-                              QStringList() << "Hemispherical polynomials PB(d), local frame"
-                                            << "Spherical harmonics SH(d), global frame",
-                              "Basis", "Function basis of the radiance functions (Vanhoey et al. 2015, sec. 6)."));
-        par.addParam(RichInt("degree", 4, "Degree",
-                             QString("Degree d: PB(d) has (d+1)(d+2)/2 coefficients per channel (0..%1), SH(d) has "
-                                     "(d+1)^2 (0..%2). PB(4) (15 coefficients) suits a few dozen photographs.")
-                                 .arg(rad::kMaxPolynomialDegree)
-                                 .arg(rad::kMaxHarmonicDegree)));
+        addBasisParameters(par, "PB(4) (15 coefficients) suits a few dozen photographs.");
         par.addParam(RichFloat("regularization", float(fitDefaults.lambda), "Regularisation",
                                "Tikhonov weight toward the vertex's mean colour, relative to the data term "
                                "(0 = plain least squares; 1e-3 .. 1e-1 sensible). Larger values give smoother, "
@@ -70,7 +63,7 @@ public:
         par.addParam(RichBool("setColor", true, "Set vertex colour to the mean colour",
                               "Vertex colour := the vertex's mean (diffuse) colour over its samples, "
                               "sRGB-encoded."));
-    return par;
+        return par;
     }
 
     void apply(FilterContext& ctx) const override {
@@ -81,12 +74,7 @@ public:
         timer.start();
 
         rad::RadianceFromViewsOptions options;
-        options.fit.basis.kind = par.getEnum("basis") == 0 ? rad::BasisKind::HemisphericalPolynomial
-                                                           : rad::BasisKind::SphericalHarmonics;
-        options.fit.basis.degree = par.getInt("degree");
-        if (!options.fit.basis.isValid())
-            throw Refusal(unsupportedDegreeMessage(options.fit.basis.kind == rad::BasisKind::SphericalHarmonics,
-                                                   options.fit.basis.degree));
+        options.fit.basis = basisParameters(par);
         options.fit.storeReflected = par.getBool("reflected");
         options.fit.lambda = par.getFloat("regularization");
         options.fit.minSamples = par.getInt("minSamples");

@@ -93,7 +93,7 @@ public:
         par.addParam(RichString("progressiveFile", "", "Progressive mesh file",
                                 "If set (a path ending in .rpm), the collapse sequence is written there, with the "
                                 "original mesh beside it as <name>_base.rply (docs/progressive-mesh-format.md)."));
-    return par;
+        return par;
     }
 
     void apply(FilterContext& ctx) const override {

@@ -1,7 +1,5 @@
 #include "filter.h"
 
-#include "radiance/basis.h"
-
 #include <algorithm>
 #include <cstdarg>
 #include <cstdio>
@@ -15,11 +13,6 @@ std::string formatLine(const char* format, ...) {
     std::vsnprintf(buffer, sizeof buffer, format, args);
     va_end(args);
     return buffer;
-}
-
-std::string unsupportedDegreeMessage(bool sphericalHarmonics, int degree) {
-    return formatLine("Degree %d is not supported for %s: use PB degrees 0..%d or SH degrees 0..%d.", degree,
-                      sphericalHarmonics ? "SH" : "PB", rad::kMaxPolynomialDegree, rad::kMaxHarmonicDegree);
 }
 
 bool FilterProgress::operator()(int percent, const char* what) {

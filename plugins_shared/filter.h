@@ -31,9 +31,6 @@ public:
 // printf-style formatting of a log line.
 std::string formatLine(const char* format, ...) __attribute__((format(printf, 1, 2)));
 
-// "Degree d is not supported for PB: ..." for a basis parameter pair that the core refuses.
-std::string unsupportedDegreeMessage(bool sphericalHarmonics, int degree);
-
 // Progress toward MeshLab's callback, throttled to whole percents and at most ~20 updates a second
 // (the GUI repaints on each), mapped into [begin, end] of the whole filter.
 class FilterProgress {

@@ -32,7 +32,7 @@ MeshFilterInterface::FilterClass FilterPluginBase::getClass(QAction* action) {
 
 int FilterPluginBase::getPreConditions(QAction* action) const {
     const Filter* f = filterOf(ID(action));
-    return f ? f->preconditions() : MeshModel::MM_NONE;
+    return f ? f->preconditions() : int(MeshModel::MM_NONE);
 }
 
 MeshFilterInterface::FILTER_ARITY FilterPluginBase::filterArity(QAction* action) const {
@@ -42,7 +42,7 @@ MeshFilterInterface::FILTER_ARITY FilterPluginBase::filterArity(QAction* action)
 
 int FilterPluginBase::postCondition(QAction* action) const {
     const Filter* f = filterOf(ID(action));
-    return f ? f->postconditions() : MeshModel::MM_NONE;
+    return f ? f->postconditions() : int(MeshModel::MM_NONE);
 }
 
 void FilterPluginBase::initParameterSet(QAction* action, MeshModel& m, RichParameterList& par) {

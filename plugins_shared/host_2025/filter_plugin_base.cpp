@@ -32,7 +32,7 @@ FilterPlugin::FilterClass FilterPluginBase::getClass(const QAction* action) cons
 
 int FilterPluginBase::getPreConditions(const QAction* action) const {
     const Filter* f = filterOf(ID(action));
-    return f ? f->preconditions() : MeshModel::MM_NONE;
+    return f ? f->preconditions() : int(MeshModel::MM_NONE);
 }
 
 FilterPlugin::FilterArity FilterPluginBase::filterArity(const QAction* action) const {
@@ -42,7 +42,7 @@ FilterPlugin::FilterArity FilterPluginBase::filterArity(const QAction* action) c
 
 int FilterPluginBase::postCondition(const QAction* action) const {
     const Filter* f = filterOf(ID(action));
-    return f ? f->postconditions() : MeshModel::MM_NONE;
+    return f ? f->postconditions() : int(MeshModel::MM_NONE);
 }
 
 RichParameterList FilterPluginBase::initParameterList(const QAction*, const MeshModel&) {
