@@ -138,10 +138,12 @@ if [ ! -f "$MESHLAB2025_DIR/src/common/plugins/interfaces/filter_plugin.h" ]; th
   # Only the orig tarball is needed (and on some mirrors only it downloads): ignore the rest's errors.
   ML2025_VERSION="$(apt-cache "${APT_OPTS[@]}" showsrc meshlab 2>/dev/null | awk '/^Version: 2025\.07/ {print $2; exit}')"
   if [ -n "$ML2025_VERSION" ]; then
-    ( cd "$APT_PRIVATE/download" && apt-get "${APT_OPTS[@]}" source --download-only -qq "meshlab=$ML2025_VERSION" || true )
+    ( cd "$APT_PRIVATE/download" && apt-get "${APT_OPTS[@]}" source --download-only -qq "meshlab=$ML2025_VERSION" \
+        >"$APT_PRIVATE/source.log" 2>&1 || true )
   fi
   ORIG="$(ls "$APT_PRIVATE"/download/meshlab_2025.07*.orig.tar.* 2>/dev/null | head -1)"
   if [ -z "$ORIG" ]; then
+    cat "$APT_PRIVATE/source.log" >&2 2>/dev/null || true
     echo "[setup] could not fetch the MeshLab 2025.07 source tarball through apt (source package 'meshlab'" \
          "2025.07~dfsg of Debian's unstable/testing suites); put MeshLab 2025.07's sources in $MESHLAB2025_DIR" >&2
     exit 1
