@@ -6,6 +6,7 @@
 
 #include "citations.h"
 #include "mesh_conversion.h"
+#include "usable_normals.h"
 
 #include "bake/normal_map_bake.h"
 #include "bake/texture_atlas.h"
@@ -61,15 +62,6 @@ QString outputBase(const QString& given, MeshModel& target, MeshModel& source) {
     QString label = QFileInfo(target.label()).completeBaseName();
     if (label.isEmpty()) label = "baked";
     return QDir(directory).filePath(label);
-}
-
-// MeshLab loads a layer's textures relative to its working directory, which it moves to the
-// folder of the mesh it opens: the file name alone when the map is there, the absolute path
-// otherwise.
-std::string textureName(const std::string& path) {
-    const QFileInfo file(QString::fromStdString(path));
-    if (file.absolutePath() == QDir::current().absolutePath()) return file.fileName().toStdString();
-    return file.absoluteFilePath().toStdString();
 }
 
 // A core message as a sentence of the log: capital first letter, full stop at the end.
@@ -130,8 +122,8 @@ public:
             bake(ctx);
         } catch (const rad::BakeInputError& e) {
             throw Refusal(asSentence(e.what()) + " The layers are unchanged.");
-        } catch (const rad::BakeCancelled&) {
-            throw Refusal("Cancelled; the layers are unchanged and no file was written.");
+        } catch (const rad::OperationCancelled&) {
+            throw;  // one message for every filter (filter_errors)
         } catch (const std::bad_alloc&) {
             throw Refusal("Out of memory: choose a smaller texture size. The layers are unchanged.");
         } catch (const Refusal&) {
@@ -162,6 +154,11 @@ private:
         if (!exportPlainMesh(target->cm, geometryOnly, targetPlain, why) ||
             !exportPlainMesh(source->cm, geometryOnly, sourcePlain, why))
             throw rad::BakeInputError(why);
+        makeNormalsUsable(ctx, targetPlain.positions, targetPlain.faces, targetPlain.normals,
+                          target->label().toStdString());
+        if (!sourcePlain.normals.empty())  // (none: the core computes them from the faces)
+            makeNormalsUsable(ctx, sourcePlain.positions, sourcePlain.faces, sourcePlain.normals,
+                              source->label().toStdString());
         rad::TriangleMesh targetMesh{targetPlain.positions, targetPlain.normals, targetPlain.faces};
         rad::TriangleMesh sourceMesh{sourcePlain.positions, sourcePlain.normals, sourcePlain.faces};
 
@@ -189,7 +186,7 @@ private:
         request.writeLean = par.getBool("lean");
         request.outputBase = outputBase(par.getString("outputFile"), *target, *source).toStdString();
         ctx.progress.setPhase(0, 100, "Baking normal map");
-        request.progress = [&ctx](int percent) { return ctx.progress(percent); };
+        request.progress = ctx.progress.forCore();
 
         const rad::NormalMapBakeReport report = rad::bakeNormalMapFiles(request);
 
@@ -207,7 +204,7 @@ private:
         }
         const bool assignDiffuse = par.getEnum("assign") == kAssignDiffuse && !report.diffuseMapFile.empty();
         const std::string& assigned = assignDiffuse ? report.diffuseMapFile : report.normalMapFile;
-        setLayerTexture(*target, textureName(assigned), assigned);
+        setLayerTexture(*target, assigned);
 
         const rad::NormalBakeResult& stats = report.bake;
         const double chart = std::max<double>(1.0, double(stats.chartTexels));

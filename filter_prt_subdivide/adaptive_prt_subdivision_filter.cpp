@@ -55,7 +55,7 @@ public:
     }
 
     void apply(FilterContext& ctx) const override {
-        refuseCancellationAndOutOfMemory([&] { subdivide(ctx); });
+        refuseOutOfMemory([&] { subdivide(ctx); });
     }
 
 private:
@@ -69,7 +69,7 @@ private:
         options.alpha = par.getFloat("alpha");          // the core refuses a negative or non-finite alpha (eq. 4)
         options.threshold = par.getFloat("threshold");  // and threshold
         options.triangleBudget = static_cast<std::size_t>(input.budget);
-        options.progress = [&ctx](double fraction) { return ctx.progress(int(100.0 * fraction)); };
+        options.progress = ctx.progress.forCore();
         const rad::SubdivisionResult result =
             subdivideWithRayCasting(ctx, input, [&](const rad::TransferOracle& oracle) {
                 ctx.progress.setPhase(2, 95, "Adaptive PRT subdivision");

@@ -7,6 +7,7 @@
 #include "mesh_conversion.h"
 #include "prt_subdivision_common.h"
 #include "transfer_attribute.h"
+#include "usable_normals.h"
 
 #include "image/rgb_image.h"
 #include "prt/transfer_vectors.h"
@@ -22,37 +23,24 @@ namespace {
 
 // Bounds the cores do not have (rad::TransferEstimator refuses fewer than one ray and an offset
 // that is not positive, and an order outside 1 .. kMaxHarmonicDegree + 1).
-constexpr int kMaxRays = 65536;
-constexpr double kMaxRelativeRayOffset = 0.1;
-
-// Positions and normals of the vertices referenced by faces must be finite with a non-zero normal:
-// the transfer integrates over the hemisphere around the normal (the core would give such a vertex
-// an all-zero transfer without a word).
+// Positions of the vertices referenced by faces must be finite (normals are repaired:
+// usable_normals.h; the transfer integrates over the hemisphere around the normal).
 void checkTransferInput(const rad::RadianceMesh& plain) {
     const std::size_t n = plain.vertexCount();
     if (n == 0) throw Refusal("The current mesh has no vertices.");
     std::vector<char> used(n, plain.faces.empty() ? 1 : 0);
     for (std::uint32_t v : plain.faces) used[v] = 1;
-    std::size_t badPosition = 0, badNormal = 0;
+    std::size_t badPosition = 0;
     for (std::size_t v = 0; v < n; ++v) {
         if (!used[v]) continue;
         const float* p = &plain.positions[3 * v];
-        const float* q = &plain.normals[3 * v];
         if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) ++badPosition;
-        const float length2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2];
-        if (!std::isfinite(length2) || length2 < 1e-20f) ++badNormal;
     }
     if (badPosition > 0)
         throw Refusal(formatLine("%zu vertices have NaN or infinite coordinates: remove them first (Cleaning and "
                                  "Repairing > Remove Duplicate Vertices / Remove Unreferenced Vertices, or fix the "
                                  "file).",
                                  badPosition));
-    if (badNormal > 0)
-        throw Refusal(formatLine("%zu vertices have a missing (zero) or invalid normal, and the transfer integrates "
-                                 "over the hemisphere around the normal. Compute normals first: Normals, Curvatures "
-                                 "and Orientation > Re-Compute Vertex Normals (meshes) or Compute normals for point "
-                                 "sets.",
-                                 badNormal));
 }
 
 class ComputePrtTransferFilter : public Filter {
@@ -84,7 +72,7 @@ public:
                                  .arg(rad::kMaxHarmonicDegree + 1)));
         par.addParam(RichInt("rays", rad::kDefaultTransferRayCount, "Rays per vertex",
                              QString("Cosine-weighted visibility rays per vertex (low-discrepancy set, 1..%1).")
-                                 .arg(kMaxRays)));
+                                 .arg(rad::kMaxTransferRayCount)));
         par.addParam(RichEnum("occluders", kOccludersMesh, QStringList() << "The current mesh" << "All visible layers",
                               "Occluders",
                               "What casts shadows: the mesh alone, or every visible layer (e.g. a statue and the "
@@ -99,7 +87,7 @@ public:
     }
 
     void apply(FilterContext& ctx) const override {
-        refuseCancellationAndOutOfMemory([&] { compute(ctx); });
+        refuseOutOfMemory([&] { compute(ctx); });
     }
 
 private:
@@ -111,11 +99,7 @@ private:
         const int order = par.getInt("order");
         const int rays = par.getInt("rays");
         const double offset = par.getFloat("rayOffset");
-        if (rays > kMaxRays)
-            throw Refusal(formatLine("The number of rays per vertex must be between 1 and %d (256 is the default).",
-                                     kMaxRays));
-        if (offset >= kMaxRelativeRayOffset)
-            throw Refusal("The ray offset must be a small positive fraction of the diagonal (e.g. 1e-4).");
+        // (The core refuses an order, ray count or offset out of range: TransferEstimator.)
 
         rad::RadianceMesh plain;
         std::string why;
@@ -123,6 +107,7 @@ private:
         choice.quality = choice.radiance = choice.transfer = false;
         if (!exportPlainMesh(m.cm, choice, plain, why)) throw Refusal(why);
         checkTransferInput(plain);
+        makeNormalsUsable(ctx, plain.positions, plain.faces, plain.normals);
         const bool allVisible = par.getEnum("occluders") == kOccludersVisibleLayers;
         const OccluderScene occluders = collectOccluders(ctx.document, m, allVisible);
         ctx.progress(1, "Building the ray-tracing scene");
@@ -144,7 +129,7 @@ private:
         const std::size_t n = plain.vertexCount();
         ctx.progress.setPhase(2, 95, "Ray-casting PRT transfer");
         rad::computeTransferVectors(estimator, plain.positions.data(), plain.normals.data(), n, stored.field.values,
-                                    [&ctx](double fraction) { return ctx.progress(int(100.0 * fraction)); });
+                                    ctx.progress.forCore());
         const double seconds = timer.elapsed() / 1000.0;
         if (par.getBool("albedo")) {
             std::vector<float> albedo(3 * n);

@@ -2,6 +2,7 @@
 
 #include "mesh_conversion.h"
 #include "radiance_attribute.h"
+#include "usable_normals.h"
 #include "vertex_colors.h"
 
 #include "raycast/ray_scene.h"
@@ -72,13 +73,9 @@ void setShading(MeshModel& m, const std::vector<float>& linearRgb, float exposur
     setVertexQuality(m, quality);
 }
 
-void refuseCancellationAndOutOfMemory(const std::function<void()>& body) {
+void refuseOutOfMemory(const std::function<void()>& body) {
     try {
         body();
-    } catch (const rad::TransferCancelled&) {
-        throw Refusal("Cancelled; the layer is unchanged.");
-    } catch (const rad::SubdivisionCancelled&) {
-        throw Refusal("Cancelled; the layer is unchanged.");
     } catch (const std::bad_alloc&) {
         throw Refusal("Out of memory: lower the SH order, the ray count or the triangle budget.");
     }
@@ -127,13 +124,9 @@ PrtSubdivisionInput prepareSubdivision(FilterContext& ctx) {
     mesh.faces = std::move(plain.faces);
     mesh.width = input.stored.field.width();
     mesh.transfer = input.stored.field.values;
-    // MeshLab's normals are area-weighted sums, not always unit: the estimates need unit normals.
-    for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
-        float* q = &mesh.normals[3 * v];
-        const float length = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
-        if (length > 0.0f && std::isfinite(length))
-            for (int k = 0; k < 3; ++k) q[k] /= length;
-    }
+    // MeshLab's normals are area-weighted sums, not always unit, and zero at some vertices of real
+    // scans: the estimates need unit normals everywhere.
+    makeNormalsUsable(ctx, mesh.positions, mesh.faces, mesh.normals);
     // The cores check only what would break the refinement; this check says which cleaning filter to run.
     const std::string problem = rad::checkPrtSubdivisionInput(mesh);
     if (!problem.empty()) throw Refusal(problem);
@@ -145,10 +138,11 @@ PrtSubdivisionInput prepareSubdivision(FilterContext& ctx) {
     // (Clamped far above the cores' largest budget, which they refuse with a message.)
     input.budget = factor > 0.0 ? static_cast<long long>(std::min(std::floor(factor * input.faces), 0x1p62))
                                 : ctx.parameters.getInt("budget");
-    if (input.budget < static_cast<long long>(input.faces))
-        throw Refusal(formatLine("The triangle budget of %lld is below the current %zu faces: subdivision only adds "
-                                 "triangles. Choose a budget of at least %zu (e.g. a factor of 4).",
-                                 input.budget, input.faces, input.faces));
+    // (A budget below the face count is refused by the core, with the figures.)
+    if (input.budget < 0)
+        throw Refusal(formatLine("The triangle budget is negative (%lld): choose at least the layer's %zu faces "
+                                 "(e.g. a budget factor of 4).",
+                                 input.budget, input.faces));
     return input;
 }
 

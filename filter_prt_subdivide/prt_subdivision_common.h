@@ -34,9 +34,9 @@ std::vector<float> whiteSkyShading(const rad::TransferField& field);
 // (before the exposure). One RGB triple per live vertex.
 void setShading(MeshModel& m, const std::vector<float>& linearRgb, float exposure);
 
-// Runs `body`; a cancellation from the progress callback or an allocation failure becomes a
-// refusal (the body changes the layer only once its core succeeded).
-void refuseCancellationAndOutOfMemory(const std::function<void()>& body);
+// Runs `body`; an allocation failure becomes a refusal with advice for these filters (a stop request
+// is mapped by runFilter; the body changes the layer only once its core succeeded).
+void refuseOutOfMemory(const std::function<void()>& body);
 
 // The budget parameters of both subdivision filters ("budget", "budgetFactor").
 void addBudgetParameters(RichParameterList& par, const MeshModel& m);

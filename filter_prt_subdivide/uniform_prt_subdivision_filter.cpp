@@ -40,7 +40,7 @@ public:
     }
 
     void apply(FilterContext& ctx) const override {
-        refuseCancellationAndOutOfMemory([&] { subdivide(ctx); });
+        refuseOutOfMemory([&] { subdivide(ctx); });
     }
 
 private:

@@ -5,6 +5,7 @@
 #include "basis_parameters.h"
 #include "citations.h"
 #include "radiance_attribute.h"
+#include "usable_normals.h"
 #include "vertex_colors.h"
 
 #include "radiance/material_radiance.h"
@@ -25,9 +26,7 @@ void materialFromParameters(const RichParameterList& par, const Box3m& box, rad:
     const float shininess = par.getFloat("shininess");
     const float intensity = par.getFloat("lightIntensity");
     const float ambient = par.getFloat("ambient");
-    if (!(specular >= 0.0f) || !(shininess >= 0.0f) || !(intensity >= 0.0f) || !(ambient >= 0.0f) ||
-        !std::isfinite(specular) || !std::isfinite(shininess) || !std::isfinite(intensity) || !std::isfinite(ambient))
-        throw Refusal("Specular strength, shininess, light intensity and ambient must be finite and >= 0.");
+    // (The core checks the values: rad::checkAnalyticSetup, called by apply.)
     material.albedo = rad::Rgb(albedo[0], albedo[1], albedo[2]);
     material.specular = specular * rad::Rgb(specularColor[0], specularColor[1], specularColor[2]);
     material.exponent = shininess;
@@ -42,12 +41,9 @@ void materialFromParameters(const RichParameterList& par, const Box3m& box, rad:
         material.stripes = rad::StripePattern::covering(axis, lo, hi + 1e-6 * std::max(1.0, hi - lo), stripes);
     }
     const Eigen::Vector3d light = pointParameter(par, "light");
-    if (!light.allFinite()) throw Refusal("The light vector must be finite.");
     if (par.getEnum("lightType") == 0) {
-        if (light.norm() < 1e-12)
-            throw Refusal("The direction toward a directional light cannot be the zero vector.");
         rad::DirectionalLight directional;
-        directional.direction = light.normalized();
+        directional.direction = light;  // normalised on use
         directional.irradiance = rad::Rgb::Constant(intensity);
         lighting.directional.push_back(directional);
     } else {
@@ -119,7 +115,8 @@ public:
         rad::MaterialRadianceOptions options;
         options.basis = basisParameters(par);
         options.reflected = par.getBool("reflected");
-        const VertexArrays vertices = collectVertexArrays(m.cm);
+        VertexArrays vertices = collectVertexArrays(m.cm);
+        makeNormalsUsable(ctx, vertices.positions, vertices.faces, vertices.normals);
         const std::size_t n = vertices.count();
         const std::string inputProblem =
             rad::checkMaterialRadianceInput(vertices.positions.data(), vertices.normals.data(), n, options);
@@ -128,12 +125,13 @@ public:
         rad::AnalyticMaterial material;
         rad::AnalyticLighting lighting;
         materialFromParameters(par, m.cm.bbox, material, lighting);
+        if (const std::string problem = rad::checkAnalyticSetup(material, lighting); !problem.empty())
+            throw Refusal(problem);
 
         // Everything is computed aside; the layer changes only once all of it succeeded.
         ctx.progress.setPhase(0, 90, "Projecting radiance onto the basis");
         rad::RadianceField field = rad::makeMaterialRadiance(vertices.positions.data(), vertices.normals.data(), n,
-                                                             material, lighting, options,
-                                                             [&ctx](int percent) { ctx.progress(percent); });
+                                                             material, lighting, options, ctx.progress.forCore());
         const bool setColor = par.getBool("setColor");
         std::vector<float> meanColors;
         if (setColor) {

@@ -8,6 +8,7 @@
 #include "mesh_conversion.h"
 #include "radiance_attribute.h"
 #include "raster_views.h"
+#include "usable_normals.h"
 
 #include "fit/radiance_from_views.h"
 #include "radiance/view_colors.h"
@@ -108,14 +109,14 @@ public:
         mesh.positions = std::move(plain.positions);
         mesh.normals = std::move(plain.normals);
         mesh.faces = std::move(plain.faces);
+        makeNormalsUsable(ctx, mesh.positions, mesh.faces, mesh.normals);
         if (mesh.faceCount() == 0)
             ctx.warning("The mesh has no faces: occlusion cannot be tested, every facing photograph is used.");
 
         // Everything is computed aside; the layer changes only once the fit succeeded.
         rad::RadianceFromViewsResult result;
         try {
-            result = rad::fitRadianceFromViews(mesh, rasters.views, options,
-                                               [&ctx](int percent, const char* stage) { ctx.progress(percent, stage); });
+            result = rad::fitRadianceFromViews(mesh, rasters.views, options, ctx.progress.forCore());
         } catch (const rad::FitError& e) {
             throw Refusal(e.what());
         }

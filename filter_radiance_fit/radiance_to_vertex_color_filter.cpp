@@ -43,7 +43,6 @@ public:
         if (!gatherRadiance(ctx.mesh.cm, field, why)) throw Refusal(why);
         const VertexArrays vertices = collectVertexArrays(ctx.mesh.cm);
         const Eigen::Vector3d eye = pointParameter(ctx.parameters, "viewpoint");
-        if (!eye.allFinite()) throw Refusal("The viewpoint must be a finite point.");
         const double eyeArray[3] = {eye[0], eye[1], eye[2]};
         ctx.progress(10, "Evaluating radiance");
         std::vector<float> rgb(vertices.positions.size());

@@ -117,13 +117,7 @@ public:
         options.collapse.maxValence = par.getInt("maxValence");
         options.collapse.maxNormalDeviationDegrees = par.getFloat("maxNormalChange");
         options.collapse.lazyRepricing = par.getBool("lazy");
-        if (!(options.collapse.geometryWeight >= 0.0) || !(options.collapse.attributeWeight >= 0.0)) {
-            throw Refusal("The weights must be non-negative numbers.");
-        }
-        if (options.collapse.minValence < 0 || options.collapse.maxValence < 0 ||
-            (options.collapse.maxValence > 0 && options.collapse.minValence > options.collapse.maxValence)) {
-            throw Refusal("The valence bounds must be non-negative with minimum <= maximum (0 = no bound).");
-        }
+        // (The core validates the options: simplifyRadianceMesh refuses them with a sentence.)
         const std::vector<double> lodRatios = parseRatios(par.getString("lodLevels"));
         const QString progressivePath = par.getString("progressiveFile").trimmed();
         if (!progressivePath.isEmpty() && !progressivePath.endsWith(".rpm", Qt::CaseInsensitive)) {
@@ -159,7 +153,7 @@ public:
         for (double r : lodRatios) coarsest = std::min(coarsest, static_cast<std::size_t>(std::floor(r * faces)));
         options.collapse.targetFaceCount = coarsest;
         ctx.progress.setPhase(0, 95, "Radiance-aware simplification");
-        options.collapse.progress = [&ctx](double fraction) { return ctx.progress(int(100.0 * fraction)); };
+        options.collapse.progress = ctx.progress.forCore();
 
         // Everything is computed aside; the layers change only once the simplification succeeded. The
         // core checks the input first (manifold, duplicates, degenerate faces...) and throws
@@ -201,6 +195,10 @@ public:
                 level.faceCount(), qUtf8Printable(layer->label())));
         }
         ctx.progress(100, "Done");
+        if (result.facesRepeatingAVertexRemoved > 0 || result.zeroAreaFaces > 0)
+            ctx.log(formatLine("Input defects handled: %zu faces repeating a vertex removed, %zu zero-area faces "
+                               "simplified like the others",
+                               result.facesRepeatingAVertexRemoved, result.zeroAreaFaces));
         const rad::EdgeCollapseResult& r = result.collapse;
         ctx.log(formatLine("Simplified %zu -> %zu faces (%zu vertices) with the %s metric, %s collapse: %zu collapses in %.2f s "
             "(%zu to this layer), cost of its last collapse %.4g; coarsest level %zu faces, last cost %.4g (%s)%s",

@@ -26,6 +26,12 @@ bool FilterProgress::operator()(int percent, const char* what) {
     return callback_(overall, what != nullptr ? what : phase_.c_str());
 }
 
+rad::ProgressCallback FilterProgress::forCore() {
+    return [this](double fraction, const char* stage) {
+        return (*this)(static_cast<int>(100.0 * std::clamp(fraction, 0.0, 1.0)), stage);
+    };
+}
+
 void FilterProgress::setPhase(int begin, int end, const char* what) {
     begin_ = std::clamp(begin, 0, 100);
     end_ = std::clamp(end, begin_, 100);

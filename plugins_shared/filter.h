@@ -13,6 +13,8 @@
 
 #include <QString>
 
+#include "progress/progress_callback.h"
+
 #include <chrono>
 #include <functional>
 #include <stdexcept>
@@ -40,6 +42,10 @@ public:
     bool operator()(int percent, const char* what = nullptr);
     // Subsequent reports are mapped into [begin, end] percent of the whole filter.
     void setPhase(int begin, int end, const char* what);
+    // The cores' progress contract (progress/progress_callback.h) over the current phase: the core's
+    // fraction maps onto the phase, its stage name is shown, and a stop request of the host becomes
+    // the core's OperationCancelled (mapped to one message by runFilter). Valid while *this lives.
+    rad::ProgressCallback forCore();
     vcg::CallBackPos* callback() const { return callback_; }
 
 private:

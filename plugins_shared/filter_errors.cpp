@@ -1,5 +1,7 @@
 #include "filter_errors.h"
 
+#include "progress/progress_callback.h"
+
 #include <new>
 
 namespace radml {
@@ -17,6 +19,8 @@ std::string runFilter(const Filter* filter, MeshDocument& md, const RichParamete
         return {};
     } catch (const Refusal& e) {
         return e.what();
+    } catch (const rad::OperationCancelled&) {
+        return "Cancelled on request: the layers are unchanged and no file was written.";
     } catch (const std::invalid_argument& e) {
         return e.what();
     } catch (const std::bad_alloc&) {

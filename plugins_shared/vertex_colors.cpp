@@ -12,14 +12,23 @@ VertexArrays collectVertexArrays(const CMeshO& mesh) {
     VertexArrays out;
     out.positions.reserve(3 * std::size_t(mesh.vn));
     out.normals.reserve(3 * std::size_t(mesh.vn));
-    for (const CVertexO& v : mesh.vert) {
+    std::vector<std::uint32_t> liveIndex(mesh.vert.size(), 0);
+    std::uint32_t next = 0;
+    for (std::size_t i = 0; i < mesh.vert.size(); ++i) {
+        const CVertexO& v = mesh.vert[i];
         if (v.IsD()) continue;
+        liveIndex[i] = next++;
         for (int k = 0; k < 3; ++k) {
             out.positions.push_back(float(v.cP()[k]));
             out.normals.push_back(float(v.cN()[k]));
         }
     }
     if (out.positions.empty()) throw Refusal("The current mesh has no vertices: select a layer that has some.");
+    out.faces.reserve(3 * std::size_t(mesh.fn));
+    for (const CFaceO& f : mesh.face) {
+        if (f.IsD()) continue;
+        for (int k = 0; k < 3; ++k) out.faces.push_back(liveIndex[vcg::tri::Index(mesh, f.cV(k))]);
+    }
     return out;
 }
 

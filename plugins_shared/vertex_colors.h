@@ -4,6 +4,7 @@
 
 #include "meshlab_host.h"
 
+#include <cstdint>
 #include <vector>
 
 namespace radml {
@@ -12,6 +13,7 @@ namespace radml {
 struct VertexArrays {
     std::vector<float> positions;
     std::vector<float> normals;
+    std::vector<std::uint32_t> faces;  // live faces, indices into the live vertices
     std::size_t count() const { return positions.size() / 3; }
 };
 // Throws radml::Refusal when the layer has no vertices.

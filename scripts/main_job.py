@@ -207,9 +207,9 @@ def main():
                     outputfile=os.path.join(bake, "bunny_2pct_normal.png"))
     filter_seconds = time.perf_counter() - filter_start
     target = ms.current_mesh()
-    # The decimated mesh with its texture coordinates. save_textures=False: the filter has written
-    # the map already, and pymeshlab 2025.7 fails to write the layer's image again when its name is
-    # an absolute path (it puts the mesh's folder in front: "Failed to save the image /dir//dir/...").
+    # The decimated mesh with its texture coordinates, saved beside the maps. save_textures=False: the
+    # filter has written the 16-bit map already, and MeshLab would write the layer's copy of the image
+    # over it under the same name (elsewhere, save_textures=True copies the map beside the mesh).
     for extension in ("ply", "obj"):
         ms.save_current_mesh(os.path.join(bake, f"bunny_2pct.{extension}"), save_textures=False,
                              save_vertex_color=False, save_vertex_normal=True, save_wedge_texcoord=True)

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "acquisition/virtual_scene.h"
+#include "progress/progress_callback.h"
 #include "radiance/radiance_field.h"
 
 #include <functional>
@@ -13,8 +14,8 @@ namespace rad {
 // One RF per scene vertex: the L2 projection (radiance_projection.h, FunctionProjector) of
 // w -> scene.radiance(p_v, n_v, w), with the vertex frame frameFromNormal(n_v). Cast shadows are
 // included when the scene has them (each evaluation then casts one shadow ray per light).
-// Parallel over vertices (OpenMP); `progress` (may be empty) gets 0..100 from the calling thread.
+// Parallel over vertices (OpenMP); progress as in progress/progress_callback.h (may be empty).
 RadianceField sceneRadianceField(const VirtualScene& scene, const BasisSpec& basis, bool reflected,
-                                 const std::function<void(int)>& progress = {});
+                                 const ProgressCallback& progress = {});
 
 }  // namespace rad

@@ -337,7 +337,7 @@ NormalBakeResult bakeNormalMap(const TriangleMesh& target, const float* targetWe
             if (percent > lastPercent && !cancelled.load()) {
                 lastPercent = percent;
                 try {
-                    if (!options.progress(percent)) cancelled = true;
+                    if (!options.progress(percent / 100.0, "casting rays from the target to the scan")) cancelled = true;
                 } catch (...) {
                     failure = std::current_exception();
                     cancelled = true;
@@ -346,7 +346,7 @@ NormalBakeResult bakeNormalMap(const TriangleMesh& target, const float* targetWe
         }
     }
     if (failure) std::rethrow_exception(failure);
-    if (cancelled) throw BakeCancelled();
+    if (cancelled) throw OperationCancelled();
     result.raySeconds = secondsSince(t0);
     result.chartTexels = chartTexels;
     result.rayHits = hits;

@@ -17,6 +17,7 @@
 //    increasing v.
 // Either way a unit vector is stored; encodeNormal8/16 map [-1, 1] to the code range.
 #pragma once
+#include "progress/progress_callback.h"
 #include "geometry/triangle_mesh.h"
 
 #include <atomic>
@@ -35,13 +36,9 @@ struct NormalBakeOptions {
     NormalSpace space = NormalSpace::Object;
     float maxRayDistance = 0.0f;       // <= 0: automaticRayDistance(target, source)
     bool bakeColor = false;            // needs sourceColors
-    // Called now and then with the percentage done (0..100); return false to cancel (the bake
-    // then throws BakeCancelled). May be called from several threads, never concurrently.
-    std::function<bool(int)> progress;
-};
-
-struct BakeCancelled : std::runtime_error {
-    BakeCancelled() : std::runtime_error("cancelled") {}
+    // progress/progress_callback.h; may be called from several threads, never concurrently. A
+    // stop request makes the bake throw OperationCancelled.
+    ProgressCallback progress;
 };
 
 struct NormalBakeResult {
@@ -62,7 +59,7 @@ struct NormalBakeResult {
 // Target: the simplified mesh (positions, unit vertex normals required, faces) with its wedge UVs
 // (texture_atlas.h). Source: the full scan; vertex normals used when present, else area-weighted
 // ones are computed. sourceColors: 3 floats per source vertex or nullptr. Throws BakeInputError
-// for empty meshes, missing target normals, mismatched arrays, NaN positions; BakeCancelled.
+// for empty meshes, missing target normals, mismatched arrays, NaN positions; OperationCancelled.
 // Parallel (OpenMP) over texel rows.
 NormalBakeResult bakeNormalMap(const TriangleMesh& target, const float* targetWedgeUv, const TriangleMesh& source,
                                const float* sourceColors, const NormalBakeOptions& options);

@@ -172,11 +172,6 @@ NormalMapBakeReport bakeNormalMapFiles(const NormalMapBakeRequest& request) {
         report.atlasGenerated = true;
         report.atlasCellSize = atlas.cellSize;
     }
-    const auto progress = [&](int from, int to) {
-        return [&request, from, to](int percent) {
-            return !request.progress || request.progress(from + (to - from) * std::clamp(percent, 0, 100) / 100);
-        };
-    };
     const bool withColor = request.bakeDiffuse && request.sourceColors != nullptr;
     // LEAN filters object-space normals (Weber and Stamminger, sec. 3.3): a tangent-space bake writes none.
     const bool withLean = request.writeLean && request.space == NormalSpace::Object;
@@ -186,11 +181,12 @@ NormalMapBakeReport bakeNormalMapFiles(const NormalMapBakeRequest& request) {
     options.space = request.space;
     options.maxRayDistance = request.maxRayDistance > 0.0f ? request.maxRayDistance : 0.0f;
     options.bakeColor = withColor;
-    options.progress = progress(0, 75);
+    options.progress = progressRange(request.progress, 0.0, 0.75);
     Clock::time_point phase = Clock::now();
     NormalBakeResult baked = bakeNormalMap(*request.target, report.wedgeUv.data(), *request.source,
                                            withColor ? request.sourceColors->data() : nullptr, options);
     report.bakeSeconds = secondsSince(phase);
+    reportProgress(request.progress, 0.75, "filling holes and gutters");
 
     phase = Clock::now();
     const FillCounts normalFill = fillWholeMap(baked.normals, size, size, baked.valid, baked.chart, request.gutterTexels);
@@ -204,7 +200,7 @@ NormalMapBakeReport bakeNormalMapFiles(const NormalMapBakeRequest& request) {
     }
     if (withColor) fillWholeMap(baked.colors, size, size, baked.valid, baked.chart, request.gutterTexels);
     report.fillSeconds = secondsSince(phase);
-    if (request.progress && !request.progress(80)) throw BakeCancelled();
+    reportProgress(request.progress, 0.80, "building the LEAN moment pyramid");
 
     LeanMaps lean;
     if (withLean) {
@@ -213,7 +209,7 @@ NormalMapBakeReport bakeNormalMapFiles(const NormalMapBakeRequest& request) {
         report.leanLevels = static_cast<int>(lean.moments.size());
         report.leanSeconds = secondsSince(phase);
     }
-    if (request.progress && !request.progress(90)) throw BakeCancelled();
+    reportProgress(request.progress, 0.90, "writing the maps");
 
     phase = Clock::now();
     PendingFiles files;
@@ -265,7 +261,7 @@ NormalMapBakeReport bakeNormalMapFiles(const NormalMapBakeRequest& request) {
     baked.colors.shrink_to_fit();
     report.bake = std::move(baked);
     report.totalSeconds = secondsSince(start);
-    if (request.progress) request.progress(100);
+    if (request.progress) request.progress(1.0, "done");
     return report;
 }
 

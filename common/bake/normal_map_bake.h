@@ -32,7 +32,7 @@ struct NormalMapBakeRequest {
     bool bakeDiffuse = true;                       // ignored without sourceColors
     bool writeLean = true;
     std::string outputBase;                        // B above
-    std::function<bool(int)> progress;             // percentage; false cancels (BakeCancelled)
+    ProgressCallback progress;                     // progress/progress_callback.h (OperationCancelled)
 };
 
 struct NormalMapBakeReport {
@@ -50,7 +50,7 @@ struct NormalMapBakeReport {
 // (the same arrays, or identical positions and faces), no source faces, target without normals,
 // a texture size that is not a power of two in [16, 16384], bits other than 8 / 16, an output
 // base that is empty or in a directory that does not exist, a UV layout with a problem
-// (texture_atlas.h: out of range, NaN, degenerate or overlapping). BakeCancelled on cancel;
+// (texture_atlas.h: out of range, NaN, degenerate or overlapping). OperationCancelled on cancel;
 // std::runtime_error when a file cannot be written (temporary files removed).
 NormalMapBakeReport bakeNormalMapFiles(const NormalMapBakeRequest& request);
 

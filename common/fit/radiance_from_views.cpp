@@ -69,23 +69,30 @@ void validateInput(const TriangleMesh& mesh, const std::vector<CalibratedView>& 
                        "open a MeshLab project .mlp / Bundler .out with cameras), aligned with this mesh.");
 }
 
-// Reports percent changes only, from the calling thread (thread 0 of the OpenMP team).
+// Reports percent changes only, from the calling thread (thread 0 of the OpenMP team). A stop
+// request is remembered: the parallel loop skips its remaining vertices and the call then throws
+// OperationCancelled (an exception cannot leave an OpenMP region).
 class Progress {
 public:
-    explicit Progress(const FitProgressCallback& cb) : cb_(cb) {}
+    explicit Progress(const ProgressCallback& cb) : cb_(cb) {}
     void report(int percent, const char* stage) {
-        if (!cb_) return;
+        if (!cb_ || cancelled_.load(std::memory_order_relaxed)) return;
         percent = std::max(0, std::min(100, percent));
         if (percent == last_ && stage == lastStage_) return;
         last_ = percent;
         lastStage_ = stage;
-        cb_(percent, stage);
+        if (!cb_(percent / 100.0, stage)) cancelled_.store(true, std::memory_order_relaxed);
+    }
+    bool cancelled() const { return cancelled_.load(std::memory_order_relaxed); }
+    void throwIfCancelled() const {
+        if (cancelled()) throw OperationCancelled();
     }
 
 private:
-    const FitProgressCallback& cb_;
+    const ProgressCallback& cb_;
     int last_ = -1;
     const char* lastStage_ = nullptr;
+    std::atomic<bool> cancelled_{false};
 };
 
 constexpr const char* kStageChecking = "checking the rasters";
@@ -131,10 +138,11 @@ VertexAdjacency buildVertexAdjacency(const TriangleMesh& mesh) {
 
 RadianceFromViewsResult fitRadianceFromViews(const TriangleMesh& mesh, const std::vector<CalibratedView>& views,
                                              const RadianceFromViewsOptions& options,
-                                             const FitProgressCallback& progressCallback) {
+                                             const ProgressCallback& progressCallback) {
     const auto t0 = std::chrono::steady_clock::now();
     Progress progress(progressCallback);
     progress.report(0, kStageChecking);
+    progress.throwIfCancelled();
     validateInput(mesh, views, options);
 
     RadianceFromViewsResult result;
@@ -161,6 +169,7 @@ RadianceFromViewsResult fitRadianceFromViews(const TriangleMesh& mesh, const std
     const std::size_t n = mesh.vertexCount();
     const RobustRadianceFitter fitter(options.fit);  // options validated above: does not throw
     progress.report(1, kStageScene);
+    progress.throwIfCancelled();
     std::unique_ptr<ViewSampler> sampler;
     try {
         sampler = std::make_unique<ViewSampler>(mesh, usable, options.sampling);
@@ -196,6 +205,7 @@ RadianceFromViewsResult fitRadianceFromViews(const TriangleMesh& mesh, const std
         const bool reporter = omp_get_thread_num() == 0;
 #pragma omp for schedule(dynamic, 256) nowait
         for (std::ptrdiff_t iv = 0; iv < count; ++iv) {
+            if (progress.cancelled()) continue;
             const std::size_t v = static_cast<std::size_t>(iv);
             const float* nv = mesh.normals.data() + 3 * v;
             storeFrame(frameFromNormal(Eigen::Vector3d(nv[0], nv[1], nv[2])), field.frame(v));
@@ -224,6 +234,7 @@ RadianceFromViewsResult fitRadianceFromViews(const TriangleMesh& mesh, const std
             totalSamples += localSamples;
         }
     }
+    progress.throwIfCancelled();
     progress.report(kFitEnd, kStageFitting);
     result.guardRetried = guardRetried;
     result.constantFallbacks = fallbacks;
@@ -302,6 +313,7 @@ RadianceFromViewsResult fitRadianceFromViews(const TriangleMesh& mesh, const std
                 }
             frontier.swap(next);
             progress.report(kFitEnd + static_cast<int>((99 - kFitEnd) * double(filled) / double(unseen)), kStageFilling);
+            progress.throwIfCancelled();
         }
         result.unseenFilled = filled;
     }

@@ -28,6 +28,7 @@
 #include "fit/robust_radiance_fit.h"
 #include "fit/view_sampling.h"
 #include "geometry/triangle_mesh.h"
+#include "progress/progress_callback.h"
 #include "radiance/radiance_field.h"
 
 #include <cstddef>
@@ -70,16 +71,14 @@ struct RadianceFromViewsResult {
     double seconds = 0.0;             // wall-clock time of the whole call
 };
 
-// percent in [0, 100], stage a short English phrase; always called from the calling thread.
-using FitProgressCallback = std::function<void(int percent, const char* stage)>;
-
 // mesh: positions, unit (or at least non-zero finite) per-vertex normals, faces (may be empty: a
 // point cloud, sampled without visibility test and without filling).
 // Throws FitError on unusable input (empty mesh, missing / zero / non-finite normals, non-finite
-// positions, bad face indices, invalid options, no view or no usable view, no vertex seen at all).
+// positions, bad face indices, invalid options, no view or no usable view, no vertex seen at all);
+// OperationCancelled when `progress` asks to stop (progress/progress_callback.h).
 RadianceFromViewsResult fitRadianceFromViews(const TriangleMesh& mesh, const std::vector<CalibratedView>& views,
                                              const RadianceFromViewsOptions& options,
-                                             const FitProgressCallback& progress = {});
+                                             const ProgressCallback& progress = {});
 
 // Vertex adjacency over the face edges, compressed: the neighbours of v are
 // neighbours[offsets[v] .. offsets[v + 1]), sorted, without duplicates. Faces must be valid.

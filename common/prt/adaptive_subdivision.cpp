@@ -107,8 +107,10 @@ public:
             for (int k = 0; k < 3; ++k) {
                 const std::uint64_t a = pid_[t.v[k]], b = pid_[t.v[(k + 1) % 3]];
                 if (a == b)
-                    throw std::invalid_argument("adaptive subdivision: face " + std::to_string(f) +
-                                                " has two corners at the same position (zero area)");
+                    throw std::invalid_argument(
+                        "Face " + std::to_string(f) + " has two corners at the same position (zero area): remove "
+                        "such faces with MeshLab's Remove Duplicate Vertices and Remove Zero Area Faces (Filters > "
+                        "Cleaning and Repairing), then compute the transfer again.");
                 halfEdges[3 * f + k] = {undirectedEdgeKey(a, b), static_cast<std::uint32_t>(3 * f + k)};
             }
         }
@@ -117,7 +119,9 @@ public:
             std::size_t j = i;
             while (j < halfEdges.size() && halfEdges[j].first == halfEdges[i].first) ++j;
             if (j - i > 2)
-                throw std::invalid_argument("adaptive subdivision: an edge is shared by more than two faces (non-manifold)");
+                throw std::invalid_argument(
+                    "An edge is shared by more than two faces (non-manifold): repair it with MeshLab's Repair non "
+                    "Manifold Edges (Filters > Cleaning and Repairing), then compute the transfer again.");
             Edge e;
             e.lowPid = static_cast<std::uint32_t>(halfEdges[i].first >> 32);
             e.boundary = j - i == 1;
@@ -405,24 +409,29 @@ private:
 void validateArguments(const char* who, const PrtMesh& input, std::size_t budget, TransferErrorMeasure measure,
                        double alpha) {
     if (const std::string problem = validationProblem(input); !problem.empty())
-        throw std::invalid_argument(std::string(who) + ": " + problem);
+        throw std::invalid_argument(std::string(who) + ": " + problem + ".");
     if (budget < input.faceCount())
         throw std::invalid_argument(std::string(who) + ": the triangle budget (" + std::to_string(budget) +
-                                    ") is below the input face count (" + std::to_string(input.faceCount()) + ")");
+                                    ") is below the layer's " + std::to_string(input.faceCount()) +
+                                    " faces: raise the budget, or set the budget factor (e.g. 4).");
     if (budget > kLargestBudget)
-        throw std::invalid_argument(std::string(who) + ": the triangle budget is above 2^30 faces");
+        throw std::invalid_argument(std::string(who) + ": the triangle budget " + std::to_string(budget) +
+                                    " is above 2^30 faces: choose a smaller budget.");
     if (measure == TransferErrorMeasure::NormalDivergence && !(std::isfinite(alpha) && alpha >= 0.0))
-        throw std::invalid_argument(std::string(who) + ": alpha must be finite and >= 0");
+        throw std::invalid_argument(std::string(who) + ": the normal-divergence weight alpha (Křivánek et al. "
+                                    "2004, eq. 4) must be finite and >= 0; it is " + std::to_string(alpha) +
+                                    ". Use e.g. 1.");
 }
 
 }  // namespace
 
 SubdivisionResult subdivideAdaptively(const PrtMesh& input, const TransferOracle& oracle,
                                       const AdaptiveSubdivisionOptions& options) {
-    const char* who = "adaptive subdivision";
+    const char* who = "Adaptive PRT subdivision";
     validateArguments(who, input, options.triangleBudget, options.measure, options.alpha);
     if (!(std::isfinite(options.threshold) && options.threshold >= 0.0))
-        throw std::invalid_argument(std::string(who) + ": the threshold must be finite and >= 0");
+        throw std::invalid_argument(std::string(who) + ": the error threshold must be finite and >= 0; it is " +
+                                    std::to_string(options.threshold) + ". Use 0 to spend the whole budget.");
     if (!oracle) throw std::invalid_argument(std::string(who) + ": no transfer oracle");
 
     Refiner refiner(input, options.measure, options.alpha);
@@ -434,7 +443,7 @@ SubdivisionResult subdivideAdaptively(const PrtMesh& input, const TransferOracle
         const int percent = static_cast<int>(100.0 * double(faces) / double(budget));
         if (percent == reportedPercent) return;
         reportedPercent = percent;
-        if (!options.progress(std::min(1.0, double(faces) / double(budget)))) throw SubdivisionCancelled();
+        reportProgress(options.progress, std::min(1.0, double(faces) / double(budget)), "refining triangles");
     };
     report();
 
@@ -479,7 +488,7 @@ SubdivisionResult subdivideAdaptively(const PrtMesh& input, const TransferOracle
 
 SubdivisionResult subdivideUniformly(const PrtMesh& input, const TransferOracle& oracle, std::size_t triangleBudget,
                                      TransferErrorMeasure measure, double alpha) {
-    const char* who = "uniform subdivision";
+    const char* who = "Uniform PRT subdivision";
     validateArguments(who, input, triangleBudget, measure, alpha);
     if (!oracle) throw std::invalid_argument(std::string(who) + ": no transfer oracle");
     int levels = 0;

@@ -25,6 +25,7 @@
 // flat); every output face lies inside one input face (originFace) — the evaluation relies on it.
 #pragma once
 
+#include "progress/progress_callback.h"
 #include "prt/transfer_error_estimate.h"
 
 #include <cstddef>
@@ -63,13 +64,9 @@ struct AdaptiveSubdivisionOptions {
     // 1-irregular, may still split one).
     double threshold = 0.0;
     std::size_t triangleBudget = 0;                // max output faces (after T-vertex removal)
-    // Fraction done in [0, 1] (faces created / budget); returning false cancels (throws
-    // SubdivisionCancelled). May be empty.
-    std::function<bool(double)> progress;
-};
-
-struct SubdivisionCancelled : std::runtime_error {
-    SubdivisionCancelled() : std::runtime_error("the subdivision was cancelled") {}
+    // Fraction done = faces created / budget (progress/progress_callback.h; a stop request throws
+    // OperationCancelled). May be empty.
+    ProgressCallback progress;
 };
 
 enum class SubdivisionStop { BudgetReached, QueueEmpty };

@@ -101,9 +101,15 @@ std::vector<float> relightVertices(const float* transfer, std::size_t vertexCoun
         throw std::invalid_argument("relightVertices: the lighting has " + std::to_string(lighting.size()) +
                                     " coefficients, expected 3 x " + std::to_string(lightingK));
     if (vertexCount > 0 && transfer == nullptr) throw std::invalid_argument("relightVertices: no transfer values");
+    const int width = channels * K;
+    std::size_t nonFinite = 0;
+    for (std::size_t i = 0; i < vertexCount * static_cast<std::size_t>(width); ++i)
+        nonFinite += std::isfinite(transfer[i]) ? 0 : 1;
+    if (nonFinite > 0)
+        throw std::invalid_argument(std::to_string(nonFinite) + " transfer values are NaN or infinite (a damaged file?): "
+                                    "compute the transfer again with 'Radiance: Compute PRT Transfer'.");
 
     std::vector<float> out(vertexCount * kColorChannels);
-    const int width = channels * K;
     const auto count = static_cast<std::ptrdiff_t>(vertexCount);
     // Bands below transferDegree sit at the same indices l*l + l + m in both vectors, so the
     // truncated dot product needs no re-indexing.

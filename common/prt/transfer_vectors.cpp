@@ -73,18 +73,28 @@ void concentricDisc(double u1, double u2, double& x, double& y) {
 
 constexpr int roundUp(int value, int multiple) { return (value + multiple - 1) / multiple * multiple; }
 
+// The messages speak of the SH order n = degree + 1 (n^2 coefficients), as the filters do.
 void validate(float sceneDiagonal, const TransferOptions& options) {
     if (options.degree < 0 || options.degree > kMaxHarmonicDegree)
-        throw std::invalid_argument("TransferEstimator: degree " + std::to_string(options.degree) + " outside [0, " +
-                                    std::to_string(kMaxHarmonicDegree) + "]");
-    if (options.rayCount < 1)
-        throw std::invalid_argument("TransferEstimator: rayCount " + std::to_string(options.rayCount) +
-                                    " must be >= 1");
-    if (!(options.relativeRayOffset > 0.0) || !std::isfinite(options.relativeRayOffset))
-        throw std::invalid_argument("TransferEstimator: relativeRayOffset must be finite and > 0");
-    if (!(sceneDiagonal > 0.0f) || !std::isfinite(sceneDiagonal))
-        throw std::invalid_argument("TransferEstimator: sceneDiagonal must be finite and > 0");
-    if (options.threads < 0) throw std::invalid_argument("TransferEstimator: threads must be >= 0");
+        throw std::invalid_argument("The SH order of the transfer is " + std::to_string(options.degree + 1) +
+                                    ": choose an order from 1 to " + std::to_string(kMaxHarmonicDegree + 1) +
+                                    " (Křivánek et al. 2004 use 6, i.e. 36 coefficients).");
+    if (options.rayCount < 1 || options.rayCount > kMaxTransferRayCount)
+        throw std::invalid_argument("The ray count is " + std::to_string(options.rayCount) +
+                                    ": choose between 1 and " + std::to_string(kMaxTransferRayCount) +
+                                    " rays per vertex (256 or more for smooth shadows).");
+    if (!(options.relativeRayOffset > 0.0 && options.relativeRayOffset < kMaxRelativeRayOffset))
+        throw std::invalid_argument("The ray offset must be a small positive fraction of the scene diagonal, below " +
+                                    std::to_string(kMaxRelativeRayOffset) + " (e.g. 0.0001); it is " +
+                                    std::to_string(options.relativeRayOffset) + ".");
+    if (!std::isfinite(sceneDiagonal))
+        throw std::invalid_argument("The scene's bounding box is too large for single-precision ray casting "
+                                    "(its diagonal overflows): scale the mesh down (Filters > Normals, Curvatures "
+                                    "and Orientation > Transform: Scale) or remove the far-away vertices.");
+    if (!(sceneDiagonal > 0.0f))
+        throw std::invalid_argument("The scene has no extent (every vertex at the same position): PRT transfer "
+                                    "needs a surface; check the layer's vertices.");
+    if (options.threads < 0) throw std::invalid_argument("The thread count must be 0 (all cores) or more.");
 }
 
 }  // namespace
@@ -273,17 +283,18 @@ void TransferEstimator::computeAt(const float position[3], const float normal[3]
 }
 
 void computeTransferVectors(const TransferEstimator& estimator, const float* positions, const float* normals,
-                            std::size_t count, std::vector<float>& out, const std::function<bool(double)>& progress,
+                            std::size_t count, std::vector<float>& out, const ProgressCallback& progress,
                             int threads) {
     if (threads < 0) throw std::invalid_argument("computeTransferVectors: threads must be >= 0");
     const int K = estimator.coefficientCount();
     out.resize(count * static_cast<std::size_t>(K));
-    const std::function<bool(double)>& report = progress ? progress : estimator.options().progress;
+    const ProgressCallback& report = progress ? progress : estimator.options().progress;
+    constexpr const char* kStage = "casting rays for the transfer vectors";
     if (threads == 0) threads = estimator.options().threads;
     if (threads == 0) threads = omp_get_max_threads();
-    if (report && !report(0.0)) throw TransferCancelled();
+    reportProgress(report, 0.0, kStage);
     if (count == 0) {
-        if (report && !report(1.0)) throw TransferCancelled();
+        reportProgress(report, 1.0, kStage);
         return;
     }
 
@@ -315,7 +326,7 @@ void computeTransferVectors(const TransferEstimator& estimator, const float* pos
                 if (permille > lastPermille) {
                     lastPermille = permille;
                     try {
-                        if (!report(double(finished) / count)) stop.store(true, std::memory_order_relaxed);
+                        if (!report(double(finished) / count, kStage)) stop.store(true, std::memory_order_relaxed);
                     } catch (...) {
                         failure = std::current_exception();
                         stop.store(true, std::memory_order_relaxed);
@@ -325,9 +336,9 @@ void computeTransferVectors(const TransferEstimator& estimator, const float* pos
         }
     }
     if (failure) std::rethrow_exception(failure);
-    if (stop.load()) throw TransferCancelled();
+    if (stop.load()) throw OperationCancelled();
     // The master may have finished its last chunk before the others: 1.0 is always reported.
-    if (report && lastPermille < 1000 && !report(1.0)) throw TransferCancelled();
+    if (lastPermille < 1000) reportProgress(report, 1.0, kStage);
 }
 
 TransferField multiplyByAlbedo(const TransferField& geometryTransfer, const std::vector<float>& rgbAlbedo) {

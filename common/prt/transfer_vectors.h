@@ -38,6 +38,7 @@
 // self-shadowing, and correct.
 #pragma once
 
+#include "progress/progress_callback.h"
 #include "raycast/ray_scene.h"
 
 #include <cstddef>
@@ -51,21 +52,18 @@ namespace rad {
 
 constexpr int kDefaultTransferDegree = 5;        // 36 coefficients, Křivánek et al. 2004's "order 6"
 constexpr int kDefaultTransferRayCount = 256;
+constexpr int kMaxTransferRayCount = 65536;         // beyond it the estimate no longer improves visibly
+constexpr double kMaxRelativeRayOffset = 0.1;      // a larger offset skips whole features
 
 struct TransferOptions {
     int degree = kDefaultTransferDegree;         // 0 .. kMaxHarmonicDegree
     int rayCount = kDefaultTransferRayCount;     // directions per point, >= 1
     double relativeRayOffset = 1e-4;             // times the scene diagonal, > 0
     int threads = 0;                             // 0: all cores (OpenMP), >= 0
-    // Called from the calling thread with the fraction done in [0, 1]; returning false cancels
-    // (computeTransferVectors then throws TransferCancelled). May be empty.
-    // threads and progress are the defaults of computeTransferVectors (its own arguments win when
-    // given: threads > 0, a non-empty progress).
-    std::function<bool(double)> progress;
-};
-
-struct TransferCancelled : std::runtime_error {
-    TransferCancelled() : std::runtime_error("the transfer computation was cancelled") {}
+    // progress/progress_callback.h (a stop request: computeTransferVectors throws
+    // OperationCancelled). May be empty. threads and progress are the defaults of
+    // computeTransferVectors (its own arguments win when given: threads > 0, a non-empty progress).
+    ProgressCallback progress;
 };
 
 // Per-vertex transfer vectors, flat: values[(v * channels + c) * coefficientCount() + k].
@@ -120,19 +118,19 @@ public:
 private:
     // Shares the per-point worker without its per-call atomic update (rays are counted per chunk).
     friend void computeTransferVectors(const TransferEstimator&, const float*, const float*, std::size_t,
-                                       std::vector<float>&, const std::function<bool(double)>&, int);
+                                       std::vector<float>&, const ProgressCallback&, int);
     struct Impl;
     std::shared_ptr<const Impl> impl_;
 };
 
 // Transfer vectors of `count` points (positions and normals: 3 floats each), both cores busy
 // (OpenMP, dynamic schedule), out resized to count * coefficientCount(). Progress from the calling
-// thread. Throws TransferCancelled when progress returns false (out is then incomplete).
+// thread. Throws OperationCancelled on a stop request (out is then incomplete).
 // Empty progress / threads == 0: those of the estimator's options. Every point's result is
 // independent of the thread count and of the schedule (bitwise identical to computeAt).
 void computeTransferVectors(const TransferEstimator& estimator, const float* positions, const float* normals,
                             std::size_t count, std::vector<float>& out,
-                            const std::function<bool(double)>& progress = {}, int threads = 0);
+                            const ProgressCallback& progress = {}, int threads = 0);
 
 // Multiplies a 1-channel field by per-vertex RGB albedos (3 floats per vertex, linear) into a
 // 3-channel field. Throws std::invalid_argument on size mismatch or a field that is not 1-channel.

@@ -28,6 +28,30 @@ StripePattern StripePattern::covering(const Eigen::Vector3d& axis, double minCoo
     return s;
 }
 
+std::string checkAnalyticSetup(const AnalyticMaterial& material, const AnalyticLighting& lighting) {
+    const auto usable = [](const Rgb& c) { return c.allFinite() && (c.array() >= 0.0).all(); };
+    if (!usable(material.albedo))
+        return "The albedo must be a colour with finite, non-negative channels (e.g. 0.5 0.5 0.5).";
+    if (!usable(material.specular))
+        return "The specular strength and colour must be finite and >= 0 (e.g. strength 0.3, white).";
+    if (!(material.exponent >= 0.0) || !std::isfinite(material.exponent))
+        return "The shininess (Blinn-Phong exponent) must be finite and >= 0 (e.g. 50).";
+    if (material.stripes.enabled && !(material.stripes.bandWidth > 0.0 && std::isfinite(material.stripes.bandWidth)))
+        return "The stripes need a finite, positive width: give the mesh an extent along the stripe axis, or "
+               "choose 0 stripes.";
+    for (const DirectionalLight& light : lighting.directional) {
+        if (!light.direction.allFinite() || light.direction.norm() < 1e-12)
+            return "The direction toward a directional light must be a finite, non-zero vector (e.g. 0 0 1).";
+        if (!usable(light.irradiance)) return "The light intensity must be finite and >= 0 (e.g. 1).";
+    }
+    for (const PointLight& light : lighting.points) {
+        if (!light.position.allFinite()) return "The position of a point light must be finite.";
+        if (!usable(light.intensity)) return "The light intensity must be finite and >= 0 (e.g. 1).";
+    }
+    if (!usable(lighting.ambient)) return "The ambient radiance must be finite and >= 0 (e.g. 0.05).";
+    return {};
+}
+
 long long StripePattern::band(const Eigen::Vector3d& p) const {
     if (!(bandWidth > 0.0)) return 0;
     const double t = (p.dot(normalizedOrZero(axis)) - offset) / bandWidth;

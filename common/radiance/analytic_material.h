@@ -38,6 +38,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <string>
 #include <vector>
 
 namespace rad {
@@ -84,6 +85,11 @@ struct AnalyticLighting {
     std::vector<PointLight> points;
     Rgb ambient = Rgb::Zero();  // uniform environment radiance, seen by the diffuse part only
 };
+
+// Empty when the material and lights describe a physical setup; otherwise a sentence for the user
+// naming the value and what to choose: reflectances, exponent, irradiances, intensities and ambient
+// finite and >= 0, light directions non-zero, light positions finite, a stripe width > 0.
+std::string checkAnalyticSetup(const AnalyticMaterial& material, const AnalyticLighting& lighting);
 
 // BRDF value f(w_i, w_o) at p (p only matters for the stripes). n, w_i, w_o unit; no clamping:
 // returns zero when w_i is at or below the horizon or w_o below it (n.w_o < -1e-9).

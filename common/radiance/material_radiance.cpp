@@ -47,10 +47,10 @@ RadianceField makeMaterialRadiance(const float* positions, const float* normals,
     projection.storeReflected = options.reflected;
     const FunctionProjector projector(options.basis, projection);
     const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(vertexCount);
-    std::atomic<std::ptrdiff_t> done{0};
-    const std::ptrdiff_t reportEvery = std::max<std::ptrdiff_t>(1, n / 100);
+    LoopProgress loop(progress, "projecting the material's radiance onto the basis", vertexCount);
 #pragma omp parallel for schedule(dynamic, 256)
     for (std::ptrdiff_t v = 0; v < n; ++v) {
+        if (loop.stopRequested()) continue;
         const Eigen::Vector3d p(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]);
         const Eigen::Vector3d normal =
             Eigen::Vector3d(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]).normalized();
@@ -58,11 +58,9 @@ RadianceField makeMaterialRadiance(const float* positions, const float* normals,
         projector.projectIntoField(field, static_cast<std::size_t>(v), [&](const Eigen::Vector3d& wo) {
             return outgoingRadiance(material, lighting, p, normal, wo);
         });
-        const std::ptrdiff_t finished = ++done;
-        if (progress && omp_get_thread_num() == 0 && finished % reportEvery == 0)
-            progress(static_cast<int>(100 * finished / n));
+        loop.itemDone(omp_get_thread_num() == 0);
     }
-    if (progress) progress(100);
+    loop.finish();
     return field;
 }
 

@@ -4,6 +4,7 @@
 // Vanhoey et al. 2015 (sec. 7) fitted its synthetic scenes (Fig. 6, Fig. 8) from such materials too.
 #pragma once
 
+#include "progress/progress_callback.h"
 #include "radiance/analytic_material.h"
 #include "radiance/radiance_field.h"
 
@@ -18,11 +19,9 @@ struct MaterialRadianceOptions {
     bool reflected = false;  // store L~ (Vanhoey et al. 2015 sec. 3.1) instead of L
 };
 
-// Called with a percentage 0..100 from the calling thread.
-using ProgressCallback = std::function<void(int percent)>;
-
 // positions / normals: 3 floats per vertex; normals need not be unit but must be non-zero and finite
-// (checkMaterialRadianceInput says so). Parallel over vertices (OpenMP).
+// (checkMaterialRadianceInput says so). Parallel over vertices (OpenMP). OperationCancelled when
+// `progress` asks to stop.
 RadianceField makeMaterialRadiance(const float* positions, const float* normals, std::size_t vertexCount,
                                    const AnalyticMaterial& material, const AnalyticLighting& lighting,
                                    const MaterialRadianceOptions& options, const ProgressCallback& progress = {});

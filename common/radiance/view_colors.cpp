@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace rad {
 
@@ -15,6 +17,11 @@ std::uint8_t encodeSrgb8(float linear) {
 
 void radianceTowardViewpoint(const RadianceField& field, const float* positions, const double eye[3],
                              float exposure, float* rgbOut) {
+    if (!std::isfinite(eye[0]) || !std::isfinite(eye[1]) || !std::isfinite(eye[2]))
+        throw std::invalid_argument("The viewpoint must be a finite point (e.g. 0 0 5).");
+    if (!(exposure >= 0.0f) || !std::isfinite(exposure))
+        throw std::invalid_argument("The exposure must be a finite number >= 0 (1 shows the radiance as it is); it is " +
+                                    std::to_string(exposure) + ".");
     const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(field.vertexCount());
     const Eigen::Vector3d eyePoint(eye[0], eye[1], eye[2]);
 #pragma omp parallel

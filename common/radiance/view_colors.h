@@ -15,6 +15,8 @@ std::uint8_t encodeSrgb8(float linear);
 
 // rgbOut[3 v + c] = exposure * L_v(normalize(eye - p_v)) for every vertex (border-extended below
 // the horizon, Vanhoey et al. 2015 sec. 7). A vertex at the eye gets its normal direction. Parallel (OpenMP).
+// Throws std::invalid_argument (a sentence for the user) for a non-finite eye or an exposure that is
+// negative or not finite.
 void radianceTowardViewpoint(const RadianceField& field, const float* positions, const double eye[3],
                              float exposure, float* rgbOut);
 

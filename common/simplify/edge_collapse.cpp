@@ -7,16 +7,37 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <sstream>
 #include <utility>
 
 namespace rad {
+
+std::string EdgeCollapseOptions::validate() const {
+    const auto text = [](double x) {
+        std::ostringstream out;
+        out << x;
+        return out.str();
+    };
+    if (!(geometryWeight >= 0.0 && std::isfinite(geometryWeight)) || !(attributeWeight >= 0.0 && std::isfinite(attributeWeight)))
+        return "The geometry and attribute weights must be finite and >= 0 (they are " + text(geometryWeight) + " and " +
+               text(attributeWeight) + "): use e.g. 0.01 and 0.99 (Vanhoey et al. 2015, sec. 4.4).";
+    if (minValence < 0 || maxValence < 0 || (maxValence > 0 && minValence > maxValence))
+        return "The valence bounds must be >= 0 (0 = no bound) with the minimum at most the maximum (they are " +
+               std::to_string(minValence) + " and " + std::to_string(maxValence) + "): use e.g. 3 and 12, or 0 and 0.";
+    if (!(maxNormalDeviationDegrees >= 0.0 && maxNormalDeviationDegrees <= 180.0))
+        return "The largest normal change must be an angle in [0, 180] degrees (it is " +
+               text(maxNormalDeviationDegrees) + "): use e.g. 90 to forbid fold-overs, 180 for no bound.";
+    if (std::isnan(maxError) || maxError < 0.0)
+        return "The largest collapse error must be >= 0 or infinite (it is " + text(maxError) + ").";
+    if (threads < 0) return "The thread count must be 0 (all cores) or more.";
+    return {};
+}
 
 std::string describe(StopReason reason) {
     switch (reason) {
         case StopReason::TargetReached: return "target reached";
         case StopReason::MaxErrorReached: return "maximum error reached";
         case StopReason::NoValidCollapse: return "no valid collapse left";
-        case StopReason::Cancelled: return "cancelled";
     }
     return "unknown";
 }
@@ -446,10 +467,7 @@ EdgeCollapseResult Simplifier::run(const std::function<void(const CollapseStep&)
         const std::size_t done = startFaces - mesh_.aliveFaceCount();
         if (options_.progress && done >= nextReport) {
             nextReport = done + reportStep;
-            if (!options_.progress(std::min(1.0, static_cast<double>(done) / work))) {
-                result.stop = StopReason::Cancelled;
-                break;
-            }
+            reportProgress(options_.progress, std::min(1.0, static_cast<double>(done) / work), "collapsing edges");
         }
     }
     result.finalFaceCount = mesh_.aliveFaceCount();
@@ -462,10 +480,7 @@ EdgeCollapseResult Simplifier::run(const std::function<void(const CollapseStep&)
 
 EdgeCollapseResult simplifyByEdgeCollapse(CollapseMesh& mesh, CollapseMetric* metric, const EdgeCollapseOptions& options,
                                           const std::function<void(const CollapseStep&)>& onStep) {
-    if (!(options.geometryWeight >= 0.0) || !(options.attributeWeight >= 0.0))
-        throw std::invalid_argument("the geometry and attribute weights must be non-negative");
-    if (options.minValence > 0 && options.maxValence > 0 && options.minValence > options.maxValence)
-        throw std::invalid_argument("the minimum valence exceeds the maximum valence");
+    if (const std::string problem = options.validate(); !problem.empty()) throw std::invalid_argument(problem);
     if (options.kind == CollapseKind::Full && metric != nullptr && options.attributeWeight > 0.0) {
         std::string why;
         if (!metric->supportsFullCollapse(why)) throw std::invalid_argument(why);

@@ -32,6 +32,7 @@
 //    whose valence changes.
 #pragma once
 
+#include "progress/progress_callback.h"
 #include "simplify/collapse_mesh.h"
 #include "simplify/collapse_metric.h"
 
@@ -65,8 +66,13 @@ struct EdgeCollapseOptions {
     // order can differ from the eager one where a cost decreased.
     bool lazyRepricing = true;
     int threads = 0;                          // 0: OpenMP default
-    // Called with the fraction done in [0, 1] about every 1 % of the work; return false to stop.
-    std::function<bool(double)> progress;
+    // Called about every 1 % of the work (progress/progress_callback.h); a stop request makes
+    // simplify() throw OperationCancelled.
+    ProgressCallback progress;
+
+    // Empty when the options are usable; otherwise a sentence for the user naming the option, its
+    // value and an acceptable choice (simplifyByEdgeCollapse throws std::invalid_argument with it).
+    std::string validate() const;
 };
 
 // One applied collapse, in order: what a progressive mesh (progressive_mesh.h) replays.
@@ -77,7 +83,7 @@ struct CollapseStep {
     float cost = 0.0f;              // combined cost when collapsed
 };
 
-enum class StopReason { TargetReached, MaxErrorReached, NoValidCollapse, Cancelled };
+enum class StopReason { TargetReached, MaxErrorReached, NoValidCollapse };
 std::string describe(StopReason reason);
 
 struct EdgeCollapseResult {

@@ -32,6 +32,34 @@ namespace {
 
 bool needsRadiance(SimplificationMetric metric) { return metric != SimplificationMetric::GeometryOnly; }
 
+bool repeatsAVertex(const std::uint32_t* t) { return t[0] == t[1] || t[1] == t[2] || t[0] == t[2]; }
+
+// Removes the faces that repeat a vertex (no area, no edge of their own); returns how many.
+std::size_t removeFacesRepeatingAVertex(RadianceMesh& mesh) {
+    std::size_t kept = 0;
+    const std::size_t nf = mesh.faceCount();
+    for (std::size_t f = 0; f < nf; ++f) {
+        const std::uint32_t* t = mesh.faces.data() + 3 * f;
+        if (repeatsAVertex(t)) continue;
+        if (kept != f) std::copy(t, t + 3, mesh.faces.data() + 3 * kept);
+        ++kept;
+    }
+    mesh.faces.resize(3 * kept);
+    return nf - kept;
+}
+
+std::size_t countZeroAreaFaces(const RadianceMesh& mesh) {
+    std::size_t count = 0;
+    for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
+        const std::uint32_t* t = mesh.faces.data() + 3 * f;
+        const Eigen::Vector3d a = Eigen::Map<const Eigen::Vector3f>(&mesh.positions[3 * t[0]]).cast<double>();
+        const Eigen::Vector3d b = Eigen::Map<const Eigen::Vector3f>(&mesh.positions[3 * t[1]]).cast<double>();
+        const Eigen::Vector3d c = Eigen::Map<const Eigen::Vector3f>(&mesh.positions[3 * t[2]]).cast<double>();
+        if ((b - a).cross(c - a).squaredNorm() == 0.0) ++count;
+    }
+    return count;
+}
+
 std::string plural(std::size_t n, const char* word) {
     return std::to_string(n) + " " + word + (n == 1 ? "" : "s");
 }
@@ -53,38 +81,26 @@ std::string checkSimplificationInput(const RadianceMesh& mesh, SimplificationMet
                "vertex's function is interpolated between two frames, which needs a rotation-invariant basis); the mesh "
                "has " + mesh.radiance->basis.name() + ": choose half-edge collapse";
 
+    // Faces repeating a vertex are dropped by simplifyRadianceMesh and zero-area faces are collapsed
+    // like any other (they are the cheapest collapses there are): neither is a reason to refuse.
     const std::size_t nf = mesh.faceCount();
-    std::size_t repeated = 0, zeroArea = 0;
-    std::vector<std::array<std::uint32_t, 3>> sortedFaces(nf);
+    std::vector<std::array<std::uint32_t, 3>> sortedFaces;
+    sortedFaces.reserve(nf);
     std::vector<std::uint64_t> edges;
     edges.reserve(3 * nf);
     for (std::size_t f = 0; f < nf; ++f) {
         const std::uint32_t* t = mesh.faces.data() + 3 * f;
-        if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {
-            ++repeated;
-            continue;
-        }
-        const Eigen::Vector3f a = Eigen::Map<const Eigen::Vector3f>(&mesh.positions[3 * t[0]]);
-        const Eigen::Vector3f b = Eigen::Map<const Eigen::Vector3f>(&mesh.positions[3 * t[1]]);
-        const Eigen::Vector3f c = Eigen::Map<const Eigen::Vector3f>(&mesh.positions[3 * t[2]]);
-        if ((b - a).cross(c - a).squaredNorm() == 0.0f) ++zeroArea;
+        if (repeatsAVertex(t)) continue;
         std::array<std::uint32_t, 3> s{t[0], t[1], t[2]};
         std::sort(s.begin(), s.end());
-        sortedFaces[f] = s;
+        sortedFaces.push_back(s);
         for (int k = 0; k < 3; ++k) edges.push_back(undirectedEdgeKey(t[k], t[(k + 1) % 3]));
     }
-    if (repeated > 0)
-        return "the mesh has " + plural(repeated, "face") +
-               " repeating a vertex: run 'Cleaning and Repairing: Remove Zero Area Faces' (or Remove Duplicate "
-               "Vertices first) and try again";
-    if (zeroArea > 0)
-        return "the mesh has " + plural(zeroArea, "face") +
-               " of zero area: run 'Cleaning and Repairing: Remove Zero Area Faces' and try again";
     std::sort(sortedFaces.begin(), sortedFaces.end());
     const std::size_t distinctFaces =
         static_cast<std::size_t>(std::unique(sortedFaces.begin(), sortedFaces.end()) - sortedFaces.begin());
-    if (distinctFaces != nf)
-        return "the mesh has " + plural(nf - distinctFaces, "duplicate face") +
+    if (distinctFaces != sortedFaces.size())
+        return "the mesh has " + plural(sortedFaces.size() - distinctFaces, "duplicate face") +
                ": run 'Cleaning and Repairing: Remove Duplicate Faces' and try again";
     const std::size_t nonManifold = countNonManifoldEdges(edges);
     if (nonManifold > 0)
@@ -95,14 +111,20 @@ std::string checkSimplificationInput(const RadianceMesh& mesh, SimplificationMet
 
 RadianceSimplificationResult simplifyRadianceMesh(RadianceMesh mesh, const RadianceSimplificationOptions& options) {
     const auto start = std::chrono::steady_clock::now();
+    if (const std::string problem = options.collapse.validate(); !problem.empty()) throw SimplificationError(problem);
     if (const std::string problem = checkSimplificationInput(mesh, options.metric, options.collapse.kind); !problem.empty())
         throw SimplificationError(problem);
+    const std::size_t facesRepeatingAVertex = removeFacesRepeatingAVertex(mesh);
+    if (mesh.faceCount() == 0)
+        throw SimplificationError("every face of the mesh repeats a vertex (no area): there is no surface to simplify");
     if (options.collapse.targetFaceCount >= mesh.faceCount())
         throw SimplificationError("the target of " + plural(options.collapse.targetFaceCount, "face") +
                                   " is not below the mesh's " + plural(mesh.faceCount(), "face") +
                                   ": choose a smaller target or ratio");
 
     RadianceSimplificationResult result;
+    result.facesRepeatingAVertexRemoved = facesRepeatingAVertex;
+    result.zeroAreaFaces = countZeroAreaFaces(mesh);
     result.progressive.kind = options.collapse.kind;
     result.progressive.base = std::move(mesh);
     const RadianceMesh& base = result.progressive.base;

@@ -7,6 +7,8 @@
 #include <common/interfaces.h>
 #include <common/meshmodel.h>
 
+#include <QDir>
+#include <QFileInfo>
 #include <Eigen/Core>
 
 #include <vector>
@@ -32,11 +34,15 @@ inline void enableLoadedData(MeshModel& m, int ioMask) { m.Enable(ioMask); }
 // Bounding box and normals after the geometry changed.
 inline void updateBoxAndNormals(MeshModel& m) { m.UpdateBoxAndNormals(); }
 
-// Makes the image file `file` the layer's only texture, under the name `name` (what a saved mesh
-// refers to). MeshLab 2020.09 loads the image itself when it draws the layer.
-inline void setLayerTexture(MeshModel& m, const std::string& name, const std::string& /*file*/) {
+// Makes the image file `file` the layer's only texture. MeshLab 2020.09 keeps only the name and
+// loads the image when it draws the layer, relative to its working directory (which it moves to the
+// folder of the mesh it opens): the file name alone when the map is there, the absolute path
+// otherwise; a saved mesh refers to that name.
+inline void setLayerTexture(MeshModel& m, const std::string& file) {
+    const QFileInfo info(QString::fromStdString(file));
+    const bool here = info.absolutePath() == QDir::current().absolutePath();
     m.cm.textures.clear();
-    m.cm.textures.push_back(name);
+    m.cm.textures.push_back((here ? info.fileName() : info.absoluteFilePath()).toStdString());
 }
 
 // The image plane of a raster layer.

@@ -9,6 +9,7 @@
 #include <common/plugins/interfaces/filter_plugin.h>
 #include <common/plugins/interfaces/io_plugin.h>
 
+#include <QFileInfo>
 #include <Eigen/Core>
 
 #include <vector>
@@ -38,11 +39,13 @@ inline void enableLoadedData(MeshModel& m, int ioMask) { m.enable(ioMask); }
 // Bounding box and normals after the geometry changed.
 inline void updateBoxAndNormals(MeshModel& m) { m.updateBoxAndNormals(); }
 
-// Makes the image file `file` the layer's only texture, under the name `name` (what a saved mesh
-// refers to). MeshLab 2025.07 keeps the image in the layer (it saves it beside a saved mesh).
-inline void setLayerTexture(MeshModel& m, const std::string& name, const std::string& file) {
+// Makes the image file `file` the layer's only texture. MeshLab 2025.07 keeps the image in the layer
+// and saves it beside a saved mesh under the texture's name, hence the file name alone (a path
+// there makes pymeshlab's save_current_mesh(save_textures=True) fail).
+inline void setLayerTexture(MeshModel& m, const std::string& file) {
+    const QString path = QString::fromStdString(file);
     m.clearTextures();
-    m.addTexture(name, QImage(QString::fromStdString(file)));
+    m.addTexture(QFileInfo(path).fileName().toStdString(), QImage(path));
 }
 
 // The image plane of a raster layer.

@@ -87,7 +87,7 @@ with open(f"{work}/nan.ply", "w") as f:
     f.write("property float nx\nproperty float ny\nproperty float nz\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n")
     f.write("0 0 1 0 0 1\n0.5 0 1 0 0 1\n0 0.5 1 0 0 1\nnan 0.5 1 0 0 1\n3 0 1 2\n3 1 3 2\n")
 PY
-expect_refusal no_normals "have a zero or non-finite normal; radiance functions live on the hemisphere" \
+expect_refusal no_normals "vertices has a usable normal and there are no faces" \
     "$WORK/cloud.ply" "$WORK/photos/project.mlp"
 # MeshLab's PLY importer already drops a vertex whose position is NaN (seen: 3 of the 4 vertices
 # arrive); the fit must then run on what is left without crashing. (The core's own refusal of NaN

@@ -17,7 +17,7 @@ run_meshlabserver "$WORK/transfer.log" -i "$WORK/column.ply" -s "$WORK/transfer.
 $MLX "$WORK/adaptive.mlx" adaptive:4
 expect_refusal no_transfer "has no PRT transfer vectors" "$WORK/column.ply" "$WORK/adaptive.mlx"
 $MLX "$WORK/small_budget.mlx" adaptive:0:2:1:0:100
-expect_refusal budget_below "is below the current" "$WORK/column.rply" "$WORK/small_budget.mlx"
+expect_refusal budget_below "is below the layer's" "$WORK/column.rply" "$WORK/small_budget.mlx"
 
 python3 - "$WORK" <<'PY'
 import sys
@@ -78,7 +78,7 @@ for name in nonmanifold zero_area; do
 done
 expect_refusal nonmanifold "non-manifold edge (shared by more than two faces" "$WORK/nonmanifold.rply" "$WORK/adaptive.mlx"
 expect_refusal zero_area "Zero Area" "$WORK/zero_area.rply" "$WORK/adaptive.mlx"
-expect_refusal no_normals "missing (zero) or invalid normal" "$WORK/points.ply" "$WORK/transfer.mlx"
+expect_refusal no_normals "vertices has a usable normal and there are no faces" "$WORK/points.ply" "$WORK/transfer.mlx"
 $MLX "$WORK/albedo.mlx" transfer:3:16:0:true
 run_meshlabserver "$WORK/albedo.log" -i "$WORK/column.ply" -s "$WORK/albedo.mlx" -o "$WORK/albedo.rply" -m vc vn \
     || { cat "$WORK/albedo.log" >&2; fail "transfer with albedo failed"; }

@@ -159,6 +159,28 @@ def test_tangent_space_map_on_existing_coordinates(meshes, tmp_path):
     assert np.abs(length - 1).max() <= 0.03
 
 
+def test_baked_layer_saves_with_its_texture_elsewhere(meshes, tmp_path):
+    """A map written to an absolute path elsewhere: the layer's texture is named by the file name, so
+    save_current_mesh(save_textures=True) in a third folder writes the mesh, refers to the bare name
+    and copies the image beside it (a path as the name made pymeshlab fail)."""
+    maps, saved = tmp_path / "maps", tmp_path / "saved"
+    maps.mkdir()
+    saved.mkdir()
+    ms = scan_and_target(meshes)
+    ms.apply_filter(h.BAKE, **bake_parameters(outputfile=str(maps / "coarse_normal.png")))
+    assert list(ms.current_mesh().textures()) == ["coarse_normal.png"], "the texture is not named by the file name"
+    ms.save_current_mesh(str(saved / "lowpoly.obj"), save_textures=True, save_wedge_texcoord=True)
+    assert (saved / "lowpoly.obj").stat().st_size > 0
+    copy, _ = h.read_png(saved / "coarse_normal.png")
+    original, _ = h.read_png(maps / "coarse_normal.png")
+    assert copy.shape == original.shape
+    # The copy is the same picture (MeshLab may store it with another bit depth: compare in [0, 1]).
+    assert np.abs(copy - original).max() <= 1.0 / 255 + 1e-6
+    material = (saved / "lowpoly.obj.mtl").read_text() if (saved / "lowpoly.obj.mtl").exists() else \
+        (saved / "lowpoly.mtl").read_text()
+    assert "map_Kd coarse_normal.png" in material, material
+
+
 # ---------------------------------------------------------------------------------------------------
 # Refusals: our message ending with "The layers are unchanged", the MeshSet as it was, no file.
 

@@ -165,5 +165,5 @@ def test_fit_refuses_a_point_cloud_without_normals(photos, tmp_path):
                      "property float z\nend_header\n0 0 1\n0.1 0 1\n0 0.1 1\n")
     ms = h.load(cloud)
     ms.load_project(str(photos / "project.mlp"))
-    h.expect_refusal(ms, h.FIT, "have a zero or non-finite normal; radiance functions live on the hemisphere",
+    h.expect_refusal(ms, h.FIT, "vertices has a usable normal and there are no faces",
                      **fit_parameters())

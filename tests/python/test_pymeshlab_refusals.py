@@ -126,8 +126,11 @@ def test_create_refuses_a_degree_out_of_range(degree, basis, expected, good_file
 
 
 @pytest.mark.parametrize("parameters,message", [
-    (dict(specular=-1.0), "Specular strength, shininess, light intensity and ambient must be finite and >= 0"),
-    (dict(light=np.zeros(3)), "The direction toward a directional light cannot be the zero vector"),
+    (dict(specular=-1.0), "The specular strength and colour must be finite and >= 0"),
+    (dict(shininess=float("nan")), "The shininess (Blinn-Phong exponent) must be finite and >= 0"),
+    (dict(ambient=-0.5), "The ambient radiance must be finite and >= 0"),
+    (dict(lightintensity=float("inf")), "The light intensity must be finite and >= 0"),
+    (dict(light=np.zeros(3)), "The direction toward a directional light must be a finite, non-zero vector"),
     (dict(stripes=-2), "Stripes must be between 0"),
 ])
 def test_create_refuses_bad_material_parameters(parameters, message, scenes):
@@ -140,7 +143,7 @@ def test_create_refuses_vertices_without_normals(tmp_path):
     cloud = tmp_path / "cloud.ply"
     cloud.write_text("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
                      "property float z\nend_header\n0 0 1\n0.1 0 1\n0 0.1 1\n")
-    h.expect_refusal(h.load(cloud), h.CREATE, "has no usable normal")
+    h.expect_refusal(h.load(cloud), h.CREATE, "vertices has a usable normal and there are no faces")
 
 
 def test_evaluation_refuses_a_mesh_without_radiance(scenes):

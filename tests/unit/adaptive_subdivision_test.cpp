@@ -583,7 +583,7 @@ TEST(AdaptiveSubdivision, ProgressIsMonotoneAndCancellationThrows) {
     const PrtMesh in = gridMesh(9, 2, field);
     std::vector<double> reported;
     rad::AdaptiveSubdivisionOptions options = differenceOptions(3000);
-    options.progress = [&](double fraction) {
+    options.progress = [&](double fraction, const char*) {
         reported.push_back(fraction);
         return true;
     };
@@ -596,9 +596,9 @@ TEST(AdaptiveSubdivision, ProgressIsMonotoneAndCancellationThrows) {
     EXPECT_NEAR(reported.back(), double(r.mesh.faceCount()) / 3000.0, 0.011);
 
     std::size_t calls = 0;
-    options.progress = [&](double) { return ++calls < 5; };
+    options.progress = [&](double, const char*) { return ++calls < 5; };
     RecordingOracle cancelled{field, 2};
-    EXPECT_THROW(rad::subdivideAdaptively(in, cancelled.oracle(), options), rad::SubdivisionCancelled);
+    EXPECT_THROW(rad::subdivideAdaptively(in, cancelled.oracle(), options), rad::OperationCancelled);
     EXPECT_EQ(calls, 5u);
 }
 

@@ -154,15 +154,28 @@ TEST(MaterialRadiance, ProgressReachesOneHundred) {
     const Points pts = randomPoints(500, 4);
     rad::MaterialRadianceOptions options;
     options.basis = {rad::BasisKind::SphericalHarmonics, 2};
-    int last = -1;
+    double last = -1.0;
     bool monotonic = true;
     rad::makeMaterialRadiance(pts.positions.data(), pts.normals.data(), pts.size(), rad::AnalyticMaterial{},
-                              oneLight(Eigen::Vector3d::UnitZ(), 1.0, 0.0), options, [&](int percent) {
-                                  monotonic = monotonic && percent >= last;
-                                  last = percent;
+                              oneLight(Eigen::Vector3d::UnitZ(), 1.0, 0.0), options, [&](double fraction, const char*) {
+                                  monotonic = monotonic && fraction >= last;
+                                  last = fraction;
+                                  return true;
                               });
-    EXPECT_EQ(last, 100);
+    EXPECT_EQ(last, 1.0);
     EXPECT_TRUE(monotonic);
+}
+
+TEST(MaterialRadiance, StopRequestThrowsCancelled) {
+    const Points pts = randomPoints(5000, 5);
+    rad::MaterialRadianceOptions options;
+    options.basis = {rad::BasisKind::SphericalHarmonics, 2};
+    int calls = 0;
+    EXPECT_THROW(rad::makeMaterialRadiance(pts.positions.data(), pts.normals.data(), pts.size(), rad::AnalyticMaterial{},
+                                           oneLight(Eigen::Vector3d::UnitZ(), 1.0, 0.0), options,
+                                           [&](double, const char*) { return ++calls < 3; }),
+                 rad::OperationCancelled);
+    EXPECT_EQ(calls, 3);  // no report after the stop request
 }
 
 }  // namespace

@@ -355,21 +355,21 @@ TEST(NormalBaker, ProgressIsReportedAndReturningFalseCancels) {
     const rad::PerTriangleAtlas atlas = rad::makePerTriangleAtlas(target.faceCount(), 256);
     rad::NormalBakeOptions options;
     options.width = options.height = 256;
-    std::vector<int> seen;
-    options.progress = [&](int percent) {
-        seen.push_back(percent);
+    std::vector<double> seen;
+    options.progress = [&](double fraction, const char*) {
+        seen.push_back(fraction);
         return true;
     };
     rad::bakeNormalMap(target, atlas.wedgeUv.data(), source, nullptr, options);
     ASSERT_FALSE(seen.empty());
-    EXPECT_EQ(seen.back(), 100);
+    EXPECT_DOUBLE_EQ(seen.back(), 1.0);
     for (std::size_t i = 1; i < seen.size(); ++i) EXPECT_GT(seen[i], seen[i - 1]);
     int calls = 0;
-    options.progress = [&](int) {
+    options.progress = [&](double, const char*) {
         ++calls;
         return false;
     };
-    EXPECT_THROW(rad::bakeNormalMap(target, atlas.wedgeUv.data(), source, nullptr, options), rad::BakeCancelled);
+    EXPECT_THROW(rad::bakeNormalMap(target, atlas.wedgeUv.data(), source, nullptr, options), rad::OperationCancelled);
     EXPECT_EQ(calls, 1);
 }
 

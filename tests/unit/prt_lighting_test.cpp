@@ -292,6 +292,17 @@ TEST(PrtLighting, RelightVerticesRefusesMismatches) {
     EXPECT_THROW(rad::relightVertices(transfer.data(), 1, 2, 2, lighting, 2), std::invalid_argument);  // channels
     EXPECT_THROW(rad::relightVertices(nullptr, 1, 2, 1, lighting, 2), std::invalid_argument);
     EXPECT_TRUE(rad::relightVertices(nullptr, 0, 2, 1, lighting, 2).empty());
+    // Damaged transfer values (NaN, infinity) are refused with the count and the fix, not relit black.
+    std::vector<float> damaged(18, 1.0f);
+    damaged[4] = std::nanf("");
+    damaged[13] = std::numeric_limits<float>::infinity();
+    try {
+        rad::relightVertices(damaged.data(), 2, 2, 1, lighting, 2);
+        FAIL() << "NaN transfer accepted";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("2 transfer values are NaN or infinite"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("Compute PRT Transfer"), std::string::npos) << e.what();
+    }
 }
 
 TEST(PrtLighting, DirectionalLightRefusesBadArguments) {

@@ -369,9 +369,10 @@ TEST(RadianceFromViews, UnseenVerticesAreFilledRingByRingAndIsolatedOnesLeft) {
     std::vector<std::pair<int, std::string>> reports;
     const std::thread::id caller = std::this_thread::get_id();
     bool otherThread = false;
-    const auto r = rad::fitRadianceFromViews(mesh, {{cam, image.view()}}, options, [&](int percent, const char* stage) {
-        reports.emplace_back(percent, stage);
+    const auto r = rad::fitRadianceFromViews(mesh, {{cam, image.view()}}, options, [&](double fraction, const char* stage) {
+        reports.emplace_back(static_cast<int>(std::lround(100.0 * fraction)), stage);
         otherThread = otherThread || std::this_thread::get_id() != caller;
+        return true;
     });
 
     // Expected unseen set, by brute force.
@@ -461,6 +462,30 @@ TEST(RadianceFromViews, UnseenVerticesAreFilledRingByRingAndIsolatedOnesLeft) {
     const auto unfilled = rad::fitRadianceFromViews(mesh, {{cam, image.view()}}, options);
     EXPECT_EQ(unfilled.unseenFilled, 0u);
     EXPECT_EQ(unfilled.unseenLeft, unseenGrid + 3);
+}
+
+TEST(RadianceFromViews, StopRequestDuringTheFitThrowsCancelled) {
+    // Enough vertices (> 1024) for the parallel loop to report from inside; the stop is asked at the
+    // first report of the fitting stage, and the call must throw rather than return a partial field.
+    rad::TriangleMesh mesh;
+    radtest::addGrid(mesh, 60);
+    const rad::Image8 image = paintedImage(64, 64);
+    const rad::PinholeCamera cam =
+        rad::PinholeCamera::lookAt(Vector3d(0, 0, 4), Vector3d(0, 0, 0), Vector3d(0, 1, 0), 60, 64, 64);
+    int calls = 0, callsAfterStop = 0;
+    bool stopped = false;
+    EXPECT_THROW(rad::fitRadianceFromViews(mesh, {{cam, image.view()}}, {},
+                                           [&](double, const char* stage) {
+                                               ++calls;
+                                               if (stopped) ++callsAfterStop;
+                                               if (std::string(stage).find("fitting") != std::string::npos)
+                                                   stopped = true;
+                                               return !stopped;
+                                           }),
+                 rad::OperationCancelled);
+    EXPECT_TRUE(stopped);
+    EXPECT_EQ(callsAfterStop, 0);  // a stop request is final: no more reports
+    EXPECT_GE(calls, 2);
 }
 
 TEST(RadianceFromViews, PointCloudIsSampledWithoutOcclusionAndWarned) {

@@ -315,7 +315,7 @@ TEST(TransferVectors, ProgressComesFromTheCallingThreadAndFalseCancels) {
     bool otherThread = false;
     std::vector<float> out;
     rad::computeTransferVectors(estimator, mesh.positions.data(), mesh.normals.data(), n, out,
-                                [&](double f) {
+                                [&](double f, const char*) {
                                     otherThread |= std::this_thread::get_id() != caller;
                                     fractions.push_back(f);
                                     return true;
@@ -334,20 +334,20 @@ TEST(TransferVectors, ProgressComesFromTheCallingThreadAndFalseCancels) {
         const std::uint64_t before = estimator.raysCast();
         int calls = 0;
         EXPECT_THROW(rad::computeTransferVectors(estimator, mesh.positions.data(), mesh.normals.data(), n, out,
-                                                 [&](double) { return ++calls < 2; }, threads),
-                     rad::TransferCancelled);
+                                                 [&](double, const char*) { return ++calls < 2; }, threads),
+                     rad::OperationCancelled);
         EXPECT_EQ(calls, 2);
         if (threads == 1) EXPECT_LT(estimator.raysCast() - before, n * 16 / 2);
     }
 
     // The progress of the options is the default; a throwing progress propagates (not terminate).
     rad::TransferOptions options = optionsWith(16, 2);
-    options.progress = [](double f) { return f < 0.5; };
+    options.progress = [](double f, const char*) { return f < 0.5; };
     const rad::TransferEstimator cancelling(scene, 2.0f * std::sqrt(3.0f), options);
     EXPECT_THROW(rad::computeTransferVectors(cancelling, mesh.positions.data(), mesh.normals.data(), n, out),
-                 rad::TransferCancelled);
+                 rad::OperationCancelled);
     EXPECT_THROW(rad::computeTransferVectors(estimator, mesh.positions.data(), mesh.normals.data(), n, out,
-                                             [](double f) -> bool {
+                                             [](double f, const char*) -> bool {
                                                  if (f > 0.0) throw std::runtime_error("from the callback");
                                                  return true;
                                              }),

@@ -47,4 +47,18 @@ TEST(ViewColors, TowardViewpointEvaluatesTheFunctionWithBorderExtension) {
     EXPECT_NEAR(rgb[1], 0.25, 1e-6);
 }
 
+TEST(ViewColors, TowardViewpointRefusesANonFiniteEyeAndABadExposure) {
+    rad::RadianceField field(rad::BasisSpec{rad::BasisKind::HemisphericalPolynomial, 1}, 1);
+    rad::storeFrame(rad::Frame{}, field.frame(0));
+    const float position[3] = {0, 0, 0};
+    float rgb[3] = {7, 7, 7};
+    const double eye[3] = {0, 0, 5};
+    const double nanEye[3] = {0, std::nan(""), 5};
+    for (float exposure : {-1.0f, std::numeric_limits<float>::infinity(), std::nanf("")})
+        EXPECT_THROW(rad::radianceTowardViewpoint(field, position, eye, exposure, rgb), std::invalid_argument);
+    EXPECT_THROW(rad::radianceTowardViewpoint(field, position, nanEye, 1.0f, rgb), std::invalid_argument);
+    EXPECT_EQ(rgb[0], 7.0f);  // nothing written
+    EXPECT_NO_THROW(rad::radianceTowardViewpoint(field, position, eye, 0.0f, rgb));  // black is allowed
+}
+
 }  // namespace

@@ -1,0 +1,56 @@
+// The one progress and cancellation contract of every core (fit, material projection, simplification,
+// PRT transfer and subdivision, normal-map bake, acquisition):
+//
+//   - a long call takes a `const ProgressCallback&` (may be empty);
+//   - it calls it with the fraction done in [0, 1], non-decreasing, and a short English phrase naming
+//     the stage (never null), from one thread at a time (the calling thread unless stated);
+//   - the callback returns false to ask the core to stop; the core then throws OperationCancelled,
+//     after releasing what it holds and before writing any output (no partial file, the caller's data
+//     untouched).
+//
+// The MeshLab adapters map that exception once, in plugins_shared/filter_errors, to the same message
+// for every filter; tools and benchmarks pass an empty callback or print the fraction.
+#pragma once
+
+#include <atomic>
+#include <cstddef>
+#include <functional>
+#include <stdexcept>
+
+namespace rad {
+
+using ProgressCallback = std::function<bool(double fraction, const char* stage)>;
+
+struct OperationCancelled : std::runtime_error {
+    OperationCancelled() : std::runtime_error("cancelled") {}
+};
+
+// Calls `progress` (if any) and throws OperationCancelled when it asks to stop.
+void reportProgress(const ProgressCallback& progress, double fraction, const char* stage);
+
+// A callback for a step of a longer call: the step's fraction in [0, 1] is mapped onto [from, to] of
+// `outer` (clamped). Empty when `outer` is empty, so a step can test `if (progress)` cheaply.
+ProgressCallback progressRange(const ProgressCallback& outer, double from, double to);
+
+// The contract for a parallel loop of `total` items (an exception cannot leave an OpenMP region):
+// every thread calls itemDone() after an item, passing whether it is the calling thread (e.g.
+// omp_get_thread_num() == 0); only that thread calls the callback, at most once per percent. A stop
+// request is final: the loop skips its remaining items when stopRequested(), and the calling thread
+// calls finish() after the loop (throws OperationCancelled after a stop, else reports 1).
+class LoopProgress {
+public:
+    LoopProgress(const ProgressCallback& progress, const char* stage, std::size_t total);
+    void itemDone(bool callingThread);
+    bool stopRequested() const { return stopped_.load(std::memory_order_relaxed); }
+    void finish();
+
+private:
+    const ProgressCallback& progress_;
+    const char* stage_;
+    std::size_t total_;
+    std::atomic<std::size_t> done_{0};
+    std::atomic<bool> stopped_{false};
+    long reportedPercent_ = -1;  // touched by the calling thread only
+};
+
+}  // namespace rad

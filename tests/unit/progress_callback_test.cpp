@@ -1,0 +1,91 @@
+// The cores' progress and cancellation contract (progress/progress_callback.h).
+#include "progress/progress_callback.h"
+
+#include <gtest/gtest.h>
+
+#include <omp.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace {
+
+TEST(ProgressCallback, ReportProgressPassesThroughAndThrowsOnStop) {
+    EXPECT_NO_THROW(rad::reportProgress({}, 0.5, "stage"));  // no callback: nothing to ask
+    std::vector<std::pair<double, std::string>> seen;
+    const rad::ProgressCallback keepGoing = [&](double f, const char* stage) {
+        seen.emplace_back(f, stage);
+        return true;
+    };
+    rad::reportProgress(keepGoing, 0.25, "first");
+    rad::reportProgress(keepGoing, 0.5, nullptr);  // a null stage reaches the callback as ""
+    ASSERT_EQ(seen.size(), 2u);
+    EXPECT_EQ(seen[0].first, 0.25);
+    EXPECT_EQ(seen[0].second, "first");
+    EXPECT_EQ(seen[1].second, "");
+    const rad::ProgressCallback stop = [](double, const char*) { return false; };
+    EXPECT_THROW(rad::reportProgress(stop, 0.1, "x"), rad::OperationCancelled);
+}
+
+TEST(ProgressCallback, RangeMapsAndClampsFractions) {
+    EXPECT_FALSE(rad::progressRange({}, 0.2, 0.4));  // empty stays empty
+    std::vector<double> seen;
+    const rad::ProgressCallback outer = [&](double f, const char*) {
+        seen.push_back(f);
+        return f < 0.35;
+    };
+    const rad::ProgressCallback step = rad::progressRange(outer, 0.2, 0.4);
+    EXPECT_TRUE(step(0.0, "s"));
+    EXPECT_TRUE(step(0.5, "s"));
+    EXPECT_TRUE(step(-3.0, "s"));  // clamped to the start
+    EXPECT_TRUE(step(std::numeric_limits<double>::quiet_NaN(), "s"));
+    EXPECT_FALSE(step(2.0, "s"));  // clamped to the end, where the outer callback asks to stop
+    ASSERT_EQ(seen.size(), 5u);
+    EXPECT_DOUBLE_EQ(seen[0], 0.2);
+    EXPECT_DOUBLE_EQ(seen[1], 0.3);
+    EXPECT_DOUBLE_EQ(seen[2], 0.2);
+    EXPECT_DOUBLE_EQ(seen[3], 0.2);
+    EXPECT_DOUBLE_EQ(seen[4], 0.4);
+}
+
+TEST(ProgressCallback, LoopReportsFromTheCallingThreadOnlyAndEndsAtOne) {
+    const int n = 20000;
+    std::vector<double> seen;
+    bool otherThread = false;
+    const int caller = omp_get_thread_num();
+    const rad::ProgressCallback record = [&](double f, const char*) {
+        otherThread = otherThread || omp_get_thread_num() != 0;
+        seen.push_back(f);
+        return true;
+    };
+    rad::LoopProgress loop(record, "loop", n);
+#pragma omp parallel for schedule(dynamic, 64)
+    for (int i = 0; i < n; ++i) loop.itemDone(omp_get_thread_num() == 0);
+    loop.finish();
+    EXPECT_EQ(caller, 0);
+    EXPECT_FALSE(otherThread);
+    ASSERT_FALSE(seen.empty());
+    EXPECT_LE(seen.size(), 102u);  // at most once per percent, plus the final 1
+    for (std::size_t i = 1; i < seen.size(); ++i) EXPECT_GE(seen[i], seen[i - 1]);
+    EXPECT_EQ(seen.back(), 1.0);
+}
+
+TEST(ProgressCallback, LoopStopSkipsTheRestAndFinishThrows) {
+    const int n = 100000;
+    int calls = 0, processed = 0;
+    const rad::ProgressCallback stopAtSecond = [&](double, const char*) { return ++calls < 2; };
+    rad::LoopProgress loop(stopAtSecond, "loop", n);
+    for (int i = 0; i < n; ++i) {  // serial: the calling thread does every item
+        if (loop.stopRequested()) continue;
+        ++processed;
+        loop.itemDone(true);
+    }
+    EXPECT_TRUE(loop.stopRequested());
+    EXPECT_EQ(calls, 2);
+    EXPECT_LT(processed, n / 10);  // stopped at about 2 %
+    EXPECT_THROW(loop.finish(), rad::OperationCancelled);
+}
+
+}  // namespace

@@ -1,0 +1,85 @@
+// simplifyRadianceMesh (simplify/radiance_simplification.h) on the defects of real scans.
+#include "simplify/radiance_simplification.h"
+
+#include "radiance/material_radiance.h"
+#include "test_support.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace {
+
+// An 8 x 8 flat grid (98 faces) with glossy radiance, plus the two defects scans carry: a zero-area
+// triangle along the bottom border (vertices 0, 1, 2 are collinear; the face (2, 1, 0) shares the
+// border edges 0-1 and 1-2 with opposite orientation, so the mesh stays manifold) and a face that
+// repeats a vertex.
+rad::RadianceMesh gridWithDefects() {
+    rad::TriangleMesh grid;
+    radtest::addGrid(grid, 8);
+    rad::AnalyticMaterial material;
+    material.exponent = 30.0;
+    rad::AnalyticLighting lighting;
+    lighting.directional.push_back({Eigen::Vector3d(0.4, 0.2, 1.0), rad::Rgb(1.0, 0.9, 0.8)});
+    rad::MaterialRadianceOptions options;
+    options.basis = {rad::BasisKind::HemisphericalPolynomial, 3};
+    rad::RadianceMesh mesh;
+    mesh.positions = grid.positions;
+    mesh.faces = grid.faces;
+    mesh.radiance = rad::makeMaterialRadiance(grid.positions.data(), grid.normals.data(), grid.vertexCount(),
+                                              material, lighting, options);
+    mesh.faces.insert(mesh.faces.end(), {2, 1, 0});    // zero area
+    mesh.faces.insert(mesh.faces.end(), {20, 20, 21});  // repeats vertex 20
+    return mesh;
+}
+
+TEST(RadianceSimplification, ZeroAreaFacesAndFacesRepeatingAVertexAreSimplifiedNotRefused) {
+    const rad::RadianceMesh mesh = gridWithDefects();
+    ASSERT_EQ(mesh.faceCount(), 100u);
+    EXPECT_EQ(rad::checkSimplificationInput(mesh, rad::SimplificationMetric::Radiance), "");
+    rad::RadianceSimplificationOptions options;
+    options.collapse.targetFaceCount = 40;
+    options.collapse.preserveBoundary = false;  // the zero-area face lies on the border
+    const rad::RadianceSimplificationResult r = rad::simplifyRadianceMesh(mesh, options);
+    EXPECT_EQ(r.facesRepeatingAVertexRemoved, 1u);
+    EXPECT_EQ(r.zeroAreaFaces, 1u);
+    EXPECT_EQ(r.progressive.base.faceCount(), 99u);
+    EXPECT_LE(r.collapse.finalFaceCount, 40u);
+    const rad::RadianceMesh coarse = r.progressive.extract(r.progressive.steps.size());
+    EXPECT_EQ(coarse.faceCount(), r.collapse.finalFaceCount);
+    for (float x : coarse.positions) ASSERT_TRUE(std::isfinite(x));
+    for (std::size_t i = 0; i < coarse.radiance->coefficients.size(); ++i)
+        ASSERT_TRUE(std::isfinite(coarse.radiance->coefficients[i]));
+    // Still a flat grid: no vertex left the plane z = 0.
+    for (std::size_t v = 0; v < coarse.vertexCount(); ++v) EXPECT_EQ(coarse.positions[3 * v + 2], 0.0f);
+}
+
+TEST(RadianceSimplification, DuplicateFacesAreStillRefusedWithTheFix) {
+    rad::RadianceMesh mesh = gridWithDefects();
+    mesh.faces.insert(mesh.faces.end(), {0, 1, 9});  // the first grid face again
+    const std::string problem = rad::checkSimplificationInput(mesh, rad::SimplificationMetric::Radiance);
+    EXPECT_NE(problem.find("1 duplicate face"), std::string::npos) << problem;
+    EXPECT_NE(problem.find("Remove Duplicate Faces"), std::string::npos) << problem;
+}
+
+TEST(RadianceSimplification, InvalidOptionsAreRefusedBeforeAnyWork) {
+    const rad::RadianceMesh mesh = gridWithDefects();
+    rad::RadianceSimplificationOptions options;
+    options.collapse.targetFaceCount = 40;
+    options.collapse.maxNormalDeviationDegrees = -10.0;
+    try {
+        rad::simplifyRadianceMesh(mesh, options);
+        FAIL() << "a negative angle was accepted";
+    } catch (const rad::SimplificationError& e) {
+        EXPECT_NE(std::string(e.what()).find("[0, 180] degrees (it is -10)"), std::string::npos) << e.what();
+    }
+    options.collapse.maxNormalDeviationDegrees = 90.0;
+    options.collapse.geometryWeight = std::nan("");
+    EXPECT_THROW(rad::simplifyRadianceMesh(mesh, options), rad::SimplificationError);
+    options.collapse.geometryWeight = 0.01;
+    options.collapse.minValence = 8;
+    options.collapse.maxValence = 4;
+    EXPECT_THROW(rad::simplifyRadianceMesh(mesh, options), rad::SimplificationError);
+}
+
+}  // namespace
