@@ -221,6 +221,12 @@ private:
             "pull-push; %zu gutter texels dilated; max ray distance %g",
             stats.chartTexels, 100.0 * stats.rayHits / chart, 100.0 * stats.closestPointFallbacks / chart,
             report.holesFilled, report.gutterTexelsDilated, double(stats.maxRayDistance)));
+        const double hit = double(stats.rayHits) / chart;
+        if (hit < 0.5)
+            ctx.warning(formatLine("Bake Normal Map: only %.1f %% of the texels' rays met the source; the others "
+                                   "took the closest point or were filled. Check that the scan covers the whole "
+                                   "target at the same place and scale, or raise the maximum distance.",
+                                   100.0 * hit));
         ctx.log(formatLine("Bake Normal Map: wrote %s%s%s%s", report.normalMapFile.c_str(),
             report.diffuseMapFile.empty() ? "" : (", " + report.diffuseMapFile).c_str(),
             report.leanFile.empty() ? "" : (", " + report.leanFile).c_str(),

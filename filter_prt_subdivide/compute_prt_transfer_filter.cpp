@@ -9,6 +9,7 @@
 #include "transfer_attribute.h"
 #include "usable_normals.h"
 
+#include "geometry/coordinate_range.h"
 #include "image/rgb_image.h"
 #include "prt/transfer_vectors.h"
 #include "radiance/basis.h"
@@ -35,6 +36,10 @@ void checkTransferInput(const rad::RadianceMesh& plain) {
         if (!used[v]) continue;
         const float* p = &plain.positions[3 * v];
         if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) ++badPosition;
+    }
+    if (badPosition == 0) {
+        if (std::string range = rad::coordinateRangeProblem(plain.positions.data(), n); !range.empty())
+            throw Refusal(range);
     }
     if (badPosition > 0)
         throw Refusal(formatLine("%zu vertices have NaN or infinite coordinates: remove them first (Cleaning and "

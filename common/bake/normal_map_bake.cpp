@@ -186,6 +186,13 @@ NormalMapBakeReport bakeNormalMapFiles(const NormalMapBakeRequest& request) {
     NormalBakeResult baked = bakeNormalMap(*request.target, report.wedgeUv.data(), *request.source,
                                            withColor ? request.sourceColors->data() : nullptr, options);
     report.bakeSeconds = secondsSince(phase);
+    // Closest points alone (no ray hit at all) are a far-away or foreign source, not a bake.
+    if (baked.chartTexels > 0 && baked.rayHits == 0)
+        throw BakeInputError("No ray from the target met the source within the ray distance (" +
+                             preciseText(baked.maxRayDistance) + "): the two layers do not overlap. The full scan "
+                             "and the simplified mesh must be at the same place and scale (check the layers' "
+                             "transformations, and apply them with Matrix: Freeze Current Matrix), or raise the "
+                             "maximum distance.");
     reportProgress(request.progress, 0.75, "filling holes and gutters");
 
     phase = Clock::now();

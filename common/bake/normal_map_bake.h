@@ -11,6 +11,7 @@
 //   B_bake.txt     what was baked: key = value lines (space, size, bits, ray distance, files, counts)
 #pragma once
 #include "bake/normal_baker.h"
+#include "bake/texture_atlas.h"  // BakeInputError
 
 #include <cstddef>
 #include <functional>

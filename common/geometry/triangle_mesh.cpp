@@ -1,5 +1,7 @@
 #include "geometry/triangle_mesh.h"
 
+#include "geometry/coordinate_range.h"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -25,6 +27,7 @@ std::string TriangleMesh::validate() const {
             why << "vertex " << i / 3 << " has a non-finite coordinate";
             return why.str();
         }
+    if (std::string range = coordinateRangeProblem(positions.data(), vertexCount()); !range.empty()) return range;
     for (std::size_t i = 0; i < normals.size(); ++i)
         if (!std::isfinite(normals[i])) {
             why << "vertex " << i / 3 << " has a non-finite normal";

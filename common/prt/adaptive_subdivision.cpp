@@ -15,6 +15,7 @@
 //     (one level coarser; 1-irregularity excludes anything else).
 #include "prt/adaptive_subdivision.h"
 
+#include "geometry/coordinate_range.h"
 #include "geometry/triangle_mesh.h"
 
 #include <algorithm>
@@ -559,6 +560,7 @@ std::string checkPrtSubdivisionInput(const PrtMesh& mesh) {
     if (nonFiniteTransfer > 0)
         return "the transfer vectors of " + plural(nonFiniteTransfer, "vertex") +
                " are not finite (NaN or infinity): compute the PRT transfer vectors again";
+    if (std::string range = coordinateRangeProblem(mesh.positions.data(), V); !range.empty()) return range;
 
     std::uint32_t pidCount = 0;
     const std::vector<std::uint32_t> pid = weldPositions(mesh.positions, pidCount);

@@ -1,5 +1,6 @@
 #include "simplify/radiance_simplification.h"
 
+#include "geometry/coordinate_range.h"
 #include "geometry/triangle_mesh.h"
 #include "io/radiance_ply.h"
 #include "radiance/material_radiance.h"
@@ -75,6 +76,8 @@ std::string checkSimplificationInput(const RadianceMesh& mesh, SimplificationMet
                " metric needs: fit it with 'Radiance: Fit Radiance Functions from Rasters', create it with 'Radiance: "
                "Create Radiance Data from Analytic Material', open a .rply file, or choose the geometry-only metric";
     if (const std::string problem = validateRadianceMesh(mesh); !problem.empty()) return problem;
+    if (std::string range = coordinateRangeProblem(mesh.positions.data(), mesh.vertexCount()); !range.empty())
+        return range;
     if (needsRadiance(metric) && kind == CollapseKind::Full && metric == SimplificationMetric::Radiance &&
         mesh.radiance->basis.kind != BasisKind::SphericalHarmonics)
         return "full edge collapse with the radiance metric needs spherical harmonics (Vanhoey et al. 2015 sec. 4.3: the new "
