@@ -6,12 +6,37 @@
 
 namespace radml {
 
+namespace {
+
+// The checks every filter shares, so that the same mistake in a script gets the same answer from
+// every filter: an enum index outside its choices (it used to be read as another choice), and a
+// number that is not finite (NaN, infinity).
+std::string parameterProblem(const RichParameterList& par) {
+    for (const RichParameter& p : par) {
+        int index = 0;
+        QStringList choices;
+        if (enumChoice(p, index, choices) && (index < 0 || index >= choices.size())) {
+            QString list;
+            for (int i = 0; i < choices.size(); ++i) list += QString("%1%2 = %3").arg(i > 0 ? ", " : "").arg(i).arg(choices[i]);
+            return QString("The parameter '%1' is %2, which is none of its choices: %3.")
+                .arg(p.name()).arg(index).arg(list).toStdString();
+        }
+        if (!parameterValueIsFinite(p))
+            return QString("The parameter '%1' is not a finite number (NaN or infinity): give a finite value.")
+                .arg(p.name()).toStdString();
+    }
+    return {};
+}
+
+}  // namespace
+
 std::string runFilter(const Filter* filter, MeshDocument& md, const RichParameterList& par, vcg::CallBackPos* cb,
                       const std::function<void(const std::string&)>& log,
                       const std::function<void(const std::string&)>& warning) {
     if (filter == nullptr) return "Unknown filter.";
     MeshModel* current = md.mm();
     if (current == nullptr) return "There is no current mesh: open or select a layer first.";
+    if (const std::string problem = parameterProblem(par); !problem.empty()) return problem;
     FilterProgress progress(cb);
     FilterContext context{md, *current, par, progress, log, warning};
     try {

@@ -11,6 +11,7 @@
 #include <QFileInfo>
 #include <Eigen/Core>
 
+#include <cmath>
 #include <vector>
 
 #define RADML_FILTER_PLUGIN_IID MESH_FILTER_INTERFACE_IID
@@ -43,6 +44,28 @@ inline void setLayerTexture(MeshModel& m, const std::string& file) {
     const bool here = info.absolutePath() == QDir::current().absolutePath();
     m.cm.textures.clear();
     m.cm.textures.push_back((here ? info.fileName() : info.absoluteFilePath()).toStdString());
+}
+
+// A numeric parameter's value is finite (floats, percentages, dynamic floats, points); true for the
+// other kinds.
+inline bool parameterValueIsFinite(const RichParameter& p) {
+    const Value& v = p.value();
+    if (v.isFloat()) return std::isfinite(v.getFloat());
+    if (v.isAbsPerc()) return std::isfinite(v.getAbsPerc());
+    if (v.isDynamicFloat()) return std::isfinite(v.getDynamicFloat());
+    if (v.isPoint3f()) {
+        const vcg::Point3f q = v.getPoint3f();
+        return std::isfinite(q[0]) && std::isfinite(q[1]) && std::isfinite(q[2]);
+    }
+    return true;
+}
+// For an enum parameter: its chosen index and its choices (false for other parameters).
+inline bool enumChoice(const RichParameter& p, int& index, QStringList& choices) {
+    const auto* e = dynamic_cast<const RichEnum*>(&p);
+    if (e == nullptr) return false;
+    index = p.value().getEnum();
+    choices = e->enumvalues;
+    return true;
 }
 
 // The image plane of a raster layer.

@@ -12,6 +12,7 @@
 #include <QFileInfo>
 #include <Eigen/Core>
 
+#include <cmath>
 #include <vector>
 
 #define RADML_FILTER_PLUGIN_IID FILTER_PLUGIN_IID
@@ -46,6 +47,26 @@ inline void setLayerTexture(MeshModel& m, const std::string& file) {
     const QString path = QString::fromStdString(file);
     m.clearTextures();
     m.addTexture(QFileInfo(path).fileName().toStdString(), QImage(path));
+}
+
+// A numeric parameter's value is finite (floats, percentages, dynamic floats, points); true for the
+// other kinds.
+inline bool parameterValueIsFinite(const RichParameter& p) {
+    const Value& v = p.value();
+    if (v.isFloat()) return std::isfinite(v.getFloat());  // also percentages and dynamic floats
+    if (v.isPoint3()) {
+        const Point3m q = v.getPoint3();
+        return std::isfinite(q[0]) && std::isfinite(q[1]) && std::isfinite(q[2]);
+    }
+    return true;
+}
+// For an enum parameter: its chosen index and its choices (false for other parameters).
+inline bool enumChoice(const RichParameter& p, int& index, QStringList& choices) {
+    const auto* e = dynamic_cast<const RichEnum*>(&p);
+    if (e == nullptr) return false;
+    index = p.value().getInt();
+    choices = e->enumvalues;
+    return true;
 }
 
 // The image plane of a raster layer.

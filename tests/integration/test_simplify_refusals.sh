@@ -60,4 +60,15 @@ run_meshlabserver "$WORK/strip.log" -i "$WORK/strip.ply" -s "$WORK/geometry.mlx"
 # why the target of 16 faces was not reached.
 grep -qF "Simplified 32 -> 18 faces (20 vertices)" "$WORK/strip.log" || { cat "$WORK/strip.log" >&2; fail "no summary for the strip"; }
 grep -qF "Stopped at 18 faces above the target of 16" "$WORK/strip.log" || { cat "$WORK/strip.log" >&2; fail "no warning for the unreached target"; }
+
+# Script mistakes meshlabserver passes through unchecked: an enum index beyond the choices (it used to
+# be read as another metric), a NaN weight, a negative angle. Each is refused, naming the parameter.
+$WRITE_MLX "$WORK/metric9.mlx" 0.5 9
+expect_refusal enum_out_of_range "The parameter 'metric' is 9, which is none of its choices: 0 = " \
+    "$WORK/sphere.rply" "$WORK/metric9.mlx"
+sed 's/name="geometryWeight" value="[^"]*"/name="geometryWeight" value="nan"/' "$WORK/half.mlx" > "$WORK/nan_weight.mlx"
+grep -q 'name="geometryWeight" value="nan"' "$WORK/nan_weight.mlx" || fail "could not write the NaN weight script"
+expect_refusal nan_weight "The parameter 'geometryWeight' is not a finite number" "$WORK/sphere.rply" "$WORK/nan_weight.mlx"
+sed 's/name="maxNormalChange" value="90"/name="maxNormalChange" value="-10"/' "$WORK/half.mlx" > "$WORK/angle.mlx"
+expect_refusal negative_angle "[0, 180] degrees (it is -10)" "$WORK/sphere.rply" "$WORK/angle.mlx"
 note "refusals ok"

@@ -127,9 +127,12 @@ def test_create_refuses_a_degree_out_of_range(degree, basis, expected, good_file
 
 @pytest.mark.parametrize("parameters,message", [
     (dict(specular=-1.0), "The specular strength and colour must be finite and >= 0"),
-    (dict(shininess=float("nan")), "The shininess (Blinn-Phong exponent) must be finite and >= 0"),
+    (dict(shininess=-3.0), "The shininess (Blinn-Phong exponent) must be finite and >= 0"),
     (dict(ambient=-0.5), "The ambient radiance must be finite and >= 0"),
-    (dict(lightintensity=float("inf")), "The light intensity must be finite and >= 0"),
+    (dict(lightintensity=-1.0), "The light intensity must be finite and >= 0"),
+    # Not finite: refused by the check every filter shares, naming the parameter.
+    (dict(shininess=float("nan")), "The parameter 'shininess' is not a finite number"),
+    (dict(lightintensity=float("inf")), "The parameter 'lightIntensity' is not a finite number"),
     (dict(light=np.zeros(3)), "The direction toward a directional light must be a finite, non-zero vector"),
     (dict(stripes=-2), "Stripes must be between 0"),
 ])
