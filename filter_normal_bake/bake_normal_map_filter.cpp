@@ -44,11 +44,14 @@ std::vector<float> wedgeCoordinates(MeshModel& m) {
     return uv;
 }
 
-// Output base: the parameter when given (".png" and a trailing "_normal" dropped), else the
-// target's file name without extension, beside it; the source's directory when the target was
-// never saved.
+// Output base: the parameter when given (".png" and a trailing "_normal" dropped; an existing
+// folder receives maps named after the target), else the target's file name without extension,
+// beside it; the source's directory when the target was never saved.
 QString outputBase(const QString& given, MeshModel& target, MeshModel& source) {
     QString base = given.trimmed();
+    QString label = QFileInfo(target.label()).completeBaseName();
+    if (label.isEmpty()) label = "baked";
+    if (!base.isEmpty() && QFileInfo(base).isDir()) return QDir(QFileInfo(base).absoluteFilePath()).filePath(label);
     if (!base.isEmpty()) {
         if (base.endsWith(".png", Qt::CaseInsensitive)) base.chop(4);
         if (base.endsWith("_normal")) base.chop(7);
@@ -59,8 +62,6 @@ QString outputBase(const QString& given, MeshModel& target, MeshModel& source) {
                               : !source.fullName().isEmpty() ? QFileInfo(source.fullName()).absolutePath()
                                                               : QString();
     if (directory.isEmpty()) return QString();
-    QString label = QFileInfo(target.label()).completeBaseName();
-    if (label.isEmpty()) label = "baked";
     return QDir(directory).filePath(label);
 }
 
@@ -113,7 +114,8 @@ public:
         par.addParam(RichEnum("assign", kAssignNormal, QStringList() << "Normal map" << "Diffuse map",
                               "Layer texture", "Which map becomes the layer's texture."));
         par.addParam(RichString("outputFile", "", "Output file (optional)",
-                                "Path of the normal map (…_normal.png); empty = beside the target mesh, named after it."));
+                                "Path of the normal map (…_normal.png), or an existing folder to write the maps into "
+                                "(named after the target); empty = beside the target mesh, named after it."));
         return par;
     }
 

@@ -181,6 +181,18 @@ def test_baked_layer_saves_with_its_texture_elsewhere(meshes, tmp_path):
     assert "map_Kd coarse_normal.png" in material, material
 
 
+def test_output_that_is_a_folder_receives_the_maps(meshes, tmp_path):
+    """An existing folder as the output: the maps go inside it, named after the target (they used to
+    be written beside the folder, named after it)."""
+    folder = tmp_path / "maps"
+    folder.mkdir()
+    ms = scan_and_target(meshes)
+    ms.apply_filter(h.BAKE, **bake_parameters(outputfile=str(folder)))
+    assert sorted(p.name for p in folder.iterdir()) == ["coarse_bake.txt", "coarse_diffuse.png", "coarse_lean.exr",
+                                                       "coarse_normal.png"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["maps"], "files written beside the folder"
+
+
 # ---------------------------------------------------------------------------------------------------
 # Refusals: our message ending with "The layers are unchanged", the MeshSet as it was, no file.
 
