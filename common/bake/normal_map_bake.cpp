@@ -5,6 +5,7 @@
 #include "bake/map_filling.h"
 #include "bake/texture_atlas.h"
 #include "image/image_io.h"
+#include "memory/available_memory.h"
 
 #include <algorithm>
 #include <chrono>
@@ -106,6 +107,14 @@ std::string fileName(const std::string& path) { return std::filesystem::path(pat
 
 }  // namespace
 
+std::size_t estimatedBakeBytes(const NormalMapBakeRequest& request) {
+    const bool withColor = request.bakeDiffuse && request.sourceColors != nullptr;
+    const bool withLean = request.writeLean && request.space == NormalSpace::Object;
+    const double perTexel = 39.0 + (withColor ? 12.0 : 0.0) + (withLean ? 20.0 : 0.0);
+    const double texels = double(std::max(request.textureSize, 0)) * double(std::max(request.textureSize, 0));
+    return static_cast<std::size_t>(1.1 * perTexel * texels);
+}
+
 void checkNormalMapBakeRequest(const NormalMapBakeRequest& request) {
     if (!request.target || request.target->faceCount() == 0)
         throw BakeInputError("The target layer has no faces: a normal map is baked onto the triangles of a (simplified) "
@@ -133,6 +142,17 @@ void checkNormalMapBakeRequest(const NormalMapBakeRequest& request) {
                              "Curvatures and Orientation > Re-Compute Vertex Normals\" on it first.");
     const std::string sizeProblem = textureSizeProblem(request.textureSize);
     if (!sizeProblem.empty()) throw BakeInputError(sizeProblem);
+    const std::size_t limit = request.memoryLimitBytes > 0 ? request.memoryLimitBytes : availableMemoryBytes();
+    const std::size_t needed = estimatedBakeBytes(request);
+    if (limit > 0 && needed > limit) {
+        NormalMapBakeRequest smaller = request;
+        while (smaller.textureSize > 16 && estimatedBakeBytes(smaller) > limit) smaller.textureSize /= 2;
+        throw BakeInputError("A " + std::to_string(request.textureSize) + " x " + std::to_string(request.textureSize) +
+                             " bake needs about " + describeBytes(double(needed)) + " of memory and " +
+                             describeBytes(double(limit)) + " are available: choose a texture size of " +
+                             std::to_string(smaller.textureSize) + " or less (or bake without the LEAN or diffuse "
+                             "maps), or close other programs.");
+    }
     if (request.bits != 8 && request.bits != 16)
         throw BakeInputError("The normal map is written with 8 or 16 bits per channel, not " +
                              std::to_string(request.bits) + ".");

@@ -34,7 +34,14 @@ struct NormalMapBakeRequest {
     bool writeLean = true;
     std::string outputBase;                        // B above
     ProgressCallback progress;                     // progress/progress_callback.h (OperationCancelled)
+    // Memory the bake may take; 0: what the machine has available now (memory/available_memory.h).
+    std::size_t memoryLimitBytes = 0;
 };
+
+// Peak memory of bakeNormalMapFiles beyond its inputs, from the texture size and the maps written
+// (measured through pymeshlab at 2048^2 and 4096^2: ~39 bytes per texel for the normals alone,
+// +12 with the diffuse map, +20 with the LEAN moments; a 10 % margin on top).
+std::size_t estimatedBakeBytes(const NormalMapBakeRequest& request);
 
 struct NormalMapBakeReport {
     std::vector<float> wedgeUv;                    // the layout baked into (generated or the input's)
@@ -51,7 +58,8 @@ struct NormalMapBakeReport {
 // (the same arrays, or identical positions and faces), no source faces, target without normals,
 // a texture size that is not a power of two in [16, 16384], bits other than 8 / 16, an output
 // base that is empty or in a directory that does not exist, a UV layout with a problem
-// (texture_atlas.h: out of range, NaN, degenerate or overlapping). OperationCancelled on cancel;
+// (texture_atlas.h: out of range, NaN, degenerate or overlapping), an estimated peak memory above
+// the limit (with the figures and the largest texture size that fits). OperationCancelled on cancel;
 // std::runtime_error when a file cannot be written (temporary files removed).
 NormalMapBakeReport bakeNormalMapFiles(const NormalMapBakeRequest& request);
 
