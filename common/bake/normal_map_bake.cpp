@@ -158,8 +158,9 @@ void checkNormalMapBakeRequest(const NormalMapBakeRequest& request) {
                              std::to_string(request.bits) + ".");
     if (request.gutterTexels < 1 || request.gutterTexels > 64)
         throw BakeInputError("The gutter must be 1 to 64 texels wide (4 keeps two MIP levels clean).");
-    if (!std::isfinite(request.maxRayDistance))
-        throw BakeInputError("The maximum ray distance is not a number: give a distance, or 0 for automatic.");
+    if (!std::isfinite(request.maxRayDistance) || request.maxRayDistance < 0.0f)
+        throw BakeInputError("The maximum ray distance must be 0 (automatic) or a positive distance; it is " +
+                             preciseText(request.maxRayDistance) + ".");
     if (request.outputBase.empty())
         throw BakeInputError("No output file name: the maps are written beside the mesh; save the mesh first or "
                              "give an output file.");

@@ -28,7 +28,7 @@ struct NormalMapBakeRequest {
     int textureSize = 2048;
     NormalSpace space = NormalSpace::Object;
     int bits = 16;                                 // 8 or 16
-    float maxRayDistance = 0.0f;                   // <= 0: automatic
+    float maxRayDistance = 0.0f;                   // 0: automatic; negative is refused
     int gutterTexels = 4;                          // empty texels between two charts of a generated atlas
     bool bakeDiffuse = true;                       // ignored without sourceColors
     bool writeLean = true;

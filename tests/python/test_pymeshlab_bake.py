@@ -232,3 +232,18 @@ def test_refuses_overlapping_texture_coordinates(meshes, tmp_path):
     ms = scan_and_target(meshes, overlap)
     assert ms.current_mesh().has_wedge_tex_coord()
     bake_refusal(ms, tmp_path / "overlap", "lie inside two or more faces (overlapping charts)")
+
+
+def test_refuses_a_negative_ray_distance(meshes, tmp_path):
+    bake_refusal(scan_and_target(meshes), tmp_path / "negative", "must be 0 (automatic) or a positive distance",
+                 maxdistance=pymeshlab.PureValue(-1.0))
+
+
+def test_refuses_a_source_that_no_ray_meets(meshes, tmp_path):
+    """The scan moved far away: rays find nothing within the distance. It used to be baked from closest
+    points 1000 units off (or written as a constant map); now it is refused with the fix."""
+    ms = scan_and_target(meshes)
+    ms.set_current_mesh(0)
+    ms.apply_filter("compute_matrix_from_translation", axisx=1000.0, freeze=True)
+    ms.set_current_mesh(1)
+    bake_refusal(ms, tmp_path / "far", "the two layers do not overlap", maxdistance=pymeshlab.PureValue(0.5))
