@@ -34,14 +34,29 @@ const MeshModel* defaultSource(const MeshDocument& md) {
     return best ? best : md.mm();
 }
 
-// Wedge texture coordinates of the live faces, in the order exportPlainMesh writes the faces;
-// empty when the layer has none (or all are zero, as MeshLab leaves them when it enables the
-// attribute without a parametrisation).
-std::vector<float> wedgeCoordinates(MeshModel& m) {
-    if (!m.hasDataMask(MeshModel::MM_WEDGTEXCOORD)) return {};
-    std::vector<float> uv = exportWedgeTexCoords(m.cm);
-    if (std::all_of(uv.begin(), uv.end(), [](float c) { return c == 0.0f; })) uv.clear();
-    return uv;
+// The layer's own texture coordinates as wedge coordinates of the live faces (in the order
+// exportPlainMesh writes the faces): its wedge coordinates, else its per-vertex ones; empty when it
+// has none (or all are zero, as MeshLab leaves them when it enables the attribute without a
+// parametrisation). `kind` says which were used, for the log.
+std::vector<float> layerTexCoords(MeshModel& m, const char*& kind) {
+    const auto allZero = [](const std::vector<float>& uv) {
+        return std::all_of(uv.begin(), uv.end(), [](float c) { return c == 0.0f; });
+    };
+    if (m.hasDataMask(MeshModel::MM_WEDGTEXCOORD)) {
+        std::vector<float> uv = exportWedgeTexCoords(m.cm);
+        if (!allZero(uv)) {
+            kind = "the target's wedge texture coordinates";
+            return uv;
+        }
+    }
+    if (m.hasDataMask(MeshModel::MM_VERTTEXCOORD)) {
+        std::vector<float> uv = exportVertexTexCoordsAsWedges(m.cm);
+        if (!allZero(uv)) {
+            kind = "the target's per-vertex texture coordinates";
+            return uv;
+        }
+    }
+    return {};
 }
 
 // Output base: the parameter when given (".png" and a trailing "_normal" dropped; an existing
@@ -103,8 +118,9 @@ public:
         par.addParam(RichInt("gutter", 4, "Gutter (texels)",
                              "Empty texels between any two triangles of a generated atlas (at least this many), filled by dilation of each triangle's border."));
         par.addParam(RichBool("newAtlas", false, "Make a per-triangle atlas",
-                              "Replace the target's texture coordinates by a per-triangle atlas (always done when the "
-                              "target has none)."));
+                              "Replace the target's texture coordinates (wedge or per-vertex) by a per-triangle "
+                              "atlas; done anyway when the target has none. The atlas cuts every triangle apart: "
+                              "for a chart-based layout, parametrize first with MeshLab's own filters."));
         par.addParam(RichBool("diffuse", true, "Bake the vertex colours too",
                               "Write the scan's vertex colours at the same points into a diffuse map (when the scan has "
                               "vertex colours)."));
@@ -172,7 +188,8 @@ private:
                 if (!v.IsD())
                     for (int k = 0; k < 3; ++k) sourceColors.push_back(v.cC()[k] / 255.0f);
         }
-        std::vector<float> existingUv = par.getBool("newAtlas") ? std::vector<float>() : wedgeCoordinates(*target);
+        const char* uvKind = "";
+        std::vector<float> existingUv = par.getBool("newAtlas") ? std::vector<float>() : layerTexCoords(*target, uvKind);
 
         rad::NormalMapBakeRequest request;
         request.target = &targetMesh;
@@ -215,7 +232,7 @@ private:
             request.space == rad::NormalSpace::Object ? "object space" : "tangent space", request.textureSize,
             request.textureSize, request.bits,
             report.atlasGenerated ? qUtf8Printable(QString("per-triangle atlas (cells of %1 texels)").arg(report.atlasCellSize))
-                                  : "the target's texture coordinates",
+                                  : uvKind,
             qUtf8Printable(source->label()), sourceMesh.faceCount(), qUtf8Printable(target->label()),
             targetMesh.faceCount(), report.totalSeconds, report.bakeSeconds, report.fillSeconds, report.leanSeconds,
             report.writeSeconds));

@@ -105,4 +105,17 @@ std::vector<float> exportWedgeTexCoords(const CMeshO& mesh) {
     return uv;
 }
 
+std::vector<float> exportVertexTexCoordsAsWedges(const CMeshO& mesh) {
+    std::vector<float> uv;
+    uv.reserve(6 * std::size_t(mesh.fn));
+    for (const CFaceO& f : mesh.face) {
+        if (f.IsD()) continue;
+        for (int k = 0; k < 3; ++k) {
+            uv.push_back(f.cV(k)->cT().U());
+            uv.push_back(f.cV(k)->cT().V());
+        }
+    }
+    return uv;
+}
+
 }  // namespace radml

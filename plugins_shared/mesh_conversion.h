@@ -26,6 +26,10 @@ bool exportPlainMesh(CMeshO& mesh, const ExportChoice& choice, rad::RadianceMesh
 // exportPlainMesh. The caller checks that the mesh has them (MeshModel::MM_WEDGTEXCOORD).
 std::vector<float> exportWedgeTexCoords(const CMeshO& mesh);
 
+// Per-vertex texture coordinates (a PLY's texture_u/texture_v, as photogrammetry tools write them)
+// as wedge coordinates of the live faces, same layout. The caller checks MM_VERTTEXCOORD.
+std::vector<float> exportVertexTexCoordsAsWedges(const CMeshO& mesh);
+
 // Replaces the content of `mesh` with `in` (positions, normals, colours, quality, faces, radiance,
 // the PRT transfer block "prt"). Returns the vcg::tri::io::Mask bits describing what was loaded.
 // A "prt" block that does not describe a transfer field is skipped with a sentence in `warning`.

@@ -247,3 +247,30 @@ def test_refuses_a_source_that_no_ray_meets(meshes, tmp_path):
     ms.apply_filter("compute_matrix_from_translation", axisx=1000.0, freeze=True)
     ms.set_current_mesh(1)
     bake_refusal(ms, tmp_path / "far", "the two layers do not overlap", maxdistance=pymeshlab.PureValue(0.5))
+
+
+def test_per_vertex_texture_coordinates_are_kept(meshes, tmp_path):
+    """A target whose UVs are per-vertex (texture_u / texture_v, as photogrammetry tools write) keeps
+    its layout: the bake writes into it, and the layer's wedge coordinates equal the per-vertex ones
+    (a per-triangle atlas was made instead, and the user's layout lost)."""
+    vertices, faces = h.grid(4, 4)
+    uv = np.array([(0.05 + 0.9 * x / 4, 0.05 + 0.9 * y / 4) for x, y, _ in vertices])
+    target = tmp_path / "uv_grid.ply"
+    with open(target, "w") as f:
+        f.write("ply\nformat ascii 1.0\nelement vertex %d\nproperty float x\nproperty float y\nproperty float z\n"
+                "property float nx\nproperty float ny\nproperty float nz\nproperty float texture_u\n"
+                "property float texture_v\nelement face %d\nproperty list uchar int vertex_indices\nend_header\n"
+                % (len(vertices), len(faces)))
+        for (x, y, z), (u, v) in zip(vertices, uv):
+            f.write(f"{x / 4 - 0.5} {y / 4 - 0.5} 0 0 0 1 {u} {v}\n")
+        for t in faces:
+            f.write("3 %d %d %d\n" % t)
+    ms = scan_and_target(meshes, target)
+    assert ms.current_mesh().has_vertex_tex_coord() and not ms.current_mesh().has_wedge_tex_coord()
+    out = tmp_path / "out"
+    out.mkdir()
+    ms.apply_filter(h.BAKE, **bake_parameters(outputfile=str(out / "grid_normal.png"), diffuse=False))
+    assert "uv = target's wedge coordinates" in (out / "grid_bake.txt").read_text().splitlines()
+    mesh = ms.current_mesh()
+    expected = uv[mesh.face_matrix()].reshape(-1, 2)
+    assert np.allclose(mesh.wedge_tex_coord_matrix(), expected, atol=1e-6), "the per-vertex layout was not kept"
