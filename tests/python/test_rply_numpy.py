@@ -766,3 +766,12 @@ def test_writer_removes_stale_temporaries_of_dead_writers_only(tmp_path):
     assert not stale.exists()
     assert live.exists() and all(p.exists() for p in unrelated)
     assert rply.read_rply(target).vertex_count == len(make_case("geometry").positions)
+
+
+@pytest.mark.parametrize("path", sorted((REPO / "tests" / "unit" / "data" / "rply_fuzz_regressions").glob("*.rply")),
+                         ids=lambda p: p.stem)
+def test_fuzz_regressions_refused(path):
+    """Inputs the libFuzzer harness found on the C++ reader before issue 16 (block metadata with
+    control characters, accepted then but unsaveable): the numpy reader refuses them too."""
+    with pytest.raises(RadianceFileError, match=r": header line \d+: .*contains a control character"):
+        rply.read_rply(path)

@@ -774,6 +774,8 @@ bool loadsOrRefuses(const std::string& path) {
         if (m.radiance) {
             EXPECT_EQ(m.radiance->validate(), "");
         }
+        // What loads can be saved again (the fuzzer's oracle, bench/fuzz/radiance_ply_fuzzer.cpp).
+        EXPECT_EQ(rad::validateRadianceMesh(m), "") << path;
         return true;
     } catch (const RadianceFileError&) {
         return false;
@@ -1153,4 +1155,21 @@ TEST(RadiancePlyWriter, RemovesStaleTemporariesOfDeadWritersOnly) {
     EXPECT_TRUE(std::filesystem::exists(otherTarget));
     expectSameMesh(next, rad::readRadiancePly(path));
     for (const auto& p : {live, notOurs, otherTarget}) std::filesystem::remove(p);
+}
+
+// Inputs found by bench/fuzz_radiance_ply.sh (the harness run on the reader before issue 16): the
+// reader accepted block metadata with control characters (NUL, SOH, BEL...) that the writer refuses,
+// so a file that loaded could not be saved. Each must now be refused with the header line named.
+TEST(RadiancePlyFuzzRegressions, ControlCharactersInBlockMetadata) {
+    const std::filesystem::path folder = std::filesystem::path(RADIANCE_SOURCE_DIR) / "tests/unit/data/rply_fuzz_regressions";
+    int files = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+        ++files;
+        const std::string message = errorOf([&] { rad::readRadiancePly(entry.path().string()); });
+        SCOPED_TRACE(entry.path().filename().string());
+        EXPECT_NE(message.find("contains a control character"), std::string::npos) << message;
+        EXPECT_NE(message.find(": header line "), std::string::npos) << message;
+        EXPECT_FALSE(loadsOrRefuses(entry.path().string()));
+    }
+    EXPECT_EQ(files, 6);
 }
