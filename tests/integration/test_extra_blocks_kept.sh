@@ -5,7 +5,9 @@
 #   2. after MeshLab's own delete + compact, each remaining vertex keeps its own block values;
 #   3. after a filter that adds vertices (midpoint subdivision) the block cannot be saved: the save
 #      goes on without it and says so on stderr (nothing is dropped silently);
-#   4. a foreign vertex property the format does not know is reported as not loaded.
+#   4. a foreign vertex property the format does not know is reported as not loaded;
+#   5. our geometry-only simplification carries the blocks: each remaining vertex keeps its values;
+#   6. our PRT subdivision, which creates vertices, removes them and says so.
 # The input files are written here with struct (independent of the code under test), in the exact
 # layout of our writer (docs/radiance-ply-format.md).
 source "$(dirname "$0")/lib.sh"
@@ -113,4 +115,35 @@ run_meshlabserver "$WORK/foreign.log" -i "$WORK/foreign.rply" -o "$WORK/foreign_
 grep -q "vertex property 'confidence' of the file is not part of the radiance PLY format and was not loaded" \
     "$WORK/foreign.log" || { cat "$WORK/foreign.log" >&2; fail "the skipped property was not reported"; }
 cmp -s "$WORK/foreign_out.rply" "$WORK/out.rply" || fail "the foreign file did not save as the same mesh without 'confidence'"
+note "foreign property reported"
+
+# 5. Simplification (geometry metric: the mesh has no radiance): the blocks follow their vertices.
+bash "$RADIANCE_SOURCE_DIR/scripts/write_simplify_mlx.sh" "$WORK/simplify.mlx" 0.5 3
+run_meshlabserver "$WORK/simplify.log" -i "$WORK/in.rply" -o "$WORK/simplified.rply" -m vn -s "$WORK/simplify.mlx" \
+    || { cat "$WORK/simplify.log" >&2; fail "simplify + save failed"; }
+python3 - "$PLY_READER" "$WORK/simplified.rply" <<'PY' || fail "block rows do not follow their vertices through the simplification"
+import importlib.util, math, sys
+spec = importlib.util.spec_from_file_location("ply_reader", sys.argv[1])
+reader = importlib.util.module_from_spec(spec); spec.loader.exec_module(reader)
+ply = reader.read_ply(sys.argv[2])
+v = ply.data["vertex"]
+n = len(v["x"])
+assert 0 < n < 36 and 0 < len(ply.data["face"]["vertex_indices"]) <= 25, (n, len(ply.data["face"]["vertex_indices"]))
+for i in range(n):
+    x, y = v["x"][i], v["y"][i]
+    original = round(x * 5) + 6 * round(y * 5)  # half-edge collapses keep original positions
+    assert abs(x * 5 - round(x * 5)) < 1e-5 and abs(y * 5 - round(y * 5)) < 1e-5, (x, y)
+    assert v["curvature_1"][i] == 100.0 + original and v["prt_0"][i] == -original, i
+print(f"simplified to {n} vertices, each with its own block values")
+PY
+note "simplification: block values follow their vertices"
+
+# 6. PRT transfer, then a uniform PRT subdivision (new vertices): the blocks are removed, with a warning.
+bash "$RADIANCE_SOURCE_DIR/scripts/write_prt_mlx.sh" "$WORK/prt.mlx" transfer:2:16 uniform:4
+run_meshlabserver "$WORK/prt.log" -i "$WORK/in.rply" -o "$WORK/prt.rply" -m vn -s "$WORK/prt.mlx" \
+    || { cat "$WORK/prt.log" >&2; fail "transfer + subdivision + save failed"; }
+grep -q "Uniform PRT subdivision .*: 50 -> 200 faces" "$WORK/prt.log" || { cat "$WORK/prt.log" >&2; fail "no subdivision happened"; }
+grep -q "The extra vertex blocks 'prt', 'curvature' of the opened file were removed: the subdivision rebuilds the mesh" \
+    "$WORK/prt.log" || { cat "$WORK/prt.log" >&2; fail "no warning about the block the subdivision removed"; }
+if grep -aq "curvature" "$WORK/prt.rply"; then fail "the subdivided file claims the block"; fi
 note "ok"
