@@ -454,7 +454,7 @@ RadianceHeader parseRadianceComments(const PlyHeader& header) {
         auto block = std::find_if(r.blocks.begin(), r.blocks.end(), [&](const BlockDeclaration& b) { return b.prefix == prefix; });
         if (block == r.blocks.end())
             fail(cat("header line ", c.lineNumber, ": block_meta for undeclared block ", shown(prefix),
-                     " (add 'comment block ", prefix, " width <n>')"));
+                     " (add 'comment block ", isIdentifier(prefix) ? prefix : std::string("<prefix>"), " width <n>')"));
         // The writer refuses these, so accepting them would load a file that cannot be saved again.
         if (!isMetadataKey(key))
             fail(cat("header line ", c.lineNumber, ": block_meta key ", shown(key), " of block ", shown(prefix),
@@ -760,7 +760,7 @@ RadianceMesh readImpl(const std::string& path) {
             };
             if (&e == vertexElement) refuse("vertex data", "vertices", "vertex count");
             if (&e == faceElement) refuse("face data", "faces", "face count");
-            refuse(("data for element '" + e.name + "'").c_str(), "records", "element count");
+            refuse(("data for element " + shown(e.name)).c_str(), "records", "element count");
         }
         if (&e == faceElement) faceOffset = header.dataOffset + needed;
         needed += bytes;
@@ -1007,7 +1007,7 @@ RadianceMesh readImpl(const std::string& path) {
         } else {
             // Fixed size; checked above only with the smallest face records, so check again here.
             const std::uint64_t bytes = e.count * e.scalarBytes;
-            needBytes(bytes, "data for element '" + e.name + "'");
+            needBytes(bytes, "data for element " + shown(e.name));
             position += bytes;
         }
     }

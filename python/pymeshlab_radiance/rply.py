@@ -517,7 +517,7 @@ def _parse_radiance_comments(comments: List[_Comment]) -> _RadianceHeader:
         block = next((b for b in r.blocks if b[0] == prefix), None)
         if block is None:
             _fail(f"header line {c.number}: block_meta for undeclared block {_shown(prefix)} "
-                  f"(add 'comment block {prefix} width <n>')")
+                  f"(add 'comment block {prefix if _is_identifier(prefix) else '<prefix>'} width <n>')")
         # The writer refuses these, so accepting them would load a file that cannot be saved again.
         if not _is_metadata_key(key):
             _fail(f"header line {c.number}: block_meta key {_shown(key)} of block {_shown(prefix)} contains a control "
@@ -958,7 +958,7 @@ def _read(path: str) -> RadianceMesh:
                 at_least = "at least " if (e is face and not face_size_known) else ""
                 data, records, count_name = (("vertex data", "vertices", "vertex count") if e is vertex else
                                              ("face data", "faces", "face count") if e is face else
-                                             (f"data for element '{e.name}'", "records", "element count"))
+                                             (f"data for element {_shown(e.name)}", "records", "element count"))
                 _fail(f"file truncated: expected {at_least}{size} bytes of {data}, found {found}: the header declares "
                       f"{e.count} {records} of {at_least}{record} bytes each; the file was probably not completely "
                       f"written, or its header declares a wrong {count_name}")
@@ -1026,7 +1026,7 @@ def _read(path: str) -> RadianceMesh:
                 # Checked above with the smallest face records; faces with longer lists before this
                 # element may have used more.
                 if position + size > file_size:
-                    what = "vertex data" if e is vertex else f"data for element '{e.name}'"
+                    what = "vertex data" if e is vertex else f"data for element {_shown(e.name)}"
                     _fail(_truncated("", size, max(0, file_size - position), what)
                           + " (or the header declares a wrong count)")
             if e is vertex:

@@ -1173,3 +1173,21 @@ TEST(RadiancePlyFuzzRegressions, ControlCharactersInBlockMetadata) {
     }
     EXPECT_EQ(files, 6);
 }
+
+// Found by comparing the two readers on the fuzzer's corpus (bench/fuzz/compare_readers.py): names
+// taken from the file went raw into some messages; a NUL byte would cut the sentence short in the log.
+TEST(RadiancePlyHostile, NamesFromTheFileAreEscapedInEveryMessage) {
+    PlyBuilder b = baseBuilder();
+    b.comments.push_back(std::string("block_meta bl\0ck key value", 26));
+    std::string message = refusal(b.build(), "raw_prefix");
+    EXPECT_EQ(message.find('\0'), std::string::npos);
+    EXPECT_NE(message.find("block_meta for undeclared block 'bl\\x00ck' (add 'comment block <prefix> width <n>')"),
+              std::string::npos)
+        << message;
+    b = baseBuilder();
+    b.faceFlagsAndTexcoords = true;
+    b.extraHeader = std::string("element m\xe3t 1\nproperty int a\n");
+    b.extraData = std::string("\x01", 1);
+    message = refusal(b.build(), "raw_element");
+    EXPECT_NE(message.find("expected 4 bytes of data for element 'm\\xe3t', found 1"), std::string::npos) << message;
+}
