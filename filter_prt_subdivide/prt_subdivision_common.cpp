@@ -1,5 +1,6 @@
 #include "prt_subdivision_common.h"
 
+#include "extra_blocks_attribute.h"
 #include "mesh_conversion.h"
 #include "radiance_attribute.h"
 #include "usable_normals.h"
@@ -179,6 +180,17 @@ void replaceWithSubdivision(FilterContext& ctx, const PrtSubdivisionInput& input
     StoredTransfer transfer = input.stored;
     transfer.field.values = result.mesh.transfer;
     const std::vector<float> shading = whiteSkyShading(transfer.field);
+    // Blocks kept from a .rply have no values for the vertices the subdivision creates: say that they go.
+    const std::vector<std::string> dropped = extraBlockPrefixes(m.cm);
+    if (!dropped.empty()) {
+        std::string names;
+        for (const auto& p : dropped) names += (names.empty() ? "'" : ", '") + p + "'";
+        ctx.warning("The extra vertex block" + std::string(dropped.size() == 1 ? " " : "s ") + names +
+                    " of the opened file " + (dropped.size() == 1 ? "was" : "were") +
+                    " removed: the subdivision rebuilds the mesh, and the vertices it creates have no values in " +
+                    (dropped.size() == 1 ? "it" : "them") + ". Save the layer before subdividing to keep " +
+                    (dropped.size() == 1 ? "it." : "them."));
+    }
     enableLoadedData(m, importPlainMesh(out, m.cm));
     attachTransfer(m.cm, std::move(transfer));
     setShading(m, shading, 1.0f);

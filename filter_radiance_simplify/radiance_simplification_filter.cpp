@@ -5,6 +5,7 @@
 #include "radiance_simplify_plugin.h"
 
 #include "citations.h"
+#include "extra_blocks_attribute.h"
 
 #include "mesh_conversion.h"
 #include "radiance_attribute.h"
@@ -129,9 +130,12 @@ public:
         ExportChoice choice;
         choice.transfer = false;  // not used here (and not required to cover every vertex)
         choice.radiance = hasRadiance(m.cm);
-        if (!exportPlainMesh(m.cm, choice, plain, problem)) {
+        choice.extraBlocks = true;  // the blocks kept from a .rply follow their vertices through the collapses
+        std::vector<std::string> leftOut;
+        if (!exportPlainMesh(m.cm, choice, plain, problem, &leftOut)) {
             throw Refusal(QString::fromStdString(problem));
         }
+        for (const std::string& line : leftOut) ctx.warning("The simplified mesh goes without some data: " + line);
         if (!choice.radiance && options.metric != rad::SimplificationMetric::GeometryOnly) {
             throw Refusal(QString::fromStdString(missingRadianceAdvice()) +
                            " Or choose the geometry-only metric.");

@@ -1,5 +1,6 @@
 #include "radiance_ply_format.h"
 
+#include "extra_blocks_attribute.h"
 #include "mesh_conversion.h"
 #include "radiance_attribute.h"
 #include "transfer_attribute.h"
@@ -37,20 +38,32 @@ void RadiancePlyFormat::read(const QString& fileName, MeshModel& m, int& mask, F
         log(line);
     }
     if (!transferWarning.empty()) warning(transferWarning);
+    const std::vector<std::string> kept = extraBlockPrefixes(m.cm);
+    if (!kept.empty()) {
+        std::string names;
+        for (const auto& p : kept) names += (names.empty() ? "'" : ", '") + p + "'";
+        log("Kept the extra vertex block" + std::string(kept.size() == 1 ? " " : "s ") + names +
+            " of the file as they are (saving as .rply writes them back)");
+    }
+    // What the format does not know is not loaded, so a save cannot write it: say so.
+    for (const auto& skipped : plain.skippedOnRead) warning("Not loaded from " + fileName.toStdString() + ": " + skipped + ".");
     progress(100, "Done");
 }
 
 void RadiancePlyFormat::write(const QString& fileName, MeshModel& m, int mask, FilterProgress& progress,
-                              const std::function<void(const std::string&)>& log) const {
+                              const std::function<void(const std::string&)>& log,
+                              const std::function<void(const std::string&)>& warning) const {
     using vcg::tri::io::Mask;
     ExportChoice choice;
     choice.normals = (mask & Mask::IOM_VERTNORMAL) != 0;
     choice.colors = (mask & Mask::IOM_VERTCOLOR) != 0;
     choice.quality = (mask & Mask::IOM_VERTQUALITY) != 0;
+    choice.extraBlocks = true;
     progress(5, "Collecting mesh data");
     rad::RadianceMesh plain;
     std::string why;
-    if (!exportPlainMesh(m.cm, choice, plain, why))
+    std::vector<std::string> leftOut;
+    if (!exportPlainMesh(m.cm, choice, plain, why, &leftOut))
         throw Refusal("Cannot save " + fileName.toStdString() + ": " + why);
     progress(40, "Writing radiance PLY");
     try {
@@ -59,7 +72,11 @@ void RadiancePlyFormat::write(const QString& fileName, MeshModel& m, int mask, F
         throw Refusal("Cannot save " + fileName.toStdString() + ": " + e.what());
     }
     if (!plain.radiance) log("Saved " + fileName.toStdString() + " without radiance data (the mesh has none)");
-    if (!plain.extraBlocks.empty()) log("Saved the PRT transfer vectors with " + fileName.toStdString());
+    for (const auto& b : plain.extraBlocks)
+        log(b.prefix == kTransferBlockPrefix && hasTransfer(m.cm)
+                ? "Saved the PRT transfer vectors with " + fileName.toStdString()
+                : "Saved the extra vertex block '" + b.prefix + "' with " + fileName.toStdString());
+    for (const auto& line : leftOut) warning("Saved " + fileName.toStdString() + " without some data: " + line);
     progress(100, "Done");
 }
 

@@ -14,7 +14,8 @@ public:
               const std::function<void(const std::string&)>& log,
               const std::function<void(const std::string&)>& warning) const override;
     void write(const QString& fileName, MeshModel& mesh, int mask, FilterProgress& progress,
-               const std::function<void(const std::string&)>& log) const override;
+               const std::function<void(const std::string&)>& log,
+               const std::function<void(const std::string&)>& warning) const override;
 };
 
 }  // namespace radml

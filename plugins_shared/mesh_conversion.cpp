@@ -1,16 +1,19 @@
 #include "mesh_conversion.h"
 
+#include "extra_blocks_attribute.h"
 #include "radiance_attribute.h"
 #include "transfer_attribute.h"
 
 #include <vcg/complex/allocate.h>
 #include <wrap/io_trimesh/io_mask.h>
 
+#include <algorithm>
 #include <vector>
 
 namespace radml {
 
-bool exportPlainMesh(CMeshO& mesh, const ExportChoice& choice, rad::RadianceMesh& out, std::string& why) {
+bool exportPlainMesh(CMeshO& mesh, const ExportChoice& choice, rad::RadianceMesh& out, std::string& why,
+                     std::vector<std::string>* leftOut) {
     out = rad::RadianceMesh{};
     std::vector<std::uint32_t> compactIndex(mesh.vert.size(), 0);
     const std::size_t n = static_cast<std::size_t>(mesh.vn);
@@ -50,6 +53,24 @@ bool exportPlainMesh(CMeshO& mesh, const ExportChoice& choice, rad::RadianceMesh
         if (!gatherTransfer(mesh, transfer, why)) return false;
         out.extraBlocks.push_back(blockFromTransfer(transfer));
     }
+    if (choice.extraBlocks && hasExtraBlocks(mesh)) {
+        std::vector<rad::NamedVertexBlock> kept;
+        std::string problem;
+        if (!gatherExtraBlocks(mesh, kept, problem) && leftOut) leftOut->push_back(problem + ".");
+        for (auto& block : kept) {
+            const bool taken = std::any_of(out.extraBlocks.begin(), out.extraBlocks.end(),
+                                           [&](const rad::NamedVertexBlock& b) { return b.prefix == block.prefix; });
+            if (taken) {
+                // Only "prt" can collide: a transfer computed since the file was opened replaces the
+                // file's block that did not describe a transfer field.
+                if (leftOut)
+                    leftOut->push_back("The block '" + block.prefix + "' of the opened file was replaced by the PRT "
+                                       "transfer vectors computed since.");
+                continue;
+            }
+            out.extraBlocks.push_back(std::move(block));
+        }
+    }
     return true;
 }
 
@@ -81,14 +102,25 @@ int importPlainMesh(const rad::RadianceMesh& in, CMeshO& mesh, std::string* warn
     else
         removeRadiance(mesh);
     removeTransfer(mesh);
+    removeExtraBlocks(mesh);
+    std::vector<rad::NamedVertexBlock> kept;  // carried as they are, so that a save writes them back
     for (const rad::NamedVertexBlock& block : in.extraBlocks) {
-        if (block.prefix != kTransferBlockPrefix) continue;
+        if (block.prefix != kTransferBlockPrefix) {
+            kept.push_back(block);
+            continue;
+        }
         std::string why;
-        if (auto transfer = transferFromBlock(block, why))
+        if (auto transfer = transferFromBlock(block, why)) {
             attachTransfer(mesh, std::move(*transfer));
-        else if (warning)
-            *warning = "The PRT transfer vectors were not loaded: " + why + ".";
+        } else {
+            kept.push_back(block);
+            if (warning)
+                *warning = "The PRT transfer vectors were not loaded: " + why +
+                           ". The block is kept as it is and saved again unchanged; fix its metadata in the file "
+                           "(or run 'Radiance: Compute PRT Transfer', which replaces it) to use it for relighting.";
+        }
     }
+    if (!kept.empty()) attachExtraBlocks(mesh, std::move(kept));
     return mask;
 }
 

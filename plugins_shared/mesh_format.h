@@ -18,8 +18,10 @@ public:
     virtual void read(const QString& fileName, MeshModel& mesh, int& mask, FilterProgress& progress,
                       const std::function<void(const std::string&)>& log,
                       const std::function<void(const std::string&)>& warning) const = 0;
+    // `warning` says what a successful save could not keep (it must never be dropped silently).
     virtual void write(const QString& fileName, MeshModel& mesh, int mask, FilterProgress& progress,
-                       const std::function<void(const std::string&)>& log) const = 0;
+                       const std::function<void(const std::string&)>& log,
+                       const std::function<void(const std::string&)>& warning) const = 0;
 };
 
 }  // namespace radml

@@ -31,6 +31,9 @@ struct RadianceMesh {
     std::vector<std::uint32_t> faces;   // 3 per triangle
     std::optional<RadianceField> radiance;
     std::vector<NamedVertexBlock> extraBlocks;
+    // Filled by the reader only (the writer ignores it): one sentence per piece of the file it skipped
+    // (unknown vertex properties, unknown elements), so that callers can say what a later save drops.
+    std::vector<std::string> skippedOnRead;
 
     std::size_t vertexCount() const { return positions.size() / 3; }
     std::size_t faceCount() const { return faces.size() / 3; }

@@ -21,6 +21,8 @@
 #include <process.h>
 #include <windows.h>
 #else
+#include <csignal>
+#include <sys/types.h>
 #include <unistd.h>
 #endif
 
@@ -452,7 +454,16 @@ RadianceHeader parseRadianceComments(const PlyHeader& header) {
         auto block = std::find_if(r.blocks.begin(), r.blocks.end(), [&](const BlockDeclaration& b) { return b.prefix == prefix; });
         if (block == r.blocks.end())
             fail(cat("header line ", c.lineNumber, ": block_meta for undeclared block ", shown(prefix),
-                     " (add 'comment block ", prefix, " width <n>')"));
+                     " (add 'comment block ", isIdentifier(prefix) ? prefix : std::string("<prefix>"), " width <n>')"));
+        // The writer refuses these, so accepting them would load a file that cannot be saved again.
+        if (!isMetadataKey(key))
+            fail(cat("header line ", c.lineNumber, ": block_meta key ", shown(key), " of block ", shown(prefix),
+                     " contains a control character; metadata keys are visible characters without blanks: "
+                     "rename the key in that header line"));
+        if (!isMetadataValue(value))
+            fail(cat("header line ", c.lineNumber, ": the value of block_meta ", shown(key), " of block ", shown(prefix),
+                     " contains a control character (", shown(value), "); metadata values are one line of "
+                     "printable text: replace the control characters (tabs, line breaks...) in that header line by spaces"));
         if (!block->metadata.emplace(key, value).second)
             fail(cat("block_meta ", shown(key), " of block ", shown(prefix), " appears twice"));
     }
@@ -528,6 +539,7 @@ struct VertexLayout {
     long tangent[3] = {-1, -1, -1};
     std::vector<long> coefficients;            // c * K + k
     std::vector<std::vector<long>> blocks;     // per declared block, per index
+    std::vector<std::string> unknown;          // names of the skipped properties
 };
 
 VertexLayout planVertices(const PlyElement& vertex, const RadianceHeader& rh) {
@@ -587,7 +599,8 @@ VertexLayout planVertices(const PlyElement& vertex, const RadianceHeader& rh) {
             if (const BlockDeclaration* b = looksLikeBlockProperty(p.name, rh.blocks))
                 fail(cat("vertex property ", shown(p.name), " does not belong to block ", shown(b->prefix),
                          " of width ", b->width, " (expected ", b->prefix, "_0..", b->prefix, "_", b->width - 1, ")"));
-            continue;  // unknown property: skipped
+            layout.unknown.push_back(p.name);  // skipped, and reported (it is data a save would not write)
+            continue;
         }
         const SlotRef& ref = it->second;
         const PlyType want = ref.slot == Slot::Color ? PlyType::UInt8 : PlyType::Float32;
@@ -664,11 +677,6 @@ FaceLayout planFaces(const PlyElement& face) {
     return layout;
 }
 
-std::string truncated(const std::string& what, std::uint64_t expected, std::uint64_t found, const char* extra) {
-    return cat("file truncated: expected ", what, expected, " bytes of ", extra, ", found ",
-               found, "; the file was probably not completely written");
-}
-
 std::string trailing(std::uint64_t bytes) {
     return cat(bytes, bytes == 1 ? " byte" : " bytes", " of unexpected data after the last element: the header does not "
                "describe the data (wrong element count or property type?); this reader refuses trailing data");
@@ -721,10 +729,13 @@ RadianceMesh readImpl(const std::string& path) {
     const VertexLayout vertexLayout = planVertices(*vertexElement, rh);
     FaceLayout faceLayout;
     if (faceElement) faceLayout = planFaces(*faceElement);
+    // Refused even when empty: the rule is the same for every count (the specification says so), and
+    // an empty one is still a declaration that a save would drop.
     for (const auto& e : header.elements)
-        if (&e != vertexElement && &e != faceElement && e.hasList && e.count > 0)
+        if (&e != vertexElement && &e != faceElement && e.hasList)
             fail(cat("element ", shown(e.name), " has list properties (variable-size records) and is not a face element; "
-                     "it cannot be skipped safely: remove it (e.g. re-save the mesh from MeshLab)"));
+                     "this reader cannot skip such elements safely, even empty ones: remove the element and its "
+                     "property lines from the header (e.g. re-save the mesh from MeshLab)"));
 
     // Sizes against the file size, before allocating anything. Face records have a known size when the
     // only list is vertex_indices (and every face is a triangle, which the decoder checks).
@@ -733,18 +744,25 @@ RadianceMesh readImpl(const std::string& path) {
                                std::count_if(faceElement->properties.begin(), faceElement->properties.end(),
                                              [](const PlyProperty& p) { return p.isList; }) == 1;
     std::uint64_t needed = 0;
+    std::uint64_t faceOffset = 0;  // file offset of the face element when faceSizeKnown
     for (const auto& e : header.elements) {
         const std::uint64_t record = &e == faceElement ? faceLayout.minRecordBytes : e.scalarBytes;
         const std::uint64_t bytes = mulSat(e.count, record);
         if (addSat(needed, bytes) > dataBytes) {
             const std::uint64_t found = dataBytes - std::min(needed, dataBytes);
-            if (&e == vertexElement)
-                fail(truncated("", bytes, found, "vertex data") + " (or its header declares a wrong vertex count)");
-            if (&e == faceElement)
-                fail(truncated(faceSizeKnown ? "" : "at least ", bytes, found, "face data") +
-                     " (or its header declares a wrong face count)");
-            fail(truncated("", bytes, found, ("data for element '" + e.name + "'").c_str()));
+            // The figures, so that a user can tell a cut file from a damaged count.
+            const auto refuse = [&](const char* data, const char* records, const char* countName) {
+                const bool atLeast = &e == faceElement && !faceSizeKnown;
+                fail(cat("file truncated: expected ", atLeast ? "at least " : "", bytes, " bytes of ", data, ", found ",
+                         found, ": the header declares ", e.count, " ", records, " of ", atLeast ? "at least " : "",
+                         record, " bytes each; the file was probably not completely written, or its header declares a "
+                         "wrong ", countName));
+            };
+            if (&e == vertexElement) refuse("vertex data", "vertices", "vertex count");
+            if (&e == faceElement) refuse("face data", "faces", "face count");
+            refuse(("data for element " + shown(e.name)).c_str(), "records", "element count");
         }
+        if (&e == faceElement) faceOffset = header.dataOffset + needed;
         needed += bytes;
     }
     // With triangles only, the data size is exact; a quad mesh is larger, so leave the trailing-data
@@ -754,146 +772,249 @@ RadianceMesh readImpl(const std::string& path) {
 
     RadianceMesh mesh;
     const std::size_t n = static_cast<std::size_t>(vertexElement->count);
-    std::uint64_t position = header.dataOffset;  // file offset of the next element
-    if (!seekTo(file.get(), position)) fail("cannot seek in the file");
-    // Reads `bytes` bytes at the current position, in one fread.
-    const auto readBlock = [&](std::uint64_t bytes) {
-        std::unique_ptr<unsigned char[]> block(new unsigned char[bytes ? static_cast<std::size_t>(bytes) : 1]);
-        if (bytes && std::fread(block.get(), 1, static_cast<std::size_t>(bytes), file.get()) != bytes)
+    if (!vertexLayout.unknown.empty() && n > 0) {
+        std::string names;
+        for (const auto& u : vertexLayout.unknown) names += (names.empty() ? "" : ", ") + shown(u);
+        mesh.skippedOnRead.push_back(cat("vertex ", vertexLayout.unknown.size() == 1 ? "property " : "properties ", names,
+                                         " of the file ", vertexLayout.unknown.size() == 1 ? "is" : "are",
+                                         " not part of the radiance PLY format and ", vertexLayout.unknown.size() == 1 ? "was" : "were",
+                                         " not loaded (saving the mesh will not write ",
+                                         vertexLayout.unknown.size() == 1 ? "it" : "them",
+                                         "; to keep such data, declare it as a block: 'comment block <prefix> width <n>' "
+                                         "with properties <prefix>_0..<prefix>_<n-1>)"));
+    }
+    for (const auto& e : header.elements) {
+        if (&e == vertexElement || e.count == 0) continue;
+        if (&e == faceElement) {
+            std::string names;
+            for (std::size_t i = 0; i < e.properties.size(); ++i)
+                if (i != faceLayout.indexProperty) names += (names.empty() ? "" : ", ") + shown(e.properties[i].name);
+            if (!names.empty())
+                mesh.skippedOnRead.push_back(cat("face properties ", names, " were not loaded (the radiance PLY format "
+                                                 "stores only the vertex indices of a face)"));
+            continue;
+        }
+        mesh.skippedOnRead.push_back(cat("element ", shown(e.name), " (", e.count, " records) is not part of the radiance "
+                                         "PLY format and was not loaded (saving the mesh will not write it)"));
+    }
+
+    // Data is decoded in chunks of about this size through one reused buffer, and every chunk is checked
+    // as soon as it is decoded: a damaged or hostile file (e.g. a sparse file of zeros with a plausible
+    // header) is refused after one chunk instead of after allocating and filling the whole mesh. The
+    // output arrays are only reserved up front (address space, not memory) and grow chunk by chunk.
+    constexpr std::size_t kChunkBytes = std::size_t(8) << 20;
+    std::vector<unsigned char> buffer;
+    const auto readAt = [&](std::uint64_t offset, std::size_t bytes) -> const unsigned char* {
+        if (!seekTo(file.get(), offset)) fail("cannot seek in the file");
+        buffer.resize(std::max<std::size_t>(bytes, 1));
+        if (bytes && std::fread(buffer.data(), 1, bytes, file.get()) != bytes)
             fail("read error (the file changed while it was read, or the disk failed)");
-        return block;
+        return buffer.data();
+    };
+
+    // Faces: decodes records [f0, f1) from cursor; returns the end of the last one.
+    const auto decodeFaces = [&](const PlyElement& e, const unsigned char* cursor, const unsigned char* end, std::size_t f0,
+                                 std::size_t f1) {
+        const std::size_t faceCount = static_cast<std::size_t>(e.count);
+        const PlyProperty& indices = e.properties[faceLayout.indexProperty];
+        const bool signedIndex = indices.type == PlyType::Int32;
+        const auto truncatedFace = [&](std::size_t f) {
+            fail(cat("file truncated: the face data ends inside face ", f, " of ", faceCount,
+                     "; the file was probably not completely written"));
+        };
+        for (std::size_t f = f0; f < f1; ++f) {
+            for (std::size_t pi = 0; pi < e.properties.size(); ++pi) {
+                const PlyProperty& p = e.properties[pi];
+                if (!p.isList) {
+                    const std::size_t s = typeSize(p.type);
+                    if (static_cast<std::size_t>(end - cursor) < s) truncatedFace(f);
+                    cursor += s;
+                    continue;
+                }
+                const std::size_t cs = typeSize(p.countType);
+                if (static_cast<std::size_t>(end - cursor) < cs) truncatedFace(f);
+                const std::int64_t count = readInteger(cursor, p.countType);
+                cursor += cs;
+                if (pi == faceLayout.indexProperty) {
+                    if (count != 3)
+                        fail(cat("face ", f, " has ", count, " vertices but only triangle meshes are supported: "
+                                 "triangulate the mesh first (e.g. in MeshLab: Filters > Polygonal and Quad Mesh > "
+                                 "Turn into a Pure-Triangular mesh) and save it again"));
+                    if (static_cast<std::size_t>(end - cursor) < 12) truncatedFace(f);
+                    for (std::size_t k = 0; k < 3; ++k) {
+                        std::uint32_t raw;
+                        std::memcpy(&raw, cursor + 4 * k, 4);
+                        if (signedIndex && raw > 0x7fffffffu)
+                            fail(cat("face ", f, " has a negative vertex index ", static_cast<std::int32_t>(raw)));
+                        if (raw >= n)
+                            fail(cat("face ", f, " references vertex ", raw, " but the file has only ", n,
+                                     " vertices: vertex index out of range"));
+                        mesh.faces.push_back(raw);
+                    }
+                    cursor += 12;
+                } else {
+                    if (count < 0) fail(cat("face ", f, " has a negative length in list property ", shown(p.name)));
+                    const std::uint64_t listBytes = static_cast<std::uint64_t>(count) * typeSize(p.type);
+                    if (static_cast<std::uint64_t>(end - cursor) < listBytes) truncatedFace(f);
+                    cursor += listBytes;
+                }
+            }
+        }
+        return cursor;
+    };
+
+    // Faces first when their size is known: they are small, and a damaged face block is then refused
+    // before the (usually much larger) vertex data is read and allocated.
+    bool facesDone = false;
+    if (faceElement && faceSizeKnown) {
+        const std::size_t faceCount = static_cast<std::size_t>(faceElement->count);
+        const std::size_t rec = static_cast<std::size_t>(faceLayout.minRecordBytes);
+        mesh.faces.reserve(faceCount * 3);
+        const std::size_t perChunk = std::max<std::size_t>(1, kChunkBytes / rec);
+        for (std::size_t f0 = 0; f0 < faceCount; f0 += perChunk) {
+            const std::size_t f1 = std::min(faceCount, f0 + perChunk);
+            const unsigned char* data = readAt(faceOffset + std::uint64_t(f0) * rec, (f1 - f0) * rec);
+            decodeFaces(*faceElement, data, data + (f1 - f0) * rec, f0, f1);
+        }
+        facesDone = true;
+        // Every face was a triangle of exactly `rec` bytes, so the sizes are exact now.
+        if (dataBytes > needed) fail(trailing(dataBytes - needed));
+    }
+
+    std::uint64_t position = header.dataOffset;  // file offset of the next element
+    const auto needBytes = [&](std::uint64_t bytes, const std::string& what) {
+        if (position > fileSize || fileSize - position < bytes)
+            fail(cat("file truncated: expected ", bytes, " bytes of ", what, ", found ",
+                     position > fileSize ? 0 : fileSize - position, "; the file was probably not completely written "
+                     "(or the header declares a wrong count)"));
     };
     for (const auto& e : header.elements) {
         if (&e == vertexElement) {
-            const std::uint64_t bytes = static_cast<std::uint64_t>(n) * vertexLayout.recordBytes;
-            const std::unique_ptr<unsigned char[]> data = readBlock(bytes);
+            const std::size_t rec = vertexLayout.recordBytes;
+            const std::uint64_t bytes = static_cast<std::uint64_t>(n) * rec;
+            needBytes(bytes, "vertex data");
+            const std::uint64_t start = position;
             position += bytes;
-            mesh.positions.resize(n * 3);
             const bool hasNormals = vertexLayout.normal[0] >= 0;
             const bool hasColors = vertexLayout.color[0] >= 0;
-            if (hasNormals) mesh.normals.resize(n * 3);
-            if (hasColors) mesh.colors.assign(n * 4, 255);
-            if (vertexLayout.quality >= 0) mesh.quality.resize(n);
-            if (rh.basis) mesh.radiance.emplace(*rh.basis, n, rh.reflected);
+            const bool hasQuality = vertexLayout.quality >= 0;
+            mesh.positions.reserve(n * 3);
+            if (hasNormals) mesh.normals.reserve(n * 3);
+            if (hasColors) mesh.colors.reserve(n * 4);
+            if (hasQuality) mesh.quality.reserve(n);
+            std::size_t perVertex = 0;
+            if (rh.basis) {
+                mesh.radiance.emplace();
+                mesh.radiance->basis = *rh.basis;
+                mesh.radiance->reflected = rh.reflected;
+                perVertex = static_cast<std::size_t>(mesh.radiance->coefficientsPerVertex());
+                mesh.radiance->frames.reserve(n * 6);
+                mesh.radiance->coefficients.reserve(n * perVertex);
+            }
             for (const auto& b : rh.blocks) {
                 NamedVertexBlock block;
                 block.prefix = b.prefix;
                 block.width = b.width;
                 block.metadata = b.metadata;
-                block.values.resize(n * static_cast<std::size_t>(b.width));
+                block.values.reserve(n * static_cast<std::size_t>(b.width));
                 mesh.extraBlocks.push_back(std::move(block));
             }
             if (n == 0) continue;
-            using Run = CopyRun<unsigned char>;
-            std::vector<Run> runs;
-            auto add = [&](long offset, void* array, std::size_t stride, std::size_t size) {
-                runs.push_back({static_cast<std::size_t>(offset), static_cast<unsigned char*>(array), stride, size});
-            };
-            for (int i = 0; i < 3; ++i) add(vertexLayout.position[i], mesh.positions.data() + i, 12, 4);
-            if (hasNormals)
-                for (int i = 0; i < 3; ++i) add(vertexLayout.normal[i], mesh.normals.data() + i, 12, 4);
-            for (int i = 0; i < 4; ++i)
-                if (vertexLayout.color[i] >= 0) add(vertexLayout.color[i], mesh.colors.data() + i, 4, 1);
-            if (vertexLayout.quality >= 0) add(vertexLayout.quality, mesh.quality.data(), 4, 4);
-            if (rh.basis) {
-                RadianceField& rf = *mesh.radiance;
-                for (int i = 0; i < 3; ++i) add(vertexLayout.tangent[i], rf.frames.data() + i, 24, 4);
-                const std::size_t perVertex = static_cast<std::size_t>(rf.coefficientsPerVertex());
-                for (std::size_t j = 0; j < perVertex; ++j)
-                    add(vertexLayout.coefficients[j], rf.coefficients.data() + j, perVertex * 4, 4);
-            }
-            for (std::size_t b = 0; b < mesh.extraBlocks.size(); ++b) {
-                auto& block = mesh.extraBlocks[b];
-                const std::size_t w = static_cast<std::size_t>(block.width);
-                for (std::size_t i = 0; i < w; ++i) add(vertexLayout.blocks[b][i], block.values.data() + i, w * 4, 4);
-            }
-            runs = mergeRuns(std::move(runs));
-            const std::size_t rec = vertexLayout.recordBytes;
-            const unsigned char* records = data.get();
-            for (std::size_t v = 0; v < n; ++v) {
-                const unsigned char* record = records + v * rec;
-                for (const Run& r : runs) std::memcpy(r.array + v * r.arrayStride, record + r.recordOffset, r.bytes);
-            }
-        } else if (&e == faceElement) {
-            const std::size_t faceCount = static_cast<std::size_t>(e.count);
-            // Exact size for triangles; otherwise everything left (bounded by the file size).
-            const std::uint64_t bytes = faceSizeKnown ? faceCount * faceLayout.minRecordBytes : fileSize - position;
-            const std::unique_ptr<unsigned char[]> data = readBlock(bytes);
-            const unsigned char* cursor = data.get();
-            const unsigned char* const end = data.get() + bytes;
-            mesh.faces.resize(faceCount * 3);
-            const PlyProperty& indices = e.properties[faceLayout.indexProperty];
-            const bool signedIndex = indices.type == PlyType::Int32;
-            const auto truncatedFace = [&](std::size_t f) {
-                fail(cat("file truncated: the face data ends inside face ", f, " of ", faceCount,
-                         "; the file was probably not completely written"));
-            };
-            for (std::size_t f = 0; f < faceCount; ++f) {
-                for (std::size_t pi = 0; pi < e.properties.size(); ++pi) {
-                    const PlyProperty& p = e.properties[pi];
-                    if (!p.isList) {
-                        const std::size_t s = typeSize(p.type);
-                        if (static_cast<std::size_t>(end - cursor) < s) truncatedFace(f);
-                        cursor += s;
-                        continue;
+            const std::size_t perChunk = std::max<std::size_t>(1, kChunkBytes / std::max<std::size_t>(rec, 1));
+            for (std::size_t v0 = 0; v0 < n; v0 += perChunk) {
+                const std::size_t v1 = std::min(n, v0 + perChunk);
+                const unsigned char* records = readAt(start + std::uint64_t(v0) * rec, (v1 - v0) * rec);
+                mesh.positions.resize(v1 * 3);
+                if (hasNormals) mesh.normals.resize(v1 * 3);
+                if (hasColors) mesh.colors.resize(v1 * 4, 255);  // alpha stays 255 when the file has none
+                if (hasQuality) mesh.quality.resize(v1);
+                if (rh.basis) {
+                    mesh.radiance->frames.resize(v1 * 6);
+                    mesh.radiance->coefficients.resize(v1 * perVertex);
+                }
+                for (auto& block : mesh.extraBlocks) block.values.resize(v1 * static_cast<std::size_t>(block.width));
+                // The arrays may not move any more within this chunk: build the copy plan now.
+                using Run = CopyRun<unsigned char>;
+                std::vector<Run> runs;
+                auto add = [&](long offset, void* array, std::size_t stride, std::size_t size) {
+                    runs.push_back({static_cast<std::size_t>(offset), static_cast<unsigned char*>(array), stride, size});
+                };
+                for (int i = 0; i < 3; ++i) add(vertexLayout.position[i], mesh.positions.data() + i, 12, 4);
+                if (hasNormals)
+                    for (int i = 0; i < 3; ++i) add(vertexLayout.normal[i], mesh.normals.data() + i, 12, 4);
+                for (int i = 0; i < 4; ++i)
+                    if (vertexLayout.color[i] >= 0) add(vertexLayout.color[i], mesh.colors.data() + i, 4, 1);
+                if (hasQuality) add(vertexLayout.quality, mesh.quality.data(), 4, 4);
+                if (rh.basis) {
+                    RadianceField& rf = *mesh.radiance;
+                    for (int i = 0; i < 3; ++i) add(vertexLayout.tangent[i], rf.frames.data() + i, 24, 4);
+                    for (std::size_t j = 0; j < perVertex; ++j)
+                        add(vertexLayout.coefficients[j], rf.coefficients.data() + j, perVertex * 4, 4);
+                }
+                for (std::size_t b = 0; b < mesh.extraBlocks.size(); ++b) {
+                    auto& block = mesh.extraBlocks[b];
+                    const std::size_t w = static_cast<std::size_t>(block.width);
+                    for (std::size_t i = 0; i < w; ++i) add(vertexLayout.blocks[b][i], block.values.data() + i, w * 4, 4);
+                }
+                runs = mergeRuns(std::move(runs));
+                for (std::size_t v = v0; v < v1; ++v) {
+                    const unsigned char* record = records + (v - v0) * rec;
+                    for (const Run& r : runs) std::memcpy(r.array + v * r.arrayStride, record + r.recordOffset, r.bytes);
+                }
+                // Checks of this chunk, in the order positions, normals, tangents, coefficients, unit normals.
+                for (std::size_t i = v0 * 3; i < v1 * 3; ++i)
+                    if (!std::isfinite(mesh.positions[i])) fail(nonFinite("position", i / 3));
+                if (hasNormals)
+                    for (std::size_t i = v0 * 3; i < v1 * 3; ++i)
+                        if (!std::isfinite(mesh.normals[i])) fail(nonFinite("normal", i / 3));
+                if (rh.basis) {
+                    RadianceField& rf = *mesh.radiance;
+                    for (std::size_t v = v0; v < v1; ++v) {
+                        float* frame = rf.frame(v);
+                        std::memcpy(frame + 3, mesh.normals.data() + v * 3, 12);
+                        for (int i = 0; i < 3; ++i)
+                            if (!std::isfinite(frame[i])) fail(nonFinite("radiance frame tangent", v));
                     }
-                    const std::size_t cs = typeSize(p.countType);
-                    if (static_cast<std::size_t>(end - cursor) < cs) truncatedFace(f);
-                    const std::int64_t count = readInteger(cursor, p.countType);
-                    cursor += cs;
-                    if (pi == faceLayout.indexProperty) {
-                        if (count != 3)
-                            fail(cat("face ", f, " has ", count, " vertices but only triangle meshes are supported: "
-                                     "triangulate the mesh first (e.g. in MeshLab: Filters > Polygonal and Quad Mesh > "
-                                     "Turn into a Pure-Triangular mesh) and save it again"));
-                        if (static_cast<std::size_t>(end - cursor) < 12) truncatedFace(f);
-                        for (std::size_t k = 0; k < 3; ++k) {
-                            std::uint32_t raw;
-                            std::memcpy(&raw, cursor + 4 * k, 4);
-                            if (signedIndex && raw > 0x7fffffffu)
-                                fail(cat("face ", f, " has a negative vertex index ", static_cast<std::int32_t>(raw)));
-                            if (raw >= n)
-                                fail(cat("face ", f, " references vertex ", raw, " but the file has only ", n,
-                                         " vertices: vertex index out of range"));
-                            mesh.faces[f * 3 + k] = raw;
+                    for (std::size_t i = v0 * perVertex; i < v1 * perVertex; ++i)
+                        if (!std::isfinite(rf.coefficients[i])) fail(nonFinite("radiance coefficient", i / perVertex));
+                    for (std::size_t v = v0; v < v1; ++v) {
+                        const float* f = rf.frame(v);
+                        const float nn = f[3] * f[3] + f[4] * f[4] + f[5] * f[5];
+                        if (std::fabs(nn - 1.0f) > 1e-3f) {
+                            std::ostringstream why;  // RadianceField::validate's sentence
+                            why << "invalid radiance data: normal of vertex " << v << " is not unit length (|n|^2 = "
+                                << nn << ")";
+                            fail(why.str());
                         }
-                        cursor += 12;
-                    } else {
-                        if (count < 0) fail(cat("face ", f, " has a negative length in list property ", shown(p.name)));
-                        const std::uint64_t listBytes = static_cast<std::uint64_t>(count) * typeSize(p.type);
-                        if (static_cast<std::uint64_t>(end - cursor) < listBytes) truncatedFace(f);
-                        cursor += listBytes;
                     }
                 }
             }
-            position += static_cast<std::uint64_t>(cursor - data.get());
-            if (!faceSizeKnown && !seekTo(file.get(), position)) fail("cannot seek in the file");
+        } else if (&e == faceElement) {
+            if (facesDone) {
+                position += e.count * faceLayout.minRecordBytes;
+                continue;
+            }
+            // Lists other than vertex_indices: records of unknown size, read in one block (everything
+            // left, which the file size bounds).
+            const std::size_t faceCount = static_cast<std::size_t>(e.count);
+            const std::size_t bytes = static_cast<std::size_t>(position > fileSize ? 0 : fileSize - position);
+            const unsigned char* data = readAt(position, bytes);
+            mesh.faces.reserve(faceCount * 3);
+            const unsigned char* used = decodeFaces(e, data, data + bytes, 0, faceCount);
+            position += static_cast<std::uint64_t>(used - data);
+            buffer.clear();
+            buffer.shrink_to_fit();
         } else {
-            position += e.count * e.scalarBytes;  // fixed size, within the file (checked above)
-            if (!seekTo(file.get(), position)) fail("cannot seek in the file");
+            // Fixed size; checked above only with the smallest face records, so check again here.
+            const std::uint64_t bytes = e.count * e.scalarBytes;
+            needBytes(bytes, "data for element " + shown(e.name));
+            position += bytes;
         }
     }
-    if (position != fileSize)
-        fail(trailing(fileSize - position));
+    if (position != fileSize) fail(trailing(fileSize - position));
     file.reset();
-
-    // Values.
-    for (std::size_t i = 0; i < mesh.positions.size(); ++i)
-        if (!std::isfinite(mesh.positions[i])) fail(nonFinite("position", i / 3));
-    for (std::size_t i = 0; i < mesh.normals.size(); ++i)
-        if (!std::isfinite(mesh.normals[i])) fail(nonFinite("normal", i / 3));
     if (mesh.radiance) {
-        RadianceField& rf = *mesh.radiance;
-        for (std::size_t v = 0; v < n; ++v) {
-            float* frame = rf.frame(v);
-            std::memcpy(frame + 3, mesh.normals.data() + v * 3, 12);
-            for (int i = 0; i < 3; ++i)
-                if (!std::isfinite(frame[i])) fail(nonFinite("radiance frame tangent", v));
-        }
-        const std::size_t perVertex = static_cast<std::size_t>(rf.coefficientsPerVertex());
-        for (std::size_t i = 0; i < rf.coefficients.size(); ++i)
-            if (!std::isfinite(rf.coefficients[i])) fail(nonFinite("radiance coefficient", i / perVertex));
-        const std::string problem = rf.validate();
+        const std::string problem = mesh.radiance->validate();  // a last guard; the chunks were checked
         if (!problem.empty()) fail("invalid radiance data: " + problem);
     }
     return mesh;
@@ -963,6 +1084,41 @@ std::string temporaryPath(const std::string& path) {
 #endif
     const auto ticks = std::chrono::steady_clock::now().time_since_epoch().count();
     return cat(path, ".part-", pid, "-", counter++, "-", ticks % 1000000);
+}
+
+// Removes the temporary files `<path>.part-<pid>-<n>-<t>` that a writer killed mid-save left behind
+// (they can be hundreds of MB and nothing else removes them). Only files whose writer process no
+// longer exists are removed: a live writer's file (another process saving to the same path right now)
+// is never touched. The pid is checked on this machine, so a writer in another PID namespace or on
+// another host sharing the folder is out of sight; on Windows nothing is removed.
+void removeStaleTemporaries(const std::string& path) {
+#ifndef _WIN32
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path target(path);
+    const std::string prefix = target.filename().string() + ".part-";
+    const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
+    fs::directory_iterator it(folder, ec), end;
+    for (; !ec && it != end; it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        if (name.size() <= prefix.size() || name.compare(0, prefix.size(), prefix) != 0) continue;
+        // Exactly <pid>-<n>-<t>, decimal: anything else is not ours.
+        const std::string rest = name.substr(prefix.size());
+        const std::size_t d1 = rest.find('-');
+        const std::size_t d2 = d1 == std::string::npos ? d1 : rest.find('-', d1 + 1);
+        if (d2 == std::string::npos || !allDigits(rest.substr(0, d1)) || !allDigits(rest.substr(d1 + 1, d2 - d1 - 1)) ||
+            !allDigits(rest.substr(d2 + 1)))
+            continue;
+        const auto pid = parseUnsigned(rest.substr(0, d1));
+        if (!pid || *pid == 0 || *pid > static_cast<std::uint64_t>(std::numeric_limits<pid_t>::max())) continue;
+        if (kill(static_cast<pid_t>(*pid), 0) == 0 || errno != ESRCH) continue;  // alive (or not ours to judge)
+        std::error_code removeError;
+        std::error_code statusError;
+        if (fs::is_regular_file(it->symlink_status(statusError)) && !statusError) fs::remove(it->path(), removeError);
+    }
+#else
+    (void)path;
+#endif
 }
 
 bool replaceFile(const std::string& from, const std::string& to) {
@@ -1087,6 +1243,7 @@ void writeRadiancePly(const std::string& path, const RadianceMesh& mesh) {
     }
 
     // Temporary file, then rename.
+    removeStaleTemporaries(path);
     std::string temp;
     FilePtr file;
     for (int attempt = 0; attempt < 16 && !file; ++attempt) {

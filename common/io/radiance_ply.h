@@ -22,7 +22,8 @@ struct RadianceFileError : std::runtime_error {
 std::string validateRadianceMesh(const RadianceMesh& mesh);
 
 // Validates the mesh, writes it to a temporary file next to `path`, then renames it over `path`:
-// a failed save never leaves a partial file and never damages an existing one.
+// a failed save never leaves a partial file and never damages an existing one. Temporary files of
+// earlier saves to `path` whose writer process is dead (killed mid-save) are removed first.
 // When mesh.radiance is set, the file's normals (nx ny nz) are the radiance frame normals; mesh.normals
 // must then be empty or bit-identical to them.
 // Throws RadianceFileError on inconsistent input or any I/O failure.
@@ -31,6 +32,8 @@ void writeRadiancePly(const std::string& path, const RadianceMesh& mesh);
 // Reads a radiance PLY file (or a plain binary little-endian triangle PLY without radiance).
 // Strict: refuses anything it cannot read exactly, with a message saying what is wrong and how to fix
 // it. When the file has radiance, both mesh.normals and mesh.radiance->frames hold the normals.
+// Every declared extra block is returned in mesh.extraBlocks; what the format does not know (unknown
+// vertex properties and elements) is skipped and listed in mesh.skippedOnRead.
 // Throws RadianceFileError.
 RadianceMesh readRadiancePly(const std::string& path);
 

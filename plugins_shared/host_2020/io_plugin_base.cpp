@@ -51,7 +51,11 @@ bool IoPluginBase::save(const QString& format, const QString& fileName, MeshMode
         return refuse("This plugin only writes ." + format_->extension().toLower().toStdString() + " files.");
     FilterProgress progress(cb);
     try {
-        format_->write(fileName, m, mask, progress, [this](const std::string& s) { Log(GLLogStream::FILTER, s); });
+        format_->write(fileName, m, mask, progress, [this](const std::string& s) { Log(GLLogStream::FILTER, s); },
+                       [this](const std::string& s) {
+                           Log(GLLogStream::WARNING, s);
+                           std::fprintf(stderr, "%s\n", s.c_str());
+                       });
         return true;
     } catch (const std::exception& e) {
         return refuse(e.what());

@@ -40,7 +40,8 @@ void IoPluginBase::save(const QString& format, const QString& fileName, MeshMode
         throw MLException("This plugin only writes ." + format_->extension().toLower() + " files.");
     FilterProgress progress(cb);
     try {
-        format_->write(fileName, m, mask, progress, [this](const std::string& s) { log(GLLogStream::FILTER, s); });
+        format_->write(fileName, m, mask, progress, [this](const std::string& s) { log(GLLogStream::FILTER, s); },
+                       [this](const std::string& s) { log(GLLogStream::WARNING, s); });
     } catch (const MLException&) {
         throw;
     } catch (const std::exception& e) {

@@ -114,6 +114,9 @@ class RadianceMesh:
     * ``coefficients`` (N, 3, K) float32 or None -- channel-major as in the file:
       ``coefficients[v, c, k]`` is ``rf_<c>_<k>`` of vertex ``v`` (c = 0, 1, 2 for r, g, b).
     * ``blocks`` -- prefix -> :class:`Block`, in file order.
+    * ``skipped`` -- filled by :func:`read_rply` only (the writer ignores it): one sentence per piece of
+      the file that was not loaded (unknown vertex properties, unknown elements, extra face
+      properties), as ``RadianceMesh::skippedOnRead`` of the C++ reader.
     """
 
     positions: np.ndarray
@@ -126,6 +129,7 @@ class RadianceMesh:
     tangents: Optional[np.ndarray] = None
     coefficients: Optional[np.ndarray] = None
     blocks: Dict[str, Block] = field(default_factory=dict)
+    skipped: List[str] = field(default_factory=list)
 
     @property
     def vertex_count(self) -> int:
@@ -513,7 +517,16 @@ def _parse_radiance_comments(comments: List[_Comment]) -> _RadianceHeader:
         block = next((b for b in r.blocks if b[0] == prefix), None)
         if block is None:
             _fail(f"header line {c.number}: block_meta for undeclared block {_shown(prefix)} "
-                  f"(add 'comment block {prefix} width <n>')")
+                  f"(add 'comment block {prefix if _is_identifier(prefix) else '<prefix>'} width <n>')")
+        # The writer refuses these, so accepting them would load a file that cannot be saved again.
+        if not _is_metadata_key(key):
+            _fail(f"header line {c.number}: block_meta key {_shown(key)} of block {_shown(prefix)} contains a control "
+                  f"character; metadata keys are visible characters without blanks: rename the key in that header "
+                  f"line")
+        if not _is_metadata_value(value):
+            _fail(f"header line {c.number}: the value of block_meta {_shown(key)} of block {_shown(prefix)} contains "
+                  f"a control character ({_shown(value)}); metadata values are one line of printable text: replace "
+                  f"the control characters (tabs, line breaks...) in that header line by spaces")
         if key in block[2]:
             _fail(f"block_meta {_shown(key)} of block {_shown(prefix)} appears twice")
         block[2][key] = value
@@ -534,6 +547,7 @@ class _VertexLayout:
         self.tangent = [-1] * 3
         self.coefficients: List[int] = []   # c * K + k
         self.blocks: List[List[int]] = []
+        self.unknown: List[str] = []         # names of the skipped properties
 
 
 def _plan_vertices(vertex: _Element, rh: _RadianceHeader) -> _VertexLayout:
@@ -583,7 +597,8 @@ def _plan_vertices(vertex: _Element, rh: _RadianceHeader) -> _VertexLayout:
                 if block is not None and suffix and all(ch in "0123456789" for ch in suffix):
                     _fail(f"vertex property {_shown(p.name)} does not belong to block {_shown(block[0])} of width "
                           f"{block[1]} (expected {block[0]}_0..{block[0]}_{block[1] - 1})")
-            continue  # unknown property: skipped by its size
+            layout.unknown.append(p.name)  # skipped by its size, and reported
+            continue
         want = "uchar" if ref[0] == "c" else "float"
         if p.type != want:
             _fail(f"vertex property {_shown(p.name)} is {p.type} but must be {want}")
@@ -693,13 +708,14 @@ def _copy_columns(buf: np.ndarray, m: int, record: int, offsets: List[int], file
         i = j
 
 
-# Vertex records are read in chunks of about this many bytes into one reused buffer.
-_CHUNK_BYTES = 16 << 20
+# Vertex and face records are read in chunks of about this many bytes (the C++ reader's size, so that
+# both report the same first problem of a file with several).
+_CHUNK_BYTES = 8 << 20
 
 
-def _read_vertices(f, n: int, layout: "_VertexLayout", rh: "_RadianceHeader", mesh: "RadianceMesh") -> bool:
-    """Decodes the vertex element at the current file position into ``mesh``; returns whether every
-    position, normal, tangent and coefficient is finite (checked chunk by chunk, cheaply)."""
+def _read_vertices(f, n: int, layout: "_VertexLayout", rh: "_RadianceHeader", mesh: "RadianceMesh"):
+    """Decodes the vertex element at the current file position into ``mesh``, chunk by chunk, checking
+    each chunk (finite values, unit normals with radiance) as soon as it is decoded."""
     rec = layout.record
     targets = []  # (output array (n, w), offsets, file dtype, checked for finiteness)
 
@@ -728,35 +744,47 @@ def _read_vertices(f, n: int, layout: "_VertexLayout", rh: "_RadianceHeader", me
     for (prefix, _, meta), offsets in zip(rh.blocks, layout.blocks):
         mesh.blocks[prefix] = Block(target(offsets, "<f4", np.float32, False), dict(meta))
 
-    finite = True
     chunk = max(1, min(n, _CHUNK_BYTES // rec))
     buf = np.empty(chunk * rec, dtype=np.uint8) if n else None
     for start in range(0, n, chunk):
         m = min(chunk, n - start)
         data = _read_exact(f, m * rec, buf)
-        for out, offsets, file_dtype, check in targets:
-            part = out[start:start + m]
-            _copy_columns(data, m, rec, offsets, file_dtype, part)
-            if check and finite:
-                finite = bool(np.isfinite(part).all())
-    return finite
+        for out, offsets, file_dtype, _ in targets:
+            _copy_columns(data, m, rec, offsets, file_dtype, out[start:start + m])
+        # This chunk's checks, at once and in the C++ reader's order (positions, normals, tangents,
+        # coefficients, unit normals): a damaged or hostile file (e.g. a sparse file of zeros) is refused
+        # after one chunk, before the rest of the arrays is touched.
+        end = start + m
+        _first_non_finite(mesh.positions[start:end], "position", start)
+        if mesh.normals is not None:
+            _first_non_finite(mesh.normals[start:end], "normal", start)
+        if rh.basis:
+            _first_non_finite(mesh.tangents[start:end], "radiance frame tangent", start)
+            _first_non_finite(mesh.coefficients[start:end].reshape(m, -1), "radiance coefficient", start)
+            problem = _unit_normal_problem(mesh.normals[start:end], start)
+            if problem:
+                _fail("invalid radiance data: " + problem)
 
 
 class _FaceDecoder:
     """Decodes the face element: a vectorised path for records of fixed layout, a sequential one for
     the rest (lists whose lengths vary, e.g. a polygon), with the C++ reader's per-face checks."""
 
-    def __init__(self, element: _Element, index_property: int, n: int, buf: np.ndarray):
+    def __init__(self, element: _Element, index_property: int, n: int, buf: np.ndarray, first: int = 0,
+                 count: Optional[int] = None):
+        """Decodes ``count`` faces (all by default) held by ``buf``; ``first`` is the index of the first
+        one in the file (faces are decoded in chunks), for the messages."""
         self.e = element
         self.ip = index_property
         self.n = n
         self.buf = buf
-        self.count = element.count
+        self.count = element.count if count is None else count
+        self.first = first
         self.signed = element.properties[index_property].type == "int"
 
     def _truncated_face(self, f: int):
-        _fail(f"file truncated: the face data ends inside face {f} of {self.count}; the file was probably not "
-              f"completely written")
+        _fail(f"file truncated: the face data ends inside face {self.first + f} of {self.e.count}; the file was "
+              f"probably not completely written")
 
     def _check_indices(self, f0: int, raw: np.ndarray):
         """raw: (m, 3) uint32 indices of faces f0..f0+m-1; refuses the first bad one."""
@@ -768,7 +796,7 @@ class _FaceDecoder:
         if not bad.any():
             return
         flat = int(np.argmax(bad.ravel()))
-        f, value = f0 + flat // 3, int(raw.ravel()[flat])
+        f, value = self.first + f0 + flat // 3, int(raw.ravel()[flat])
         if self.signed and value > 0x7FFFFFFF:
             _fail(f"face {f} has a negative vertex index {value - (1 << 32)}")
         _fail(f"face {f} references vertex {value} but the file has only {self.n} vertices: vertex index out of range")
@@ -795,7 +823,7 @@ class _FaceDecoder:
                 lengths.append(length)
                 if pi == self.ip:
                     if length != 3:
-                        _fail(f"face {f} has {length} vertices but only triangle meshes are supported: triangulate "
+                        _fail(f"face {self.first + f} has {length} vertices but only triangle meshes are supported: triangulate "
                               f"the mesh first (e.g. in MeshLab: Filters > Polygonal and Quad Mesh > Turn into a "
                               f"Pure-Triangular mesh) and save it again")
                     if end - cursor < 12:
@@ -806,7 +834,7 @@ class _FaceDecoder:
                     cursor += 12
                 else:
                     if length < 0:
-                        _fail(f"face {f} has a negative length in list property {_shown(p.name)}")
+                        _fail(f"face {self.first + f} has a negative length in list property {_shown(p.name)}")
                     size = length * p.size
                     if end - cursor < size:
                         self._truncated_face(f)
@@ -908,27 +936,34 @@ def _read(path: str) -> RadianceMesh:
                   f"({_MAX_ELEMENT_COUNT}); the header is probably damaged")
         layout = _plan_vertices(vertex, rh)
         index_property, face_min_record = _plan_faces(face) if face is not None else (0, 0)
+        # Refused even when empty: the rule is the same for every count (the specification says so),
+        # and an empty one is still a declaration that a save would drop.
         for e in elements:
-            if e is not vertex and e is not face and e.has_list and e.count > 0:
+            if e is not vertex and e is not face and e.has_list:
                 _fail(f"element {_shown(e.name)} has list properties (variable-size records) and is not a face "
-                      f"element; it cannot be skipped safely: remove it (e.g. re-save the mesh from MeshLab)")
+                      f"element; this reader cannot skip such elements safely, even empty ones: remove the element "
+                      f"and its property lines from the header (e.g. re-save the mesh from MeshLab)")
 
         # Sizes against the file size, before allocating anything.
         data_bytes = file_size - data_offset
         face_size_known = face is None or len(face.properties) == 1 or \
             sum(p.is_list for p in face.properties) == 1
         needed = 0
+        face_offset = 0
         for e in elements:
             record = face_min_record if e is face else e.scalar_bytes
             size = e.count * record
             if needed + size > data_bytes:
                 found = data_bytes - min(needed, data_bytes)
-                if e is vertex:
-                    _fail(_truncated("", size, found, "vertex data") + " (or its header declares a wrong vertex count)")
-                if e is face:
-                    _fail(_truncated("" if face_size_known else "at least ", size, found, "face data")
-                          + " (or its header declares a wrong face count)")
-                _fail(_truncated("", size, found, f"data for element '{e.name}'"))
+                at_least = "at least " if (e is face and not face_size_known) else ""
+                data, records, count_name = (("vertex data", "vertices", "vertex count") if e is vertex else
+                                             ("face data", "faces", "face count") if e is face else
+                                             (f"data for element {_shown(e.name)}", "records", "element count"))
+                _fail(f"file truncated: expected {at_least}{size} bytes of {data}, found {found}: the header declares "
+                      f"{e.count} {records} of {at_least}{record} bytes each; the file was probably not completely "
+                      f"written, or its header declares a wrong {count_name}")
+            if e is face:
+                face_offset = data_offset + needed
             needed += size
         # With triangles only the data size is exact; a polygon mesh is larger (the face decoder says
         # "triangulate" then).
@@ -940,21 +975,62 @@ def _read(path: str) -> RadianceMesh:
                   f"most 2^31 vertices")
 
         mesh = RadianceMesh(positions=np.zeros((0, 3), np.float32))
+        if layout.unknown and n > 0:
+            one = len(layout.unknown) == 1
+            names = ", ".join(_shown(u) for u in layout.unknown)
+            mesh.skipped.append(f"vertex {'property' if one else 'properties'} {names} of the file "
+                                f"{'is' if one else 'are'} not part of the radiance PLY format and "
+                                f"{'was' if one else 'were'} not loaded (saving the mesh will not write "
+                                f"{'it' if one else 'them'}; to keep such data, declare it as a block: 'comment "
+                                f"block <prefix> width <n>' with properties <prefix>_0..<prefix>_<n-1>)")
+        for e in elements:
+            if e is vertex or e.count == 0:
+                continue
+            if e is face:
+                names = ", ".join(_shown(p.name) for i, p in enumerate(e.properties) if i != index_property)
+                if names:
+                    mesh.skipped.append(f"face properties {names} were not loaded (the radiance PLY format stores "
+                                        f"only the vertex indices of a face)")
+                continue
+            mesh.skipped.append(f"element {_shown(e.name)} ({e.count} records) is not part of the radiance PLY "
+                                f"format and was not loaded (saving the mesh will not write it)")
+
+        # Faces first when their size is known: they are small, and a damaged face block is then refused
+        # before the (usually much larger) vertex data is read.  In chunks, as the vertices.
+        faces_done = False
+        if face is not None and face_size_known:
+            out = np.empty((face.count, 3), dtype=np.uint32)
+            per_chunk = max(1, _CHUNK_BYTES // face_min_record)
+            for f0 in range(0, face.count, per_chunk):
+                m = min(per_chunk, face.count - f0)
+                f.seek(face_offset + f0 * face_min_record)
+                buf = _read_exact(f, m * face_min_record)
+                raw, _ = _FaceDecoder(face, index_property, n, buf, first=f0, count=m).decode()
+                out[f0:f0 + m] = raw
+            mesh.faces = out.view(np.int32)  # indices < n <= 2^31
+            faces_done = True
+            # Every face was a triangle of exactly face_min_record bytes: the sizes are exact now.
+            if data_bytes > needed:
+                _fail(_trailing(data_bytes - needed))
+
         position = data_offset
         for e in elements:
             f.seek(position)
-            if e is face and not face_size_known:
+            if e is face and faces_done:
+                position += e.count * face_min_record
+                continue
+            if e is face:
                 size = file_size - position  # polygons or other lists: at most the rest of the file
             else:
-                size = e.count * (face_min_record if e is face else e.scalar_bytes)
+                size = e.count * e.scalar_bytes
                 # Checked above with the smallest face records; faces with longer lists before this
-                # element may have used more (the C++ reader says "read error" or reports a negative
-                # amount of trailing data then).
+                # element may have used more.
                 if position + size > file_size:
-                    what = "vertex data" if e is vertex else f"data for element '{e.name}'"
-                    _fail(_truncated("", size, file_size - position, what))
+                    what = "vertex data" if e is vertex else f"data for element {_shown(e.name)}"
+                    _fail(_truncated("", size, max(0, file_size - position), what)
+                          + " (or the header declares a wrong count)")
             if e is vertex:
-                all_finite = _read_vertices(f, n, layout, rh, mesh)
+                _read_vertices(f, n, layout, rh, mesh)
                 position += size
             elif e is face:
                 buf = _read_exact(f, size)
@@ -966,31 +1042,18 @@ def _read(path: str) -> RadianceMesh:
                 position += size
         if position != file_size:
             _fail(_trailing(file_size - position))
-
-    # Values (in the C++ reader's order when something is not finite).
-    if not all_finite:
-        _first_non_finite(mesh.positions, "position")
-        if mesh.normals is not None:
-            _first_non_finite(mesh.normals, "normal")
-        if mesh.basis is not None:
-            _first_non_finite(mesh.tangents, "radiance frame tangent")
-            _first_non_finite(mesh.coefficients.reshape(n, -1), "radiance coefficient")
-    if mesh.basis is not None:
-        problem = _unit_normal_problem(mesh.normals)
-        if problem:
-            _fail("invalid radiance data: " + problem)
     return mesh
 
 
-def _first_non_finite(values: np.ndarray, what: str):
+def _first_non_finite(values: np.ndarray, what: str, first: int = 0):
     ok = np.isfinite(values).reshape(values.shape[0], -1).all(axis=1)
     if not ok.all():
-        v = int(np.argmin(ok))
+        v = first + int(np.argmin(ok))
         _fail(f"vertex {v} has a {what} that is not a finite number (NaN or infinity); fix or remove that vertex "
               f"before saving")
 
 
-def _unit_normal_problem(normals: np.ndarray) -> str:
+def _unit_normal_problem(normals: np.ndarray, first: int = 0) -> str:
     """As ``RadianceField::validate``: | |n|^2 - 1 | <= 1e-3 in float arithmetic."""
     n = normals.astype(np.float32, copy=False)
     with np.errstate(over="ignore", invalid="ignore"):
@@ -999,7 +1062,7 @@ def _unit_normal_problem(normals: np.ndarray) -> str:
     if not bad.any():
         return ""
     v = int(np.argmax(bad))
-    return f"normal of vertex {v} is not unit length (|n|^2 = {float(nn[v]):g})"
+    return f"normal of vertex {first + v} is not unit length (|n|^2 = {float(nn[v]):g})"
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -1260,7 +1323,8 @@ def write_rply(path, mesh: RadianceMesh) -> None:
 
     Validates everything first (array shapes and types, finite positions/normals/tangents/coefficients,
     face indices in 0..N-1, unit-length normals with radiance, block prefixes/widths/metadata); float64
-    arrays are converted to float32.  Then writes a temporary file ``<path>.part-<pid>-<n>-<t>`` in the
+    arrays are converted to float32.  Then removes the temporary files of earlier saves to ``path`` whose
+    writer process is dead (killed mid-save), writes a temporary file ``<path>.part-<pid>-<n>-<t>`` in the
     same folder, ``fsync``s it and renames it over ``path`` (atomic on POSIX).  Any problem raises
     :class:`RadianceFileError` (``cannot save '<path>': ...``) and leaves an existing file at ``path``
     untouched."""
@@ -1274,6 +1338,7 @@ def write_rply(path, mesh: RadianceMesh) -> None:
     except MemoryError:
         raise RadianceFileError(f"cannot save '{path}': not enough memory") from None
 
+    _remove_stale_temporaries(path)
     temp, fd, error = "", -1, None
     for _ in range(16):
         temp = f"{path}.part-{os.getpid()}-{next(_counter)}-{time.monotonic_ns() % 1000000}"
@@ -1308,6 +1373,41 @@ def write_rply(path, mesh: RadianceMesh) -> None:
     except OSError as e:
         _remove_quietly(temp)
         raise RadianceFileError(f"cannot save '{path}': cannot replace the file: {e.strerror or e}") from None
+
+
+_TEMPORARY_SUFFIX = re.compile(r"\.part-(\d+)-(\d+)-(\d+)\Z")
+
+
+def _remove_stale_temporaries(path: str):
+    """Removes the temporary files ``<path>.part-<pid>-<n>-<t>`` that a writer killed mid-save left
+    behind, as the C++ writer does: only those whose writer process no longer exists on this machine (a
+    live writer's file is never touched); nothing on Windows."""
+    if os.name == "nt":
+        return
+    folder, name = os.path.split(os.path.abspath(path))
+    try:
+        entries = os.listdir(folder)
+    except OSError:
+        return
+    for entry in entries:
+        if not entry.startswith(name + ".part-"):
+            continue
+        m = _TEMPORARY_SUFFIX.match(entry, len(name))
+        if not m:
+            continue
+        pid = int(m.group(1))
+        if pid <= 0 or pid > 0x7FFFFFFF:
+            continue
+        try:
+            os.kill(pid, 0)
+            continue  # alive
+        except ProcessLookupError:
+            pass
+        except OSError:
+            continue  # e.g. another user's live process: not ours to judge
+        full = os.path.join(folder, entry)
+        if os.path.isfile(full) and not os.path.islink(full):
+            _remove_quietly(full)
 
 
 def _remove_quietly(path: str):

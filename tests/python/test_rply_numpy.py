@@ -406,13 +406,12 @@ def test_python_file_read_by_cpp(name, tmp_path):
         assert (f"radiance {mesh.basis}{' (reflected)' if mesh.reflected else ''}: {3 * K} coefficients per "
                 f"vertex ({K} per channel)") in r.stdout
         lo, hi = re.search(r"coefficient range \[(\S+), (\S+)\]", r.stdout).groups()
-        if mesh.coefficients.size == 0:
-            return
-        assert float(lo) == pytest.approx(float(mesh.coefficients.min()), rel=1e-5)
-        assert float(hi) == pytest.approx(float(mesh.coefficients.max()), rel=1e-5)
-        # (radiance_info lists the extra blocks only after the radiance lines.)
-        for prefix, block in mesh.blocks.items():
-            assert f"extra block {prefix}: {block.values.shape[1]} floats per vertex" in r.stdout
+        if mesh.coefficients.size:
+            assert float(lo) == pytest.approx(float(mesh.coefficients.min()), rel=1e-5)
+            assert float(hi) == pytest.approx(float(mesh.coefficients.max()), rel=1e-5)
+    # The extra blocks, with or without radiance.
+    for prefix, block in mesh.blocks.items():
+        assert f"extra block {prefix}: {block.values.shape[1]} floats per vertex" in r.stdout
 
 
 def test_large_file_reads_quickly(tmp_path):
@@ -455,7 +454,12 @@ def test_reader_skips_unknown_scalar_vertex_properties(tmp_path):
     rows = [(0.25,) + r[:3] + (-7,) + r[3:] for r in tet_radiance_rows(PB1_NAMES)]
     data = build_ply([("vertex", vertex_props(order, types), rows), ("face", FACE_PROPS, [(f,) for f in TET_FACES])],
                      comments=RADIANCE_COMMENTS)
-    assert_tet_radiance(read_bytes(tmp_path, data))
+    mesh = read_bytes(tmp_path, data)
+    assert_tet_radiance(mesh)
+    # Nothing is dropped silently: the reader says what it did not load.
+    assert len(mesh.skipped) == 1
+    assert mesh.skipped[0].startswith("vertex properties 'confidence', 'flags' of the file are not part of the "
+                                      "radiance PLY format and were not loaded"), mesh.skipped
 
 
 def test_reader_skips_extra_elements(tmp_path):
@@ -464,7 +468,10 @@ def test_reader_skips_extra_elements(tmp_path):
     edge = ("edge", [("int", "vertex1"), ("int", "vertex2")], [(0, 1), (1, 2), (2, 3)])
     data = build_ply([material, ("vertex", vertex_props(PB1_NAMES), tet_radiance_rows(PB1_NAMES)),
                       ("face", FACE_PROPS, [(f,) for f in TET_FACES]), edge], comments=RADIANCE_COMMENTS)
-    assert_tet_radiance(read_bytes(tmp_path, data))
+    mesh = read_bytes(tmp_path, data)
+    assert_tet_radiance(mesh)
+    assert [s.split(" is not part")[0] for s in mesh.skipped] == ["element 'material' (2 records)",
+                                                                  "element 'edge' (3 records)"]
 
 
 def test_reader_accepts_colours_without_alpha(tmp_path):
@@ -556,7 +563,27 @@ BAD_FILES = {
     "list_element": (lambda c: build_ply([("vertex", vertex_props(["x", "y", "z"]), TET_POS),
                                           ("edges", [("list", "uchar", "int", "v")], [([0, 1],)])]),
                      "has list properties"),
+    # Hostile input: refused by both readers with the same sentence.
+    "empty_list_element": (lambda c: build_ply([("vertex", vertex_props(["x", "y", "z"]), TET_POS),
+                                                ("edges", [("list", "uchar", "int", "v")], [])]),
+                           "element 'edges' has list properties"),
+    "block_meta_value_with_tab": (lambda c: block_file("block_meta aux note a\tb"),
+                                  "header line 5: the value of block_meta 'note' of block 'aux' contains a control "
+                                  "character ('a\\x09b')"),
+    "block_meta_value_with_cr": (lambda c: block_file("block_meta aux note a\rb"),
+                                 "the value of block_meta 'note' of block 'aux' contains a control character"),
+    "block_meta_key_with_control": (lambda c: block_file("block_meta aux k\x01 v"),
+                                    "block_meta key 'k\\x01' of block 'aux' contains a control character"),
+    "vertex_count_beyond_the_file": (lambda c: tet_plain().replace(b"element vertex 4", b"element vertex 1000000"),
+                                     "expected 12000000 bytes of vertex data, found 100: the header declares 1000000 "
+                                     "vertices of 12 bytes each"),
 }
+
+
+def block_file(meta_comment):
+    """The tetrahedron with a one-float block 'aux' and the given block_meta comment (header line 5)."""
+    return build_ply([("vertex", vertex_props(["x", "y", "z", "aux_0"]), [p + (1.0,) for p in TET_POS])],
+                     comments=["radiance_format_version 1", "block aux width 1", meta_comment])
 
 
 @pytest.mark.parametrize("name", sorted(BAD_FILES))
@@ -591,7 +618,8 @@ def test_reader_truncation_after_variable_size_faces(tmp_path):
         with pytest.raises(RadianceFileError, match="file truncated") as error:
             rply.read_rply(path)
         assert phrase in str(error.value)
-        assert run([tool("radiance_info"), str(path)]).returncode == 1  # refused there too (other message)
+        r = run([tool("radiance_info"), str(path)])
+        assert r.returncode == 1 and phrase in r.stderr, r.stderr  # the same sentence there too
 
 
 def test_refusal_messages_say_how_to_fix(tmp_path):
@@ -664,3 +692,86 @@ def test_write_replaces_atomically(tmp_path, cpp_files):
     rply.write_rply(target, make_case("geometry"))
     assert rply.read_rply(target).basis is None
     assert [p.name for p in tmp_path.iterdir()] == ["t.rply"]
+
+
+# ---------------------------------------------------------------------------------------------------
+# Hostile input: memory, extra blocks, stale temporary files
+
+
+def test_sparse_file_refused_without_allocating_its_size(tmp_path):
+    """512 MiB of zeros behind a plausible PB1 header (a sparse file: no disk used).  Reading it whole
+    would touch 512 MiB of arrays; refused after the first chunk it touches a few MiB.  Measured in a
+    fresh interpreter (ru_maxrss is a high-water mark)."""
+    rec = 4 * len(PB1_NAMES)  # 72 bytes
+    n = (512 << 20) // rec
+    results = {}
+    for faces in (0, 1_000_000):
+        head = build_ply([("vertex", vertex_props(PB1_NAMES), []), ("face", FACE_PROPS, [])],
+                         comments=RADIANCE_COMMENTS)
+        head = head.replace(b"element vertex 0", f"element vertex {n}".encode())
+        head = head.replace(b"element face 0", f"element face {faces}".encode())
+        path = tmp_path / f"sparse_{faces}.rply"
+        with open(path, "wb") as f:
+            f.write(head)
+            f.truncate(len(head) + rec * n + 13 * faces)
+        code = (
+            "import importlib.util, resource, sys\n"
+            f"spec = importlib.util.spec_from_file_location('rply_under_test', {str(rply.__file__)!r})\n"
+            "m = importlib.util.module_from_spec(spec); sys.modules['rply_under_test'] = m; spec.loader.exec_module(m)\n"
+            "before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss\n"
+            "try:\n"
+            f"    m.read_rply({str(path)!r}); print('LOADED')\n"
+            "except m.RadianceFileError as e:\n"
+            "    print(e)\n"
+            "print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before)\n")
+        r = run([sys.executable, "-c", code])
+        assert r.returncode == 0, r.stderr
+        message, grown_kb = r.stdout.strip().rsplit("\n", 1)
+        results[faces] = message
+        assert int(grown_kb) < 64 * 1024, (faces, grown_kb)
+    assert "normal of vertex 0 is not unit length" in results[0], results[0]
+    assert "face 0 has 0 vertices" in results[1_000_000], results[1_000_000]
+
+
+def test_extra_blocks_other_than_prt_kept_byte_identical_with_cpp(tmp_path):
+    """A block the plugins do not interpret survives Python -> C++ (radiance_info lists it with its
+    metadata) and Python -> Python byte for byte."""
+    positions, faces = grid_mesh()
+    n = len(positions)
+    mesh = rply.RadianceMesh(positions=positions, faces=faces)
+    mesh.blocks["curvature"] = rply.Block(np.arange(2 * n, dtype=np.float32).reshape(n, 2) / 8,
+                                          {"unit": "1/m", "note": "principal  curvatures"})
+    a = tmp_path / "a.rply"
+    rply.write_rply(a, mesh)
+    r = run([tool("radiance_info"), str(a)])
+    assert r.returncode == 0, r.stderr
+    assert "extra block curvature: 2 floats per vertex, note=principal  curvatures, unit=1/m" in r.stdout
+    back = rply.read_rply(a)
+    np.testing.assert_array_equal(back.blocks["curvature"].values, mesh.blocks["curvature"].values)
+    b = tmp_path / "b.rply"
+    rply.write_rply(b, back)
+    assert a.read_bytes() == b.read_bytes()
+
+
+def test_writer_removes_stale_temporaries_of_dead_writers_only(tmp_path):
+    child = subprocess.Popen([sys.executable, "-c", "pass"])
+    child.wait()  # reaped: its pid names no process
+    target = tmp_path / "t.rply"
+    stale = tmp_path / f"t.rply.part-{child.pid}-0-99"
+    live = tmp_path / f"t.rply.part-{os.getppid()}-1-5"  # our parent runs
+    unrelated = [tmp_path / "t.rply.part-notes", tmp_path / f"u.rply.part-{child.pid}-0-1"]
+    for p in [stale, live] + unrelated:
+        p.write_bytes(b"x" * 1000)
+    rply.write_rply(target, make_case("geometry"))
+    assert not stale.exists()
+    assert live.exists() and all(p.exists() for p in unrelated)
+    assert rply.read_rply(target).vertex_count == len(make_case("geometry").positions)
+
+
+@pytest.mark.parametrize("path", sorted((REPO / "tests" / "unit" / "data" / "rply_fuzz_regressions").glob("*.rply")),
+                         ids=lambda p: p.stem)
+def test_fuzz_regressions_refused(path):
+    """Inputs the libFuzzer harness found on the C++ reader before issue 16 (block metadata with
+    control characters, accepted then but unsaveable): the numpy reader refuses them too."""
+    with pytest.raises(RadianceFileError, match=r": header line \d+: .*contains a control character"):
+        rply.read_rply(path)

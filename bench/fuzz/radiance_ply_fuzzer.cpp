@@ -1,0 +1,71 @@
+// libFuzzer harness for the radiance PLY reader (common/io/radiance_ply.h): every input either loads
+// or is refused with RadianceFileError; nothing else may escape, and the sanitizers watch memory and
+// undefined behaviour. A file that loads must also be saveable as it is (what the reader accepts, the
+// writer accepts: e.g. block metadata) and must read back with the same counts.
+// Built and run by bench/fuzz_radiance_ply.sh (not part of the CMake build or of CI).
+#include "io/radiance_ply.h"
+
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+#include <unistd.h>
+
+namespace {
+
+// The reader takes a path: inputs go through a file in a private folder (tmpfs when available).
+const std::string& folder() {
+    static const std::string dir = [] {
+        const char* base = std::getenv("RPLY_FUZZ_TMP");
+        std::string d = std::string(base ? base : "/tmp") + "/rply_fuzz_" + std::to_string(getpid());
+        std::string command = "mkdir -p '" + d + "'";
+        if (std::system(command.c_str()) != 0) std::abort();
+        return d;
+    }();
+    return dir;
+}
+
+bool writeFile(const std::string& path, const std::uint8_t* data, std::size_t size) {
+    std::FILE* f = std::fopen(path.c_str(), "wb");
+    if (!f) return false;
+    const bool ok = std::fwrite(data, 1, size, f) == size;
+    return std::fclose(f) == 0 && ok;
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    const std::string input = folder() + "/input.rply";
+    if (!writeFile(input, data, size)) std::abort();
+    rad::RadianceMesh mesh;
+    try {
+        mesh = rad::readRadiancePly(input);
+    } catch (const rad::RadianceFileError& e) {
+        // A refusal is a sentence naming the file.
+        if (std::strncmp(e.what(), "cannot load '", 13) != 0) std::abort();
+        return 0;
+    }
+    const std::string problem = rad::validateRadianceMesh(mesh);
+    if (!problem.empty()) {
+        std::fprintf(stderr, "loaded a mesh the writer refuses: %s\n", problem.c_str());
+        std::abort();
+    }
+    const std::string copy = folder() + "/copy.rply";
+    rad::writeRadiancePly(copy, mesh);
+    const rad::RadianceMesh back = rad::readRadiancePly(copy);
+    if (back.vertexCount() != mesh.vertexCount() || back.faces != mesh.faces ||
+        back.extraBlocks.size() != mesh.extraBlocks.size() || back.radiance.has_value() != mesh.radiance.has_value()) {
+        std::fprintf(stderr, "the saved copy reads back differently\n");
+        std::abort();
+    }
+    for (std::size_t b = 0; b < mesh.extraBlocks.size(); ++b)
+        if (back.extraBlocks[b].metadata != mesh.extraBlocks[b].metadata ||
+            std::memcmp(back.extraBlocks[b].values.data(), mesh.extraBlocks[b].values.data(),
+                        mesh.extraBlocks[b].values.size() * sizeof(float)) != 0) {
+            std::fprintf(stderr, "block %zu changed through a save\n", b);
+            std::abort();
+        }
+    return 0;
+}
