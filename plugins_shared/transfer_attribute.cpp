@@ -91,15 +91,33 @@ std::optional<StoredTransfer> transferFromBlock(const rad::NamedVertexBlock& blo
               " with " + std::to_string(channels) + " channel(s) needs " + std::to_string(t.field.width());
         return std::nullopt;
     }
-    int rays = rad::kDefaultTransferRayCount;
-    if (parseInt(block.metadata, "rays", rays) && rays > 0) t.rayCount = rays;
+    // The ray settings are reused for the vertices a subdivision adds: values the transfer filter
+    // would refuse are refused here too (a file claiming 10^6 rays was used as such).
+    if (block.metadata.count("rays") > 0) {
+        int rays = 0;
+        if (!parseInt(block.metadata, "rays", rays) || rays < 1 || rays > rad::kMaxTransferRayCount) {
+            why = "block 'prt' has 'rays' = '" + block.metadata.at("rays") + "', not a ray count in 1.." +
+                  std::to_string(rad::kMaxTransferRayCount) + ": compute the transfer again with 'Radiance: "
+                  "Compute PRT Transfer'";
+            return std::nullopt;
+        }
+        t.rayCount = rays;
+    }
     auto offset = block.metadata.find("ray_offset");
     if (offset != block.metadata.end()) {
+        double value = 0.0;
         try {
-            const double value = std::stod(offset->second);
-            if (value > 0.0 && value < 1.0) t.relativeRayOffset = value;
+            value = std::stod(offset->second);
         } catch (const std::exception&) {
+            value = 0.0;
         }
+        if (!(value > 0.0 && value < rad::kMaxRelativeRayOffset)) {
+            why = "block 'prt' has 'ray_offset' = '" + offset->second + "', not a fraction of the diagonal in (0, " +
+                  std::to_string(rad::kMaxRelativeRayOffset) + "): compute the transfer again with 'Radiance: "
+                  "Compute PRT Transfer'";
+            return std::nullopt;
+        }
+        t.relativeRayOffset = value;
     }
     auto occluders = block.metadata.find("occluders");
     t.allVisibleLayers = occluders != block.metadata.end() && occluders->second == "visible_layers";

@@ -334,3 +334,21 @@ def test_relighting_refuses_a_missing_map(transfer_file, tmp_path):
     missing = str(tmp_path / "no_such_map.exr")
     h.expect_refusal(h.load(transfer_file), h.RELIGHT, "no_such_map.exr",
                      **relight_parameters(lighting=0, environmentmap=missing))
+
+
+@pytest.mark.parametrize("key,value", [("rays", "1000000"), ("rays", "0"), ("ray_offset", "0.5"), ("ray_offset", "nan")])
+def test_transfer_with_impossible_ray_settings_is_not_used(key, value, transfer_file, tmp_path):
+    """A file whose transfer claims settings the transfer filter would refuse: the block is not
+    taken as transfer vectors (a subdivision would cast that many rays per new vertex), the
+    subdivision says how to get valid ones, and a save keeps the block as it was."""
+    mesh = rply.read_rply(str(transfer_file))
+    mesh.blocks["prt"].meta[key] = value
+    edited = tmp_path / "edited.rply"
+    rply.write_rply(str(edited), mesh)
+    ms = h.load(edited)
+    h.expect_refusal(ms, h.ADAPTIVE, "has no PRT transfer vectors. Run 'Radiance: Compute PRT Transfer' first",
+                     budgetfactor=2.0)
+    ms.save_current_mesh(str(tmp_path / "saved.rply"))
+    kept = rply.read_rply(str(tmp_path / "saved.rply")).blocks["prt"]
+    assert kept.meta[key] == value
+    assert np.array_equal(kept.values, mesh.blocks["prt"].values)
