@@ -69,7 +69,11 @@ create_radiance_mlx() {
         "<Param type=\"RichPoint3f\" name=\"light\" x=\"$lx\" y=\"$ly\" z=\"$lz\"/>" \
         '<Param type="RichFloat" name="lightIntensity" value="3"/>' \
         '<Param type="RichFloat" name="ambient" value="0.05"/>' \
-        '<Param type="RichBool" name="setColor" value="true"/>'
+        '<Param type="RichBool" name="setColor" value="true"/>' \
+        '<Param type="RichBool" name="validation" value="true"/>' \
+        '<Param type="RichBool" name="robust" value="true"/>' \
+        '<Param type="RichBool" name="exposureCompensation" value="true"/>' \
+        '<Param type="RichInt" name="heldOutEvery" value="0"/>'
 }
 
 # fit_mlx FILE [BASIS(0=PB,1=SH)] [DEGREE] [REFLECTED] [QUALITY(0=count,1=residual)]: a script
@@ -87,7 +91,11 @@ fit_mlx() {
         '<Param type="RichInt" name="minSamples" value="3"/>' \
         "<Param type=\"RichBool\" name=\"reflected\" value=\"$reflected\"/>" \
         "<Param type=\"RichEnum\" name=\"quality\" value=\"$quality\" enum_cardinality=\"2\" enum_val0=\"count\" enum_val1=\"residual\"/>" \
-        '<Param type="RichBool" name="setColor" value="true"/>'
+        '<Param type="RichBool" name="setColor" value="true"/>' \
+        '<Param type="RichBool" name="validation" value="true"/>' \
+        '<Param type="RichBool" name="robust" value="true"/>' \
+        '<Param type="RichBool" name="exposureCompensation" value="true"/>' \
+        '<Param type="RichInt" name="heldOutEvery" value="0"/>'
 }
 
 VIRTUAL_ACQUISITION="$RADIANCE_BUILD_DIR/tools/virtual_acquisition"
