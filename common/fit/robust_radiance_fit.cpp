@@ -179,11 +179,16 @@ void FitScratch::reserveSamples(int k, std::size_t sampleCount) {
     values.resize(3 * newCapacity);
     basisValues.resize(static_cast<std::size_t>(k) * newCapacity);
     looNorm.resize(newCapacity);
+    looByDegree.resize((std::max(kMaxPolynomialDegree, kMaxHarmonicDegree) + 1) * newCapacity);
     errorScale.resize(3 * newCapacity);
+    designT.resize(static_cast<std::size_t>(k) * newCapacity);
+    zMatrix.resize(static_cast<std::size_t>(k) * newCapacity);
+    hatP.resize(newCapacity);
+    hatQ.resize(newCapacity);
+    residuals.resize(3 * newCapacity);
     sortBuffer.resize(newCapacity);
     forward.resize(static_cast<std::size_t>(k) * 3);
     degreeSolutions.resize(static_cast<std::size_t>(k) * 3 * (std::max(kMaxPolynomialDegree, kMaxHarmonicDegree) + 1));
-    leverage.resize(k);
     virtualLeverage.resize(k);
     virtualSum.resize(k);
     design.resize(static_cast<std::size_t>(k) * newCapacity);
@@ -347,7 +352,10 @@ void RobustRadianceFitter::assemble(FitScratch& scratch, std::size_t n, Assembly
         scratch.sqrtWeight[j] = sq;
         const double* b = scratch.basisValues.data() + j * K;
         double* col = design + j * K;
-        for (int k = 0; k < K; ++k) col[k] = sq * b[k];
+        for (int k = 0; k < K; ++k) {
+            col[k] = sq * b[k];
+            scratch.designT[static_cast<std::size_t>(k) * cap + j] = col[k];
+        }
         for (int c = 0; c < 3; ++c) targets[c * cap + j] = sq * scratch.values[c * cap + j];
     }
     std::size_t rows = n;
@@ -394,8 +402,9 @@ void RobustRadianceFitter::assemble(FitScratch& scratch, std::size_t n, Assembly
 // sample: the fit is linear in the data, f = S y, and the leave-one-out residual of a linear
 // smoother is approximately (f_j - y_j) / (1 - S_jj) (exact for plain ridge regression; here the
 // virtual samples' value, the mean colour, also depends on y_j, which the S_jj below includes:
-// S_jj = a_j B_j^T A^-1 (B_j + (v / W) sum_virtual B_i)). storeLooNorms (one degree only): the
-// per-sample |leave-one-out residual| (RMS over channels) go to scratch.looNorm for the IRLS.
+// S_jj = a_j B_j^T A^-1 (B_j + (v / W) sum_virtual B_i)). storeLooNorms: the per-sample
+// |leave-one-out residual| (RMS over channels) of degree d go to row d of scratch.looByDegree, for
+// the IRLS.
 bool RobustRadianceFitter::scoreModels(FitScratch& scratch, std::size_t n, const Assembly& a, double lambda,
                                        int degreeLow, int degreeHigh, double* errors, double* standardErrors,
                                        bool storeLooNorms) const {
@@ -422,41 +431,72 @@ bool RobustRadianceFitter::scoreModels(FitScratch& scratch, std::size_t n, const
     const double leak = a.virtualWeight > 0.0 ? a.virtualWeight / a.sumW : 0.0;
     double sums[kMaxPolynomialDegree + kMaxHarmonicDegree + 2] = {};
     double squares[kMaxPolynomialDegree + kMaxHarmonicDegree + 2] = {};
-    double* z = scratch.leverage.data();
-    const double* design = scratch.design.data();
+    // Sample-major loops (j contiguous, vectorisable) over the transposed design: Z = L^-1 B of all
+    // real samples by one forward substitution of whole rows, then per degree the self-influences
+    // (running sums of Z's rows) and the residuals of the degree's solution.
+    const double* designT = scratch.designT.data();  // K rows of cap: sqrt(a_j) B_i(l_j)
     const double* targets = scratch.targets.data();
-    for (std::size_t j = 0; j < n; ++j) {
-        const double* col = design + j * K;
-        std::copy(col, col + K, z);
-        forward1InPlace(A, invDiag, K, z);
-        double p = 0.0, q = 0.0;
-        int k = 0;
-        for (int d = 0; d <= degreeHigh; ++d) {
-            for (; k < degreeK_[d]; ++k) {
-                p += z[k] * z[k];
-                q += z[k] * u[k];
+    double* Z = scratch.zMatrix.data();
+    for (int i = 0; i < K; ++i) {
+        double* zi = Z + static_cast<std::size_t>(i) * cap;
+        std::copy(designT + static_cast<std::size_t>(i) * cap, designT + static_cast<std::size_t>(i) * cap + n, zi);
+        const double* Li = A + static_cast<std::size_t>(i) * K;
+        for (int k = 0; k < i; ++k) {
+            const double lik = Li[k];
+            const double* zk = Z + static_cast<std::size_t>(k) * cap;
+            for (std::size_t jj = 0; jj < n; ++jj) zi[jj] -= lik * zk[jj];
+        }
+        const double inv = invDiag[i];
+        for (std::size_t jj = 0; jj < n; ++jj) zi[jj] *= inv;
+    }
+    double* P = scratch.hatP.data();
+    double* Q = scratch.hatQ.data();
+    double* R = scratch.residuals.data();  // 3 x cap
+    std::fill(P, P + n, 0.0);
+    std::fill(Q, Q + n, 0.0);
+    int k = 0;
+    for (int d = 0; d <= degreeHigh; ++d) {
+        for (; k < degreeK_[d]; ++k) {
+            const double* zk = Z + static_cast<std::size_t>(k) * cap;
+            const double uk = u[k];
+            for (std::size_t jj = 0; jj < n; ++jj) {
+                P[jj] += zk[jj] * zk[jj];
+                Q[jj] += zk[jj] * uk;
             }
-            if (d < degreeLow) continue;
-            const double h = p + leak * scratch.sqrtWeight[j] * q;
+        }
+        if (d < degreeLow) continue;
+        const double* x = scratch.degreeSolutions.data() + static_cast<std::size_t>(d) * 3 * K;
+        for (int c = 0; c < 3; ++c) {
+            double* rc = R + static_cast<std::size_t>(c) * cap;
+            const double* tc = targets + static_cast<std::size_t>(c) * cap;
+            for (std::size_t jj = 0; jj < n; ++jj) rc[jj] = -tc[jj];
+            for (int i = 0; i < degreeK_[d]; ++i) {
+                const double xi = x[c * K + i];
+                const double* bi = designT + static_cast<std::size_t>(i) * cap;
+                for (std::size_t jj = 0; jj < n; ++jj) rc[jj] += xi * bi[jj];
+            }
+        }
+        for (std::size_t jj = 0; jj < n; ++jj) {
+            const double h = P[jj] + leak * scratch.sqrtWeight[jj] * Q[jj];
             const double denominator = 1.0 - h;
-            const double* x = scratch.degreeSolutions.data() + static_cast<std::size_t>(d) * 3 * K;
-            double e = 0.0, plain = 0.0;  // a_j |f_j - y_j|^2 (rows are sqrt(a_j)-scaled), sRGB-scaled and not
+            // a_j |f_j - y_j|^2 (the rows are sqrt(a_j)-scaled), in sRGB units and plain.
+            double e = 0.0, plain = 0.0;
             for (int c = 0; c < 3; ++c) {
-                const double r = dot(col, x + c * K, degreeK_[d]) - targets[c * cap + j];
-                e += scratch.errorScale[c * cap + j] * r * r;
+                const double r = R[static_cast<std::size_t>(c) * cap + jj];
+                e += scratch.errorScale[c * cap + jj] * r * r;
                 plain += r * r;
             }
             if (denominator < kMinLooDenominator) {
                 sums[d] = std::numeric_limits<double>::infinity();
-                if (storeLooNorms) scratch.looNorm[j] = std::numeric_limits<double>::infinity();
+                if (storeLooNorms) scratch.looByDegree[d * cap + jj] = std::numeric_limits<double>::infinity();
                 continue;
             }
             const double term = e / (denominator * denominator);
             sums[d] += term;
             squares[d] += term * term;
             if (storeLooNorms) {
-                const double sq = scratch.sqrtWeight[j];
-                scratch.looNorm[j] = sq > 0.0 ? std::sqrt(plain / 3.0) / (sq * denominator) : 0.0;
+                const double sq = scratch.sqrtWeight[jj];
+                scratch.looByDegree[d * cap + jj] = sq > 0.0 ? std::sqrt(plain / 3.0) / (sq * denominator) : 0.0;
             }
         }
     }
@@ -495,7 +535,8 @@ double RobustRadianceFitter::scoreConstant(FitScratch& scratch, std::size_t n, c
     return sum / a.sumW;
 }
 
-RobustRadianceFitter::Choice RobustRadianceFitter::choose(FitScratch& scratch, std::size_t n, const Assembly& a) const {
+RobustRadianceFitter::Choice RobustRadianceFitter::choose(FitScratch& scratch, std::size_t n, const Assembly& a,
+                                                          const double* onlyLambda) const {
     Choice best;
     best.lambda = options_.lambda;
     best.degree = options_.basis.degree;
@@ -509,14 +550,20 @@ RobustRadianceFitter::Choice RobustRadianceFitter::choose(FitScratch& scratch, s
     double bestStandardError = 0.0;
     // Candidates in order of preference (full degree first, least lambda first): a later one must be
     // strictly better to replace an earlier one.
-    for (double lambda : lambdaGrid_) {
-        if (!scoreModels(scratch, n, a, lambda, low, high, errors, standardErrors, false)) continue;
+    // The best candidate's per-sample leave-one-out residuals are kept in scratch.looNorm (the
+    // IRLS's first reference, without scoring it again).
+    const std::size_t cap = scratch.capacity;
+    for (std::size_t l = 0; l < (onlyLambda ? 1 : lambdaGrid_.size()); ++l) {
+        const double lambda = onlyLambda ? *onlyLambda : lambdaGrid_[l];
+        if (!scoreModels(scratch, n, a, lambda, low, high, errors, standardErrors, true)) continue;
         for (int d = high; d >= low; --d)
             if (errors[d] < best.error) {
                 best.error = errors[d];
                 bestStandardError = standardErrors[d];
                 best.lambda = lambda;
                 best.degree = d;
+                std::copy(scratch.looByDegree.begin() + static_cast<std::ptrdiff_t>(d * cap),
+                          scratch.looByDegree.begin() + static_cast<std::ptrdiff_t>(d * cap + n), scratch.looNorm.begin());
             }
     }
     // The least validation error among 4 x (degree) candidates is biased low (the best of several
@@ -649,14 +696,20 @@ VertexFitResult RobustRadianceFitter::fit(const Frame& frame, const DirectionalS
     Choice choice = choose(scratch, n, assembly);
     if (options_.robustIterations > 0 && n >= 3) {
         double errors[kMaxPolynomialDegree + kMaxHarmonicDegree + 2];
+        bool changed = false;
         for (int it = 0; it < options_.robustIterations; ++it) {
             // The reference model is the best view-dependent candidate even when the constant won:
             // outliers push the choice toward the constant, whose residuals are large everywhere
             // and would inflate the scale (the final choice is made after the reweighting).
-            if (!std::isfinite(choice.error))
+            if (!std::isfinite(choice.error)) {
                 scoreConstant(scratch, n, assembly, true);
-            else if (!scoreModels(scratch, n, assembly, choice.lambda, choice.degree, choice.degree, errors, nullptr, true))
-                break;
+            } else if (it > 0 || lambdaGrid_.empty()) {  // at it = 0, choose() left them in looNorm
+                if (!scoreModels(scratch, n, assembly, choice.lambda, choice.degree, choice.degree, errors, nullptr, true))
+                    break;
+                const std::size_t row = static_cast<std::size_t>(choice.degree) * cap;
+                std::copy(scratch.looByDegree.begin() + static_cast<std::ptrdiff_t>(row),
+                          scratch.looByDegree.begin() + static_cast<std::ptrdiff_t>(row + n), scratch.looNorm.begin());
+            }
             // Scale: the median absolute leave-one-out residual / 0.6745 (the MAD of a normal
             // distribution), floored so that exact data (residuals at rounding level) keeps weight 1.
             double* sorted = scratch.sortBuffer.data();
@@ -673,13 +726,13 @@ VertexFitResult RobustRadianceFitter::fit(const Frame& frame, const DirectionalS
                 maxChange = std::max(maxChange, std::abs(w - scratch.robustWeight[j]));
                 scratch.robustWeight[j] = w;
             }
-            if (maxChange < 1e-3) break;
+            if (maxChange < 0.02) break;  // the weights need not be exact
+            changed = true;
             assemble(scratch, n, assembly);
-            // The model is chosen again with the new weights: the first choice was made with the
-            // outliers at full weight (often a constant or a heavily regularised fit, whose residuals
-            // are large everywhere and hide the outliers in the scale).
-            choice = choose(scratch, n, assembly);
         }
+        // The choice is made again with the final weights: the first one was made with the outliers
+        // at full weight, which favours strong regularisation.
+        if (changed) choice = choose(scratch, n, assembly);
         for (std::size_t j = 0; j < n; ++j) result.downweighted += scratch.robustWeight[j] < 1.0;
     }
     double mean[3];

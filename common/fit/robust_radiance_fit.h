@@ -190,7 +190,7 @@ struct RobustFitOptions {
     double validationMargin = 2.0;
     // Huber IRLS against outliers (highlights, misregistered depth edges): this many reweighting
     // passes (0: off), threshold huberThreshold x the MAD scale of the leave-one-out residuals. 0..10.
-    int robustIterations = 4;
+    int robustIterations = 2;
     double huberThreshold = 1.345;  // > 0
 
     // Empty when usable; otherwise a sentence naming the bad option and its valid range.
@@ -237,11 +237,15 @@ private:
     std::vector<double> values;     // rows x 3, column-major: y (unweighted)
     std::vector<double> basisValues;  // K x real samples, column-major: B(l_j)
     std::vector<double> looNorm;    // per real sample: |leave-one-out residual| (IRLS)
+    std::vector<double> looByDegree;  // (max degree + 1) x capacity: the same, per degree of one lambda
     std::vector<double> errorScale; // rows x 3, column-major: (d sRGB / d linear)^2 at y (validation)
     std::vector<double> sortBuffer; // per real sample: for the median
     std::vector<double> forward;    // K x 3: L^-1 r
     std::vector<double> degreeSolutions;  // (degree + 1) x K x 3: the solution at each degree
-    std::vector<double> leverage;   // K: L^-1 (sqrt(a_j) B(l_j))
+    std::vector<double> designT;    // K x capacity, row-major: sqrt(a_j) B(l_j) of the real samples
+    std::vector<double> zMatrix;    // K x capacity, row-major: L^-1 designT
+    std::vector<double> hatP, hatQ; // per real sample: the self-influence's two running sums
+    std::vector<double> residuals;  // 3 x capacity: weighted residuals of one candidate
     std::vector<double> virtualLeverage;  // K: L^-1 (sum of B over the virtual samples' directions)
     std::vector<double> virtualSum; // K
     std::vector<double> design;     // K x rows, column-major: sqrt(a) B(l)
@@ -294,7 +298,7 @@ private:
     bool scoreModels(FitScratch& scratch, std::size_t n, const Assembly& a, double lambda, int degreeLow,
                      int degreeHigh, double* errors, double* standardErrors, bool storeLooNorms) const;
     double scoreConstant(FitScratch& scratch, std::size_t n, const Assembly& a, bool storeLooNorms) const;
-    Choice choose(FitScratch& scratch, std::size_t n, const Assembly& a) const;
+    Choice choose(FitScratch& scratch, std::size_t n, const Assembly& a, const double* onlyLambda = nullptr) const;
 
     RobustFitOptions options_;
     int K_ = 0;
