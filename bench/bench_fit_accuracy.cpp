@@ -76,6 +76,7 @@ int main(int argc, char** argv) {
     std::string basisName = "PB4", materialName = "glossy";
     double exponent = -1.0, shadowsOn = 1.0;
     bool exposure = true, validation = true, robust = true;
+    double margin = -1.0;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--views" && i + 1 < argc) viewCount = std::atoi(argv[++i]);
@@ -88,6 +89,7 @@ int main(int argc, char** argv) {
         else if (a == "--no-exposure") exposure = false;
         else if (a == "--no-validation") validation = false;
         else if (a == "--no-robust") robust = false;
+        else if (a == "--margin" && i + 1 < argc) margin = std::atof(argv[++i]);
         else if (a[0] != '-') meshPath = a;
         else { std::fprintf(stderr, "unknown option %s\n", a.c_str()); return 2; }
     }
@@ -138,6 +140,7 @@ int main(int argc, char** argv) {
     options.compensateExposure = exposure;
     if (!validation) options.fit.validationLambdas = 0;
     if (!robust) options.fit.robustIterations = 0;
+    if (margin >= 0.0) options.fit.validationMargin = margin;
 
     // ---- 1. all views, against the ground truth over the observed hemisphere.
     std::vector<int> all(viewCount);
