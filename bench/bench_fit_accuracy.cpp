@@ -75,6 +75,8 @@ int main(int argc, char** argv) {
     int viewCount = 40, fewViews = 6, width = 800, height = 600;
     std::string basisName = "PB4", materialName = "glossy";
     double exponent = -1.0, shadowsOn = 1.0;
+    bool exposure = true, validation = true, robust = true;
+    double margin = -1.0;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--views" && i + 1 < argc) viewCount = std::atoi(argv[++i]);
@@ -84,6 +86,10 @@ int main(int argc, char** argv) {
         else if (a == "--material" && i + 1 < argc) materialName = argv[++i];
         else if (a == "--exponent" && i + 1 < argc) exponent = std::atof(argv[++i]);
         else if (a == "--no-shadows") shadowsOn = 0.0;
+        else if (a == "--no-exposure") exposure = false;
+        else if (a == "--no-validation") validation = false;
+        else if (a == "--no-robust") robust = false;
+        else if (a == "--margin" && i + 1 < argc) margin = std::atof(argv[++i]);
         else if (a[0] != '-') meshPath = a;
         else { std::fprintf(stderr, "unknown option %s\n", a.c_str()); return 2; }
     }
@@ -131,6 +137,10 @@ int main(int argc, char** argv) {
 
     RadianceFromViewsOptions options;
     options.fit.basis = *basis;
+    options.compensateExposure = exposure;
+    if (!validation) options.fit.validationLambdas = 0;
+    if (!robust) options.fit.robustIterations = 0;
+    if (margin >= 0.0) options.fit.validationMargin = margin;
 
     // ---- 1. all views, against the ground truth over the observed hemisphere.
     std::vector<int> all(viewCount);
@@ -239,11 +249,16 @@ int main(int argc, char** argv) {
 #pragma omp parallel reduction(+ : checked, over, threeOrFewer) reduction(max : worstExcess)
         {
             std::vector<DirectionalSample> samples(few.size());
+            std::vector<int> viewOf(few.size());
 #pragma omp for schedule(dynamic, 256)
             for (long long v = 0; v < (long long)mesh.vertexCount(); ++v) {
                 if (fewFit.status[v] != std::uint8_t(FitStatus::PoorlySampled)) continue;
-                const std::size_t count = sampler.sampleVertex(v, samples.data());
+                const std::size_t count = sampler.sampleVertex(v, samples.data(), nullptr, viewOf.data());
                 if (count == 0) continue;
+                // The range the fit saw: the samples divided by their photograph's exposure gains.
+                for (std::size_t s = 0; s < count; ++s)
+                    for (int c = 0; c < 3; ++c)
+                        samples[s].rgb[c] = float(samples[s].rgb[c] / fewFit.viewGains[3 * viewOf[s] + c]);
                 double lo[3] = {1e30, 1e30, 1e30}, hi[3] = {-1e30, -1e30, -1e30};
                 for (std::size_t s = 0; s < count; ++s)
                     for (int c = 0; c < 3; ++c) {

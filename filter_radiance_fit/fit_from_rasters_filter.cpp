@@ -10,11 +10,13 @@
 #include "raster_views.h"
 #include "usable_normals.h"
 
+#include "fit/held_out_evaluation.h"
 #include "fit/radiance_from_views.h"
 #include "radiance/view_colors.h"
 
 #include <QElapsedTimer>
 
+#include <algorithm>
 #include <cmath>
 
 namespace radml {
@@ -64,6 +66,28 @@ public:
         par.addParam(RichBool("setColor", true, "Set vertex colour to the mean colour",
                               "Vertex colour := the vertex's mean (diffuse) colour over its samples, "
                               "sRGB-encoded."));
+        par.addParam(RichBool("validation", true, "Choose the regularisation per vertex",
+                              "For every vertex, choose among the regularisation above and 10, 100 and 1000 times it, "
+                              "each at the chosen degree and every lower one, and the constant mean colour, the one "
+                              "that best predicts each of the vertex's photographs from the others (leave-one-view-out "
+                              "validation). A view-dependent function is kept only where it predicts unseen views "
+                              "better than the constant. Off: the regularisation above at the chosen degree everywhere."));
+        par.addParam(RichBool("robust", true, "Robust to outliers (Huber)",
+                              "Down-weight samples that the vertex's other photographs contradict (specular glints, "
+                              "misregistered depth edges) by a few iterations of Huber reweighting. Samples with a "
+                              "channel at 8-bit saturation (sRGB 250 or more) always get 1 % of their weight: a "
+                              "clipped value is a lower bound, not a measurement."));
+        par.addParam(RichBool("exposureCompensation", true, "Compensate exposure and white balance",
+                              "Estimate one gain per raster and colour channel from the vertices several rasters see "
+                              "(normalised to a geometric mean of 1) and divide each raster's colours by its gains "
+                              "before the fit: differences of exposure or white balance between the photographs are "
+                              "not view dependence. The gains are written to the log."));
+        par.addParam(RichInt("heldOutEvery", 0, "Hold out every k-th raster",
+                             "0: fit on every raster. k >= 2: rasters k, 2k, 3k... (in the order of the raster "
+                             "list) are left out of the fit, and the log compares, on each of them, the fitted "
+                             "functions, the constant mean colour and an average of the other rasters' colours (as "
+                             "'Project active rasters color to current mesh' does) with what the photograph shows "
+                             "(RMS error in 8-bit sRGB levels over the vertices it sees)."));
         return par;
     }
 
@@ -82,7 +106,14 @@ public:
         options.sampling.depthTolerance = absoluteOrPercentParameter(par, "depthTolerance");
         options.sampling.grazingAngleDegrees = par.getFloat("grazingAngle");
         options.sampling.borderMarginPixels = par.getInt("borderMargin");
-        for (const std::string& problem : {options.fit.validate(), options.sampling.validate()}) {
+        if (!par.getBool("validation")) options.fit.validationLambdas = 0;
+        if (!par.getBool("robust")) options.fit.robustIterations = 0;
+        options.compensateExposure = par.getBool("exposureCompensation");
+        const int heldOutEvery = par.getInt("heldOutEvery");
+        if (heldOutEvery < 0 || heldOutEvery == 1)
+            throw Refusal(formatLine("Hold out every k-th raster: %d is not usable; use 0 to fit on every raster, or k >= 2 "
+                                     "to leave rasters k, 2k, ... out of the fit and test the fit on them.", heldOutEvery));
+        for (const std::string& problem : {options.fit.validate(), options.sampling.validate(), options.validate()}) {
             if (!problem.empty()) throw Refusal(problem);
         }
 
@@ -98,6 +129,19 @@ public:
         if (rasters.views.empty())
             throw Refusal(formatLine("None of the %zu raster layers is usable (see the warnings above).",
                                      rasters.rasterCount));
+
+        // Held-out rasters: every k-th usable one, in the order of the raster list.
+        std::vector<rad::CalibratedView> training, heldOut;
+        std::vector<QString> trainingLabels, heldOutLabels;
+        for (std::size_t i = 0; i < rasters.views.size(); ++i) {
+            const bool out = heldOutEvery >= 2 && (i + 1) % static_cast<std::size_t>(heldOutEvery) == 0;
+            (out ? heldOut : training).push_back(rasters.views[i]);
+            (out ? heldOutLabels : trainingLabels).push_back(rasters.labels[i]);
+        }
+        if (heldOutEvery >= 2 && heldOut.empty())
+            throw Refusal(formatLine("Hold out every %d-th raster: only %zu usable rasters, so none would be held out; "
+                                     "use a k of at most %zu, or 0.", heldOutEvery, rasters.views.size(),
+                                     rasters.views.size()));
 
         rad::RadianceMesh plain;
         std::string why;
@@ -116,11 +160,14 @@ public:
         // Everything is computed aside; the layer changes only once the fit succeeded.
         rad::RadianceFromViewsResult result;
         try {
-            result = rad::fitRadianceFromViews(mesh, rasters.views, options, ctx.progress.forCore());
+            result = rad::fitRadianceFromViews(mesh, training, options, ctx.progress.forCore());
         } catch (const rad::FitError& e) {
             throw Refusal(e.what());
         }
         for (const std::string& warning : result.warnings) ctx.warning(warning);
+        rad::HeldOutEvaluation evaluation;
+        if (!heldOut.empty()) evaluation = rad::evaluateHeldOutViews(mesh, result.field, result.meanColor, training,
+                                                                     heldOut, options.sampling);
 
         const std::size_t n = mesh.vertexCount();
         const bool setColor = par.getBool("setColor");
@@ -138,12 +185,68 @@ public:
         m.updateDataMask(MeshModel::MM_VERTQUALITY);
         if (setColor) m.updateDataMask(MeshModel::MM_VERTCOLOR);
         ctx.progress(100, "Done");
-        ctx.log(formatLine("Fitted %s radiance functions%s from %zu of %zu rasters (%zu samples) on %zu vertices in %.2f s: "
-            "%zu fitted, %zu poorly sampled (%zu given their mean colour), %zu unseen filled from neighbours, "
-            "%zu unseen left black",
-            options.fit.basis.name().c_str(), options.fit.storeReflected ? " (reflected)" : "", result.viewsUsed,
-            rasters.rasterCount, result.totalSamples, n, timer.elapsed() / 1000.0, result.fitted, result.poorlySampled,
-            result.constantFallbacks, result.unseenFilled, result.unseenLeft));
+        // The log of a normal acquisition must read as what it is: most vertices of a few dozen
+        // photographs have fewer samples than a free fit of the basis would need, and the validation,
+        // not a sample-count threshold, decides whether their view dependence is kept.
+        const std::size_t seen = n - result.unseenFilled - result.unseenLeft;
+        ctx.log(formatLine("Fitted %s radiance functions%s on %zu vertices from %zu of %zu rasters%s in %.2f s: "
+                           "%zu samples, median %.0f per seen vertex.",
+                           options.fit.basis.name().c_str(), options.fit.storeReflected ? " (reflected)" : "", n,
+                           training.size(), rasters.rasterCount,
+                           heldOut.empty() ? "" : formatLine(" (%zu held out)", heldOut.size()).c_str(),
+                           timer.elapsed() / 1000.0, result.totalSamples, result.medianSamples));
+        ctx.log(formatLine("Of the %zu seen vertices: %zu view-dependent functions (%zu of them with a stronger "
+                           "regularisation or a lower degree chosen by validation), %zu constant mean colours because "
+                           "validation found them better at predicting the vertex's left-out views, %zu constant because "
+                           "of fewer than %d samples, %zu constant after the range guard. %zu unseen vertices filled "
+                           "from their neighbours, %zu unseen left black.",
+                           seen, result.viewDependent, result.regularised, result.validatedConstant,
+                           result.tooFewSamples, options.fit.minSamples, result.guardConstant, result.unseenFilled,
+                           result.unseenLeft));
+        if (options.fit.robustIterations > 0 || result.saturatedSamples > 0)
+            ctx.log(formatLine("Robust weights: %zu samples down-weighted as outliers, %zu samples at saturation "
+                               "given 1 %% weight.", result.robustDownweighted, result.saturatedSamples));
+        if (result.exposureCompensated) {
+            std::string gains;
+            double lo = 1e300, hi = 0.0;
+            for (std::size_t i = 0; i < training.size(); ++i) {
+                const double* g = result.viewGains.data() + 3 * i;
+                gains += formatLine("%s%s %.3f %.3f %.3f", i ? "; " : "", trainingLabels[i].toStdString().c_str(), g[0],
+                                    g[1], g[2]);
+                for (int c = 0; c < 3; ++c) {
+                    lo = std::min(lo, g[c]);
+                    hi = std::max(hi, g[c]);
+                }
+            }
+            ctx.log(formatLine("Exposure compensation (%zu rasters estimated from %zu samples): gains between %.3f and "
+                               "%.3f, per raster (R G B): %s.", result.exposureViews, result.exposureSamples, lo, hi,
+                               gains.c_str()));
+        }
+        if (!heldOut.empty()) {
+            for (std::size_t i = 0; i < heldOut.size(); ++i) {
+                const rad::HeldOutViewError& e = evaluation.views[i];
+                if (e.vertices == 0)
+                    ctx.log(formatLine("Held-out raster %s: no vertex seen by it and by a fitted raster.",
+                                       heldOutLabels[i].toStdString().c_str()));
+                else
+                    ctx.log(formatLine("Held-out raster %s: %zu vertices, RMS error in sRGB levels: fitted %.2f, "
+                                       "constant mean colour %.2f, colour projection %.2f; exposure-matched: %.2f, "
+                                       "%.2f, %.2f.",
+                                       heldOutLabels[i].toStdString().c_str(), e.vertices, e.fitted, e.constant,
+                                       e.projection, e.fittedMatched, e.constantMatched, e.projectionMatched));
+            }
+            ctx.log(formatLine("Held-out summary: %zu views compared, fitted <= constant in %zu; mean RMS fitted %.2f, "
+                               "constant %.2f, colour projection %.2f; mean ratio fitted / projection %.3f.",
+                               evaluation.viewsCompared, evaluation.fittedNotWorseThanConstant, evaluation.meanFitted,
+                               evaluation.meanConstant, evaluation.meanProjection, evaluation.meanRatioToProjection));
+            ctx.log(formatLine("Held-out summary, exposure-matched (each prediction scaled by its best gain per channel "
+                               "on the held-out photograph, whose exposure no prediction can know): fitted <= constant "
+                               "in %zu; mean RMS fitted %.2f, constant %.2f, colour projection %.2f; mean ratio fitted / "
+                               "projection %.3f.",
+                               evaluation.fittedNotWorseThanConstantMatched, evaluation.meanFittedMatched,
+                               evaluation.meanConstantMatched, evaluation.meanProjectionMatched,
+                               evaluation.meanRatioToProjectionMatched));
+        }
 }
 };
 
@@ -168,6 +271,13 @@ QString FitFromRastersFilter::description() const {
                "the range of the vertex's observed colours is regularised further, down to the constant "
                "mean colour. Vertices with fewer samples than the minimum get their mean colour as a "
                "constant RF; vertices no photograph sees are filled from their neighbours.<br>"
+               "Real photographs: each raster's exposure and white balance are estimated (one gain per "
+               "channel) and compensated; each vertex chooses its regularisation, degree, or the constant "
+               "mean colour by how well it predicts each of its photographs from the others "
+               "(leave-one-view-out validation), so that a view-dependent function is kept only where it "
+               "predicts unseen views better than the constant; outliers (glints, misregistered edges, "
+               "clipped pixels) are down-weighted. With 'Hold out every k-th raster' the log compares the "
+               "fit with the constant and with a colour projection on photographs it never saw.<br>"
                "Output: the radiance data (save as .rply), the vertex colour = the mean (diffuse) colour, "
                "the vertex quality = sample count or fit residual. Cameras with lens distortion are "
                "skipped (undistort the photographs first); the images must have the cameras' size.") +

@@ -12,6 +12,9 @@
 #   hdr/{city,courtyard,forest,interior,night,studio,sunrise,sunset}.exr (blender-data, CC0,
 #       1024x512 equirectangular, DWAB-compressed EXR), hdr/studiolights-license.txt (their licence)
 #   hdr/preview_landscape.hdr hdr/preview_studio.hdr                    (qtcreator-data, RGBE)
+#   photos/opencv-chessboard/{left,right}{01..09,11..14}.jpg            (opencv-doc: OpenCV's stereo
+#       calibration samples, 640x480 greyscale photographs of a 9x6-corner chessboard; calibrated
+#       into a MeshLab project by scripts/calibrate_chessboard.py)
 #
 # Packages are fetched with `apt-get download` (no root, no dependencies) and unpacked with
 # `dpkg-deb --fsys-tarfile` in a temporary directory; the .deb files are deleted afterwards.
@@ -43,6 +46,7 @@ INNER_CGAL_TAR="./usr/share/doc/libcgal-dev/data.tar.gz"
 GLMARK="./usr/share/glmark2/models"
 STUDIO="./usr/share/blender/datafiles/studiolights/world"
 QTIMG="./usr/share/qtcreator/qml/qmlpuppet/mockfiles/images"
+CVDATA="./usr/share/doc/opencv-doc/examples/data"
 MANIFEST="
 libcgal-demo   data/meshes/armadillo.off           meshes/armadillo.off
 libcgal-demo   data/meshes/bunny00.off             meshes/bunny00.off
@@ -63,6 +67,32 @@ blender-data   ${STUDIO}/sunset.exr                hdr/sunset.exr
 blender-data   ${STUDIO}/license.txt               hdr/studiolights-license.txt
 qtcreator-data ${QTIMG}/preview_landscape.hdr      hdr/preview_landscape.hdr
 qtcreator-data ${QTIMG}/preview_studio.hdr         hdr/preview_studio.hdr
+opencv-doc     ${CVDATA}/left01.jpg                   photos/opencv-chessboard/left01.jpg
+opencv-doc     ${CVDATA}/left02.jpg                   photos/opencv-chessboard/left02.jpg
+opencv-doc     ${CVDATA}/left03.jpg                   photos/opencv-chessboard/left03.jpg
+opencv-doc     ${CVDATA}/left04.jpg                   photos/opencv-chessboard/left04.jpg
+opencv-doc     ${CVDATA}/left05.jpg                   photos/opencv-chessboard/left05.jpg
+opencv-doc     ${CVDATA}/left06.jpg                   photos/opencv-chessboard/left06.jpg
+opencv-doc     ${CVDATA}/left07.jpg                   photos/opencv-chessboard/left07.jpg
+opencv-doc     ${CVDATA}/left08.jpg                   photos/opencv-chessboard/left08.jpg
+opencv-doc     ${CVDATA}/left09.jpg                   photos/opencv-chessboard/left09.jpg
+opencv-doc     ${CVDATA}/left11.jpg                   photos/opencv-chessboard/left11.jpg
+opencv-doc     ${CVDATA}/left12.jpg                   photos/opencv-chessboard/left12.jpg
+opencv-doc     ${CVDATA}/left13.jpg                   photos/opencv-chessboard/left13.jpg
+opencv-doc     ${CVDATA}/left14.jpg                   photos/opencv-chessboard/left14.jpg
+opencv-doc     ${CVDATA}/right01.jpg                  photos/opencv-chessboard/right01.jpg
+opencv-doc     ${CVDATA}/right02.jpg                  photos/opencv-chessboard/right02.jpg
+opencv-doc     ${CVDATA}/right03.jpg                  photos/opencv-chessboard/right03.jpg
+opencv-doc     ${CVDATA}/right04.jpg                  photos/opencv-chessboard/right04.jpg
+opencv-doc     ${CVDATA}/right05.jpg                  photos/opencv-chessboard/right05.jpg
+opencv-doc     ${CVDATA}/right06.jpg                  photos/opencv-chessboard/right06.jpg
+opencv-doc     ${CVDATA}/right07.jpg                  photos/opencv-chessboard/right07.jpg
+opencv-doc     ${CVDATA}/right08.jpg                  photos/opencv-chessboard/right08.jpg
+opencv-doc     ${CVDATA}/right09.jpg                  photos/opencv-chessboard/right09.jpg
+opencv-doc     ${CVDATA}/right11.jpg                  photos/opencv-chessboard/right11.jpg
+opencv-doc     ${CVDATA}/right12.jpg                  photos/opencv-chessboard/right12.jpg
+opencv-doc     ${CVDATA}/right13.jpg                  photos/opencv-chessboard/right13.jpg
+opencv-doc     ${CVDATA}/right14.jpg                  photos/opencv-chessboard/right14.jpg
 "
 
 manifest_lines() { printf '%s\n' "$MANIFEST" | sed -e '/^[[:space:]]*$/d'; }
@@ -109,7 +139,7 @@ trap cleanup EXIT
 # apt-get download drops privileges to _apt when it can; let that user write here.
 chmod 755 "$WORK_DIR"
 
-mkdir -p "${CACHE_DIR}/meshes" "${CACHE_DIR}/hdr"
+mkdir -p "${CACHE_DIR}/meshes" "${CACHE_DIR}/hdr" "${CACHE_DIR}/photos/opencv-chessboard"
 start_time="$(date +%s)"
 
 for pkg in $NEEDED; do

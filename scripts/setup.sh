@@ -34,6 +34,7 @@ APT_PACKAGES=(
   libgl1-mesa-dri              # Mesa llvmpipe: software OpenGL under Xvfb (no GPU here)
   imagemagick xdotool          # GUI test: screenshots and key presses
   python3                      # small test helpers (image comparison, PLY checks)
+  python3-opencv               # scripts/calibrate_chessboard.py: calibrates OpenCV's chessboard photographs
 )
 
 apt_missing() {

@@ -19,6 +19,10 @@ cat >"$out" <<MLX
   <Param type="RichBool" name="reflected" value="false"/>
   <Param type="RichEnum" name="quality" value="0" enum_cardinality="2" enum_val0="count" enum_val1="residual"/>
   <Param type="RichBool" name="setColor" value="true"/>
+  <Param type="RichBool" name="validation" value="true"/>
+  <Param type="RichBool" name="robust" value="true"/>
+  <Param type="RichBool" name="exposureCompensation" value="true"/>
+  <Param type="RichInt" name="heldOutEvery" value="0"/>
  </filter>
 </FilterScript>
 MLX

@@ -1,5 +1,7 @@
 #include "fit/radiance_from_views.h"
 
+#include "fit/exposure_compensation.h"
+
 #include "radiance/radiance_evaluation.h"
 #include "radiance/radiance_frame.h"
 #include "raycast/ray_scene.h"
@@ -64,6 +66,8 @@ void validateInput(const TriangleMesh& mesh, const std::vector<CalibratedView>& 
     if (!fitProblem.empty()) throw FitError("Invalid fitting parameter: " + fitProblem + ".");
     const std::string samplingProblem = options.sampling.validate();
     if (!samplingProblem.empty()) throw FitError("Invalid sampling parameter: " + samplingProblem + ".");
+    const std::string problem = options.validate();
+    if (!problem.empty()) throw FitError("Invalid parameter: " + problem + ".");
     if (views.empty())
         throw FitError("There is no raster to fit from: load calibrated photographs first (File > Import Raster, or "
                        "open a MeshLab project .mlp / Bundler .out with cameras), aligned with this mesh.");
@@ -97,6 +101,7 @@ private:
 
 constexpr const char* kStageChecking = "checking the rasters";
 constexpr const char* kStageScene = "building the ray-casting scene";
+constexpr const char* kStageExposure = "estimating the rasters' exposures";
 constexpr const char* kStageFitting = "sampling the rasters and fitting";
 constexpr const char* kStageFilling = "filling unseen vertices";
 constexpr const char* kStageDone = "done";
@@ -104,6 +109,18 @@ constexpr const char* kStageDone = "done";
 constexpr int kFitStart = 3, kFitEnd = 95;
 
 }  // namespace
+
+std::string RadianceFromViewsOptions::validate() const {
+    std::ostringstream why;
+    if (!(saturationLevel > 0.0) || !std::isfinite(saturationLevel))
+        why << "the saturation level must be a finite linear value > 0 (got " << saturationLevel
+            << "; 0.955 is sRGB code 250, a value above 1 turns the test off)";
+    else if (!(saturatedWeight > 0.0 && saturatedWeight <= 1.0))
+        why << "the weight of saturated samples must be in (0, 1] (got " << saturatedWeight << "; 1 keeps them as they are)";
+    else if (compensateExposure && exposurePoints < 1)
+        why << "the exposure compensation needs at least 1 vertex (got 0; turn the compensation off instead)";
+    return why.str();
+}
 
 VertexAdjacency buildVertexAdjacency(const TriangleMesh& mesh) {
     const std::size_t n = mesh.vertexCount(), faces = mesh.faceCount();
@@ -182,13 +199,61 @@ RadianceFromViewsResult fitRadianceFromViews(const TriangleMesh& mesh, const std
             "The mesh has no faces (a point cloud): occlusion by other parts of the object cannot be tested, so every "
             "point facing a camera counts as seen, and unseen points cannot be filled from neighbours.");
 
+    // Exposure / white-balance gains of the usable views, from the samples of up to
+    // options.exposurePoints vertices spread evenly over the vertex order.
+    std::vector<double> gains(3 * usable.size(), 1.0);
+    if (options.compensateExposure && usable.size() >= 2) {
+        progress.report(2, kStageExposure);
+        const std::size_t stride = std::max<std::size_t>(1, (n + options.exposurePoints - 1) / options.exposurePoints);
+        const std::ptrdiff_t points = static_cast<std::ptrdiff_t>((n + stride - 1) / stride);
+        std::vector<ExposureSample> all;
+#pragma omp parallel
+        {
+            std::vector<DirectionalSample> samples(usable.size());
+            std::vector<int> viewOf(usable.size());
+            std::vector<ExposureSample> mine;
+#pragma omp for schedule(dynamic, 256) nowait
+            for (std::ptrdiff_t p = 0; p < points; ++p) {
+                const std::size_t m = sampler->sampleVertex(static_cast<std::size_t>(p) * stride, samples.data(), nullptr,
+                                                            viewOf.data());
+                if (m < 2) continue;
+                for (std::size_t j = 0; j < m; ++j)
+                    mine.push_back(ExposureSample{static_cast<std::uint32_t>(p), static_cast<std::uint32_t>(viewOf[j]),
+                                                  {samples[j].rgb[0], samples[j].rgb[1], samples[j].rgb[2]},
+                                                  samples[j].weight});
+            }
+#pragma omp critical(radiance_from_views_exposure)
+            all.insert(all.end(), mine.begin(), mine.end());
+        }
+        // The merge order depends on the schedule; the solution must not.
+        std::sort(all.begin(), all.end(), [](const ExposureSample& a, const ExposureSample& b) {
+            return a.point != b.point ? a.point < b.point : a.view < b.view;
+        });
+        ExposureOptions exposure;
+        exposure.saturationLevel = options.saturationLevel;
+        const ExposureGains solved = solveExposureGains(all, usable.size(), exposure);
+        gains = solved.gains;
+        result.exposureCompensated = true;
+        result.exposureSamples = solved.samplesUsed;
+        for (std::uint8_t c : solved.constrained) result.exposureViews += c;
+        if (result.exposureViews < usable.size())
+            result.warnings.push_back(std::to_string(usable.size() - result.exposureViews) + " of " +
+                                      std::to_string(usable.size()) +
+                                      " rasters share no vertex with another raster: their exposure was left as it is.");
+    }
+    result.viewGains.assign(3 * views.size(), 1.0);
+    for (std::size_t i = 0; i < usable.size(); ++i)
+        for (int c = 0; c < 3; ++c) result.viewGains[3 * usableIndex[i] + c] = gains[3 * i + c];
+
     result.field = RadianceField(options.fit.basis, n, options.fit.storeReflected);
     result.meanColor.assign(3 * n, 0.0f);
     result.sampleCount.assign(n, 0.0f);
     result.residual.assign(n, 0.0f);
     result.status.assign(n, static_cast<std::uint8_t>(FitStatus::Unseen));
     std::vector<std::size_t> perView(usable.size(), 0);
-    std::size_t guardRetried = 0, fallbacks = 0, totalSamples = 0;
+    std::size_t guardRetried = 0, fallbacks = 0, totalSamples = 0, viewDependent = 0, regularised = 0;
+    std::size_t validatedConstant = 0, tooFew = 0, guardConstant = 0, downweighted = 0, saturated = 0;
+    std::vector<std::size_t> samplesHistogram(usable.size() + 1, 0);  // vertices by sample count
     progress.report(kFitStart, kStageFitting);
 
     RadianceField& field = result.field;
@@ -201,7 +266,9 @@ RadianceFromViewsResult fitRadianceFromViews(const TriangleMesh& mesh, const std
         std::vector<int> viewOf(usable.size());
         std::vector<std::size_t> localPerView(usable.size(), 0);
         FitScratch scratch = fitter.makeScratch();
-        std::size_t localRetried = 0, localFallbacks = 0, localSamples = 0;
+        std::size_t localRetried = 0, localFallbacks = 0, localSamples = 0, localViewDependent = 0, localRegularised = 0;
+        std::size_t localValidated = 0, localTooFew = 0, localGuard = 0, localDownweighted = 0, localSaturated = 0;
+        std::vector<std::size_t> localHistogram(usable.size() + 1, 0);
         const bool reporter = omp_get_thread_num() == 0;
 #pragma omp for schedule(dynamic, 256) nowait
         for (std::ptrdiff_t iv = 0; iv < count; ++iv) {
@@ -212,8 +279,29 @@ RadianceFromViewsResult fitRadianceFromViews(const TriangleMesh& mesh, const std
             // The frame as evaluation will read it back (float storage, re-orthonormalised).
             const Frame frame = frameFromStored(field.frame(v));
             const std::size_t m = sampler->sampleVertex(v, samples.data(), nullptr, viewOf.data());
-            for (std::size_t j = 0; j < m; ++j) ++localPerView[viewOf[j]];
+            for (std::size_t j = 0; j < m; ++j) {
+                DirectionalSample& s = samples[j];
+                ++localPerView[viewOf[j]];
+                if (std::max({s.rgb[0], s.rgb[1], s.rgb[2]}) >= options.saturationLevel) {
+                    s.weight *= static_cast<float>(options.saturatedWeight);
+                    ++localSaturated;
+                }
+                const double* g = gains.data() + 3 * viewOf[j];
+                for (int c = 0; c < 3; ++c) s.rgb[c] = static_cast<float>(s.rgb[c] / g[c]);
+            }
             const VertexFitResult r = fitter.fit(frame, samples.data(), m, scratch, field.vertexCoefficients(v));
+            if (r.sampleCount > 0) {
+                ++localHistogram[static_cast<std::size_t>(r.sampleCount)];
+                if (!r.constantFallback) ++localViewDependent;
+                if (!r.constantFallback && r.regularised) ++localRegularised;
+                if (r.validatedConstant)
+                    ++localValidated;
+                else if (r.constantFallback && r.sampleCount < options.fit.minSamples)
+                    ++localTooFew;
+                else if (r.constantFallback)
+                    ++localGuard;
+                localDownweighted += static_cast<std::size_t>(r.downweighted);
+            }
             for (int c = 0; c < 3; ++c) result.meanColor[3 * v + c] = static_cast<float>(r.meanColor[c]);
             result.sampleCount[v] = static_cast<float>(r.sampleCount);
             result.residual[v] = static_cast<float>(r.residual);
@@ -232,6 +320,37 @@ RadianceFromViewsResult fitRadianceFromViews(const TriangleMesh& mesh, const std
             guardRetried += localRetried;
             fallbacks += localFallbacks;
             totalSamples += localSamples;
+            viewDependent += localViewDependent;
+            regularised += localRegularised;
+            validatedConstant += localValidated;
+            tooFew += localTooFew;
+            guardConstant += localGuard;
+            downweighted += localDownweighted;
+            saturated += localSaturated;
+            for (std::size_t i = 0; i < samplesHistogram.size(); ++i) samplesHistogram[i] += localHistogram[i];
+        }
+    }
+    result.viewDependent = viewDependent;
+    result.regularised = regularised;
+    result.validatedConstant = validatedConstant;
+    result.tooFewSamples = tooFew;
+    result.guardConstant = guardConstant;
+    result.robustDownweighted = downweighted;
+    result.saturatedSamples = saturated;
+    {
+        // Median of the seen vertices' sample counts (the mean of the two middle ones for an even count).
+        std::size_t seen = 0;
+        for (std::size_t i = 1; i < samplesHistogram.size(); ++i) seen += samplesHistogram[i];
+        if (seen > 0) {
+            auto kth = [&](std::size_t k) {  // 0-based k-th smallest count among the seen vertices
+                std::size_t below = 0;
+                for (std::size_t i = 1; i < samplesHistogram.size(); ++i) {
+                    below += samplesHistogram[i];
+                    if (below > k) return static_cast<double>(i);
+                }
+                return static_cast<double>(samplesHistogram.size() - 1);
+            };
+            result.medianSamples = 0.5 * (kth((seen - 1) / 2) + kth(seen / 2));
         }
     }
     progress.throwIfCancelled();

@@ -46,9 +46,20 @@ struct FitError : std::runtime_error {
 };
 
 struct RadianceFromViewsOptions {
-    RobustFitOptions fit;           // basis, storage, regularisation, coverage, range guard
+    RobustFitOptions fit;           // basis, storage, regularisation, coverage, range guard, validation, IRLS
     ViewSamplingOptions sampling;   // depth tolerance, grazing angle, border margin
     bool fillUnseen = true;         // fill unseen vertices from their neighbours
+    // Per-raster exposure / white-balance gains (fit/exposure_compensation.h), estimated on at most
+    // exposurePoints vertices spread over the mesh, divided out of every sample before the fit.
+    bool compensateExposure = true;
+    std::size_t exposurePoints = 20000;
+    // A sample with a channel at or above saturationLevel (linear; 0.955 = sRGB code 250) is clipped:
+    // its value is a lower bound, not a measurement, so its weight is multiplied by saturatedWeight
+    // (it keeps a say only where every sample of the vertex is clipped). Detected before the gains.
+    double saturationLevel = 0.955;
+    double saturatedWeight = 0.01;
+
+    std::string validate() const;  // the fit's and sampling's checks plus these
 };
 
 struct RadianceFromViewsResult {
@@ -63,7 +74,24 @@ struct RadianceFromViewsResult {
     std::size_t unseenFilled = 0;     // status FilledFromNeighbours
     std::size_t unseenLeft = 0;       // status Unseen: zero radiance
     std::size_t guardRetried = 0;     // vertices whose lambda the range guard escalated
-    std::size_t constantFallbacks = 0;  // vertices given the constant mean colour (too few samples or guard)
+    std::size_t constantFallbacks = 0;  // vertices given the constant mean colour (any reason below)
+    // Of the seen vertices: a view-dependent function (not the constant); among them, those for
+    // which validation chose a larger lambda or a lower degree than the user's.
+    std::size_t viewDependent = 0;
+    std::size_t regularised = 0;
+    // Constant mean colour because validation preferred it (it predicted the vertex's left-out
+    // views better), because of fewer than minSamples samples, or because the guard rejected every fit.
+    std::size_t validatedConstant = 0;
+    std::size_t tooFewSamples = 0;
+    std::size_t guardConstant = 0;
+    double medianSamples = 0.0;       // median samples per seen vertex
+    std::size_t robustDownweighted = 0;  // samples the Huber IRLS gave a weight below 1
+    std::size_t saturatedSamples = 0;    // samples at saturation (weight reduced)
+    // Exposure compensation: 3 gains per input view (1 for skipped or unconstrained views).
+    std::vector<double> viewGains;
+    bool exposureCompensated = false;
+    std::size_t exposureViews = 0;    // views whose gains were estimated
+    std::size_t exposureSamples = 0;  // samples the estimate used
     std::size_t viewsUsed = 0;        // views that passed checkView
     std::vector<std::size_t> samplesPerView;  // per input view (0 for skipped views)
     std::size_t totalSamples = 0;

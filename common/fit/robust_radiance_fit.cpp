@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -63,14 +64,14 @@ bool choleskyInPlace(double* a, int K, double minPivot, double* invDiag) {
     return true;
 }
 
-// Solves L L^T x_c = b_c for the 3 channels at once (x: K x 3 column-major, b on entry), with the
-// factor of choleskyInPlace. The three substitutions are interleaved: independent dependency chains.
-void choleskySolve3InPlace(const double* L, const double* invDiag, int K, double* x) {
+// Forward substitution L y = b for the 3 channels (y: 3 columns of `stride`, b on entry), on the
+// leading `size` x `size` block of a factor whose rows are `stride` long.
+void forward3InPlace(const double* L, const double* invDiag, int stride, int size, double* x) {
     double* x0 = x;
-    double* x1 = x + K;
-    double* x2 = x + 2 * K;
-    for (int i = 0; i < K; ++i) {
-        const double* ri = L + static_cast<std::size_t>(i) * K;
+    double* x1 = x + stride;
+    double* x2 = x + 2 * stride;
+    for (int i = 0; i < size; ++i) {
+        const double* ri = L + static_cast<std::size_t>(i) * stride;
         double a0 = 0.0, a1 = 0.0, a2 = 0.0;
         for (int k = 0; k < i; ++k) {
             a0 += ri[k] * x0[k];
@@ -81,8 +82,18 @@ void choleskySolve3InPlace(const double* L, const double* invDiag, int K, double
         x1[i] = (x1[i] - a1) * invDiag[i];
         x2[i] = (x2[i] - a2) * invDiag[i];
     }
-    for (int i = K - 1; i >= 0; --i) {
-        const double* ri = L + static_cast<std::size_t>(i) * K;  // row i of L = column i of L^T
+}
+
+// Back substitution L^T x = y on the leading `size` block (same layout as forward3InPlace). The
+// leading block of the factor of A is the factor of A's leading block, and the first `size` entries
+// of L^-1 b only depend on the first `size` entries of b: one factorisation solves every lower
+// degree too (the bases are ordered by degree).
+void backward3InPlace(const double* L, const double* invDiag, int stride, int size, double* x) {
+    double* x0 = x;
+    double* x1 = x + stride;
+    double* x2 = x + 2 * stride;
+    for (int i = size - 1; i >= 0; --i) {
+        const double* ri = L + static_cast<std::size_t>(i) * stride;
         const double y0 = (x0[i] *= invDiag[i]), y1 = (x1[i] *= invDiag[i]), y2 = (x2[i] *= invDiag[i]);
         for (int k = 0; k < i; ++k) {
             x0[k] -= ri[k] * y0;
@@ -91,6 +102,18 @@ void choleskySolve3InPlace(const double* L, const double* invDiag, int K, double
         }
     }
 }
+
+// Forward substitution of one vector (x on entry = b).
+void forward1InPlace(const double* L, const double* invDiag, int K, double* x) {
+    for (int i = 0; i < K; ++i) {
+        const double* ri = L + static_cast<std::size_t>(i) * K;
+        x[i] = (x[i] - dot(ri, x, i)) * invDiag[i];
+    }
+}
+
+// Leave-one-out residuals are r_j / (1 - h_jj); a self-influence this close to 1 means the sample
+// alone determines the candidate there: its validation error is unbounded.
+constexpr double kMinLooDenominator = 1e-6;
 }  // namespace
 
 std::string RobustFitOptions::validate() const {
@@ -115,6 +138,14 @@ std::string RobustFitOptions::validate() const {
     else if (rangeGuard != RangeGuardScope::Off && rangeGuard != RangeGuardScope::PoorlySampledOnly &&
              rangeGuard != RangeGuardScope::AllVertices)
         why << "unknown range-guard scope " << int(rangeGuard);
+    else if (validationLambdas < 0 || validationLambdas > 8)
+        why << "the number of validation lambdas must be in [0, 8] (got " << validationLambdas << ")";
+    else if (robustIterations < 0 || robustIterations > 10)
+        why << "the number of robust (Huber) iterations must be in [0, 10] (got " << robustIterations << ")";
+    else if (!(validationMargin >= 0.0) || !std::isfinite(validationMargin))
+        why << "the validation margin must be a finite number of standard errors >= 0 (got " << validationMargin << ")";
+    else if (!(huberThreshold > 0.0) || !std::isfinite(huberThreshold))
+        why << "the Huber threshold must be a finite number > 0 (got " << huberThreshold << ")";
     return why.str();
 }
 
@@ -143,6 +174,23 @@ void FitScratch::reserveSamples(int k, std::size_t sampleCount) {
     capacity = newCapacity;
     local.resize(3 * newCapacity);
     sqrtWeight.resize(newCapacity);
+    baseWeight.resize(newCapacity);
+    robustWeight.resize(newCapacity);
+    values.resize(3 * newCapacity);
+    basisValues.resize(static_cast<std::size_t>(k) * newCapacity);
+    looNorm.resize(newCapacity);
+    looByDegree.resize((std::max(kMaxPolynomialDegree, kMaxHarmonicDegree) + 1) * newCapacity);
+    errorScale.resize(3 * newCapacity);
+    designT.resize(static_cast<std::size_t>(k) * newCapacity);
+    zMatrix.resize(static_cast<std::size_t>(k) * newCapacity);
+    hatP.resize(newCapacity);
+    hatQ.resize(newCapacity);
+    residuals.resize(3 * newCapacity);
+    sortBuffer.resize(newCapacity);
+    forward.resize(static_cast<std::size_t>(k) * 3);
+    degreeSolutions.resize(static_cast<std::size_t>(k) * 3 * (std::max(kMaxPolynomialDegree, kMaxHarmonicDegree) + 1));
+    virtualLeverage.resize(k);
+    virtualSum.resize(k);
     design.resize(static_cast<std::size_t>(k) * newCapacity);
     targets.resize(3 * newCapacity);
     gram.resize(static_cast<std::size_t>(k) * k);
@@ -194,6 +242,10 @@ RobustRadianceFitter::RobustRadianceFitter(const RobustFitOptions& options) : op
 
     evaluateBasis(options_.basis, 0.0, 0.0, 1.0, values);
     constantValue_ = values[0];
+
+    for (int d = 0; d <= options_.basis.degree; ++d) degreeK_.push_back(BasisSpec{options_.basis.kind, d}.coefficientCount());
+    for (int i = 0; i < options_.validationLambdas; ++i)
+        lambdaGrid_.push_back(i == 0 ? options_.lambda : std::max(options_.lambda, kEscalationBaseLambda) * std::pow(10.0, i));
 
     reflectSign_.assign(K_, 1.0);
     if (options_.basis.usesLocalFrame()) {
@@ -264,19 +316,275 @@ bool RobustRadianceFitter::insideBand(const double* x, double lo, double hi) con
     return true;
 }
 
+// The weighted system of the current effective weights (a_j times the Huber weight).
+struct RobustRadianceFitter::Assembly {
+    double sumW = 0.0;          // sum of the effective weights
+    double mean[3] = {0.0, 0.0, 0.0};
+    std::size_t rows = 0;       // real + virtual
+    double virtualWeight = 0.0; // weight of each virtual sample (0: none)
+    double trace = 0.0, scale = 0.0;
+};
+
+// One candidate of the validation.
+struct RobustRadianceFitter::Choice {
+    bool constant = false;
+    double lambda = 0.0;
+    int degree = 0;
+    double error = 0.0;          // of the chosen candidate
+    double constantError = 0.0;  // of the constant mean colour
+};
+
+void RobustRadianceFitter::assemble(FitScratch& scratch, std::size_t n, Assembly& a) const {
+    const int K = K_;
+    const std::size_t cap = scratch.capacity;
+    a = Assembly();
+    double sumWY[3] = {0.0, 0.0, 0.0};
+    for (std::size_t j = 0; j < n; ++j) {
+        const double w = scratch.baseWeight[j] * scratch.robustWeight[j];
+        a.sumW += w;
+        for (int c = 0; c < 3; ++c) sumWY[c] += w * scratch.values[c * cap + j];
+    }
+    for (int c = 0; c < 3; ++c) a.mean[c] = sumWY[c] / a.sumW;
+    double* design = scratch.design.data();
+    double* targets = scratch.targets.data();
+    for (std::size_t j = 0; j < n; ++j) {
+        const double sq = std::sqrt(scratch.baseWeight[j] * scratch.robustWeight[j]);
+        scratch.sqrtWeight[j] = sq;
+        const double* b = scratch.basisValues.data() + j * K;
+        double* col = design + j * K;
+        for (int k = 0; k < K; ++k) {
+            col[k] = sq * b[k];
+            scratch.designT[static_cast<std::size_t>(k) * cap + j] = col[k];
+        }
+        for (int c = 0; c < 3; ++c) targets[c * cap + j] = sq * scratch.values[c * cap + j];
+    }
+    std::size_t rows = n;
+    a.virtualWeight = options_.virtualSampleWeight * a.sumW / static_cast<double>(n);
+    std::fill(scratch.virtualSum.begin(), scratch.virtualSum.begin() + K, 0.0);
+    if (a.virtualWeight > 0.0) {
+        const double sq = std::sqrt(a.virtualWeight);
+        for (int i = 0; i < kCoverageDirections; ++i) {
+            if (scratch.covered[i]) continue;
+            const double* src = coverageBasis_.data() + static_cast<std::size_t>(i) * K;
+            double* col = design + rows * K;
+            for (int k = 0; k < K; ++k) {
+                col[k] = sq * src[k];
+                scratch.virtualSum[k] += src[k];
+            }
+            for (int c = 0; c < 3; ++c) targets[c * cap + rows] = sq * a.mean[c];
+            ++rows;
+        }
+    }
+    a.rows = rows;
+    const ConstMatrixMap B(design, K, static_cast<Eigen::Index>(rows));
+    // G = B B^T. Eigen fills the upper triangle of the column-major G, which is the lower triangle
+    // of the same buffer read row-major, as choleskyInPlace reads it (G is symmetric).
+    MatrixMap G(scratch.gram.data(), K, K);
+    G.setZero();
+    G.selfadjointView<Eigen::Upper>().rankUpdate(B);
+    // r = B Y (K x 3), by hand: an Eigen GEMM here would go through its OpenMP-parallel product
+    // path, pointless inside our per-vertex parallel loop and costly at these sizes.
+    std::fill(scratch.rhs.begin(), scratch.rhs.begin() + 3 * K, 0.0);
+    for (std::size_t j = 0; j < rows; ++j) {
+        const double* col = design + j * K;
+        for (int c = 0; c < 3; ++c) {
+            const double y = targets[c * cap + j];
+            double* r = scratch.rhs.data() + c * K;
+            for (int k = 0; k < K; ++k) r[k] += y * col[k];
+        }
+    }
+    a.trace = G.trace();
+    a.scale = a.trace / K;
+}
+
+// Validation errors of the fits at `lambda` of every degree in [degreeLow, degreeHigh] (errors[d]),
+// +infinity for a singular system. Leave-one-out through the self-influence h_jj of each real
+// sample: the fit is linear in the data, f = S y, and the leave-one-out residual of a linear
+// smoother is approximately (f_j - y_j) / (1 - S_jj) (exact for plain ridge regression; here the
+// virtual samples' value, the mean colour, also depends on y_j, which the S_jj below includes:
+// S_jj = a_j B_j^T A^-1 (B_j + (v / W) sum_virtual B_i)). storeLooNorms: the per-sample
+// |leave-one-out residual| (RMS over channels) of degree d go to row d of scratch.looByDegree, for
+// the IRLS.
+bool RobustRadianceFitter::scoreModels(FitScratch& scratch, std::size_t n, const Assembly& a, double lambda,
+                                       int degreeLow, int degreeHigh, double* errors, double* standardErrors,
+                                       bool storeLooNorms) const {
+    const int K = K_;
+    const std::size_t cap = scratch.capacity;
+    for (int d = degreeLow; d <= degreeHigh; ++d) errors[d] = std::numeric_limits<double>::infinity();
+    double* A = scratch.system.data();
+    std::copy(scratch.gram.begin(), scratch.gram.begin() + static_cast<std::ptrdiff_t>(K) * K, A);
+    if (lambda > 0.0)
+        for (int k = 1; k < K; ++k) A[k * K + k] += lambda * a.scale;
+    const double minPivot = (lambda > 0.0 ? kMinReciprocalCondition : 1e-12) * a.trace;
+    if (!choleskyInPlace(A, K, minPivot, scratch.invDiag.data())) return false;
+    const double* invDiag = scratch.invDiag.data();
+    std::copy(scratch.rhs.begin(), scratch.rhs.begin() + 3 * K, scratch.forward.begin());
+    forward3InPlace(A, invDiag, K, K, scratch.forward.data());
+    for (int d = degreeLow; d <= degreeHigh; ++d) {
+        double* x = scratch.degreeSolutions.data() + static_cast<std::size_t>(d) * 3 * K;
+        std::copy(scratch.forward.begin(), scratch.forward.begin() + 3 * K, x);
+        backward3InPlace(A, invDiag, K, degreeK_[d], x);
+    }
+    double* u = scratch.virtualLeverage.data();
+    std::copy(scratch.virtualSum.begin(), scratch.virtualSum.begin() + K, u);
+    forward1InPlace(A, invDiag, K, u);
+    const double leak = a.virtualWeight > 0.0 ? a.virtualWeight / a.sumW : 0.0;
+    double sums[kMaxPolynomialDegree + kMaxHarmonicDegree + 2] = {};
+    double squares[kMaxPolynomialDegree + kMaxHarmonicDegree + 2] = {};
+    // Sample-major loops (j contiguous, vectorisable) over the transposed design: Z = L^-1 B of all
+    // real samples by one forward substitution of whole rows, then per degree the self-influences
+    // (running sums of Z's rows) and the residuals of the degree's solution.
+    const double* designT = scratch.designT.data();  // K rows of cap: sqrt(a_j) B_i(l_j)
+    const double* targets = scratch.targets.data();
+    double* Z = scratch.zMatrix.data();
+    for (int i = 0; i < K; ++i) {
+        double* zi = Z + static_cast<std::size_t>(i) * cap;
+        std::copy(designT + static_cast<std::size_t>(i) * cap, designT + static_cast<std::size_t>(i) * cap + n, zi);
+        const double* Li = A + static_cast<std::size_t>(i) * K;
+        for (int k = 0; k < i; ++k) {
+            const double lik = Li[k];
+            const double* zk = Z + static_cast<std::size_t>(k) * cap;
+            for (std::size_t jj = 0; jj < n; ++jj) zi[jj] -= lik * zk[jj];
+        }
+        const double inv = invDiag[i];
+        for (std::size_t jj = 0; jj < n; ++jj) zi[jj] *= inv;
+    }
+    double* P = scratch.hatP.data();
+    double* Q = scratch.hatQ.data();
+    double* R = scratch.residuals.data();  // 3 x cap
+    std::fill(P, P + n, 0.0);
+    std::fill(Q, Q + n, 0.0);
+    int k = 0;
+    for (int d = 0; d <= degreeHigh; ++d) {
+        for (; k < degreeK_[d]; ++k) {
+            const double* zk = Z + static_cast<std::size_t>(k) * cap;
+            const double uk = u[k];
+            for (std::size_t jj = 0; jj < n; ++jj) {
+                P[jj] += zk[jj] * zk[jj];
+                Q[jj] += zk[jj] * uk;
+            }
+        }
+        if (d < degreeLow) continue;
+        const double* x = scratch.degreeSolutions.data() + static_cast<std::size_t>(d) * 3 * K;
+        for (int c = 0; c < 3; ++c) {
+            double* rc = R + static_cast<std::size_t>(c) * cap;
+            const double* tc = targets + static_cast<std::size_t>(c) * cap;
+            for (std::size_t jj = 0; jj < n; ++jj) rc[jj] = -tc[jj];
+            for (int i = 0; i < degreeK_[d]; ++i) {
+                const double xi = x[c * K + i];
+                const double* bi = designT + static_cast<std::size_t>(i) * cap;
+                for (std::size_t jj = 0; jj < n; ++jj) rc[jj] += xi * bi[jj];
+            }
+        }
+        for (std::size_t jj = 0; jj < n; ++jj) {
+            const double h = P[jj] + leak * scratch.sqrtWeight[jj] * Q[jj];
+            const double denominator = 1.0 - h;
+            // a_j |f_j - y_j|^2 (the rows are sqrt(a_j)-scaled), in sRGB units and plain.
+            double e = 0.0, plain = 0.0;
+            for (int c = 0; c < 3; ++c) {
+                const double r = R[static_cast<std::size_t>(c) * cap + jj];
+                e += scratch.errorScale[c * cap + jj] * r * r;
+                plain += r * r;
+            }
+            if (denominator < kMinLooDenominator) {
+                sums[d] = std::numeric_limits<double>::infinity();
+                if (storeLooNorms) scratch.looByDegree[d * cap + jj] = std::numeric_limits<double>::infinity();
+                continue;
+            }
+            const double term = e / (denominator * denominator);
+            sums[d] += term;
+            squares[d] += term * term;
+            if (storeLooNorms) {
+                const double sq = scratch.sqrtWeight[jj];
+                scratch.looByDegree[d * cap + jj] = sq > 0.0 ? std::sqrt(plain / 3.0) / (sq * denominator) : 0.0;
+            }
+        }
+    }
+    for (int d = degreeLow; d <= degreeHigh; ++d) {
+        errors[d] = sums[d] / a.sumW;
+        // Standard error of that mean: the per-sample terms' spread, sqrt(n var) / W.
+        if (standardErrors)
+            standardErrors[d] = std::sqrt(std::max(0.0, squares[d] - sums[d] * sums[d] / static_cast<double>(n))) / a.sumW;
+    }
+    return true;
+}
+
+// The constant mean colour's validation error: its leave-one-out prediction of sample j is the
+// weighted mean of the others, exactly (m - y_j) W / (W - a_j) away from y_j.
+double RobustRadianceFitter::scoreConstant(FitScratch& scratch, std::size_t n, const Assembly& a,
+                                           bool storeLooNorms) const {
+    const std::size_t cap = scratch.capacity;
+    double sum = 0.0;
+    for (std::size_t j = 0; j < n; ++j) {
+        const double w = scratch.baseWeight[j] * scratch.robustWeight[j];
+        const double denominator = 1.0 - w / a.sumW;
+        double e = 0.0, plain = 0.0;
+        for (int c = 0; c < 3; ++c) {
+            const double r = a.mean[c] - scratch.values[c * cap + j];
+            e += scratch.errorScale[c * cap + j] * r * r;
+            plain += r * r;
+        }
+        if (denominator < kMinLooDenominator) {
+            sum = std::numeric_limits<double>::infinity();
+            if (storeLooNorms) scratch.looNorm[j] = std::numeric_limits<double>::infinity();
+            continue;
+        }
+        sum += w * e / (denominator * denominator);
+        if (storeLooNorms) scratch.looNorm[j] = std::sqrt(plain / 3.0) / denominator;
+    }
+    return sum / a.sumW;
+}
+
+RobustRadianceFitter::Choice RobustRadianceFitter::choose(FitScratch& scratch, std::size_t n, const Assembly& a,
+                                                          const double* onlyLambda) const {
+    Choice best;
+    best.lambda = options_.lambda;
+    best.degree = options_.basis.degree;
+    if (lambdaGrid_.empty()) return best;  // validation off
+    best.constantError = scoreConstant(scratch, n, a, false);
+    best.error = std::numeric_limits<double>::infinity();
+    const int high = options_.basis.degree;
+    const int low = options_.validateLowerDegrees ? std::min(1, high) : high;
+    double errors[kMaxPolynomialDegree + kMaxHarmonicDegree + 2];
+    double standardErrors[kMaxPolynomialDegree + kMaxHarmonicDegree + 2];
+    double bestStandardError = 0.0;
+    // Candidates in order of preference (full degree first, least lambda first): a later one must be
+    // strictly better to replace an earlier one.
+    // The best candidate's per-sample leave-one-out residuals are kept in scratch.looNorm (the
+    // IRLS's first reference, without scoring it again).
+    const std::size_t cap = scratch.capacity;
+    for (std::size_t l = 0; l < (onlyLambda ? 1 : lambdaGrid_.size()); ++l) {
+        const double lambda = onlyLambda ? *onlyLambda : lambdaGrid_[l];
+        if (!scoreModels(scratch, n, a, lambda, low, high, errors, standardErrors, true)) continue;
+        for (int d = high; d >= low; --d)
+            if (errors[d] < best.error) {
+                best.error = errors[d];
+                bestStandardError = standardErrors[d];
+                best.lambda = lambda;
+                best.degree = d;
+                std::copy(scratch.looByDegree.begin() + static_cast<std::ptrdiff_t>(d * cap),
+                          scratch.looByDegree.begin() + static_cast<std::ptrdiff_t>(d * cap + n), scratch.looNorm.begin());
+            }
+    }
+    // The least validation error among 4 x (degree) candidates is biased low (the best of several
+    // noisy estimates), so the constant, the simpler model, is kept unless the best fit beats it by
+    // more than one standard error of its validation error (the "one-standard-error rule" of
+    // cross-validation, Hastie, Tibshirani and Friedman, The Elements of Statistical Learning, 7.10).
+    best.constant = !(best.error + options_.validationMargin * bestStandardError < best.constantError);
+    return best;
+}
+
 VertexFitResult RobustRadianceFitter::fit(const Frame& frame, const DirectionalSample* samples, std::size_t count,
                                           FitScratch& scratch, float* out) const {
     VertexFitResult result;
     const int K = K_;
     scratch.reserveSamples(K, count);
+    const std::size_t cap = scratch.capacity;
 
-    // 1-2. Local directions (border-extended), weighted mean, observed range.
-    double sumW = 0.0, sumWY[3] = {0.0, 0.0, 0.0};
+    // 1-2. Local directions (border-extended), values, weights, observed range.
     double lo[3] = {0.0, 0.0, 0.0}, hi[3] = {0.0, 0.0, 0.0};
     std::size_t n = 0;
     double* local = scratch.local.data();
-    double* targets = scratch.targets.data();
-    const std::size_t rowsCapacity = scratch.capacity;
     for (std::size_t j = 0; j < count; ++j) {
         const DirectionalSample& s = samples[j];
         if (!finite3(s.direction) || !finite3(s.rgb) || !std::isfinite(s.weight) || !(s.weight > 0.0f)) continue;
@@ -288,46 +596,72 @@ VertexFitResult RobustRadianceFitter::fit(const Frame& frame, const DirectionalS
         local[3 * n] = x;
         local[3 * n + 1] = y;
         local[3 * n + 2] = z;
-        const double a = s.weight;
-        const double sq = std::sqrt(a);
         for (int c = 0; c < 3; ++c) {
             const double v = s.rgb[c];
-            sumWY[c] += a * v;
-            targets[c * rowsCapacity + n] = sq * v;
+            scratch.values[c * cap + n] = v;
             if (n == 0 || v < lo[c]) lo[c] = v;
             if (n == 0 || v > hi[c]) hi[c] = v;
         }
-        scratch.sqrtWeight[n] = sq;
-        sumW += a;
+        scratch.baseWeight[n] = s.weight;
+        scratch.robustWeight[n] = 1.0;
         ++n;
     }
+    // Validation errors are measured in sRGB-encoded units, to first order: the squared residual of
+    // channel c of sample j is scaled by (d sRGB / d linear)^2 at the sample's value. Photographs
+    // are compared (and seen) in those units, where an error of 0.002 in a dark channel weighs as
+    // much as one of 0.03 in a bright one; in linear units the model choice of dark vertices would
+    // hinge on differences nobody sees while their visible errors went unnoticed.
+    for (std::size_t j = 0; j < n; ++j)
+        for (int c = 0; c < 3; ++c) {
+            const double y = scratch.values[c * cap + j];
+            const double slope = y <= 0.0031308 ? 12.92 : (1.055 / 2.4) * std::pow(std::min(y, 1.0), 1.0 / 2.4 - 1.0);
+            scratch.errorScale[c * cap + j] = slope * slope;
+        }
     result.sampleCount = static_cast<int>(n);
     if (n == 0) {
         result.status = FitStatus::Unseen;
         std::fill(out, out + 3 * K, 0.0f);
         return result;
     }
-    double mean[3];
-    for (int c = 0; c < 3; ++c) mean[c] = result.meanColor[c] = sumWY[c] / sumW;
 
-    auto constantResidual = [&]() {
+    // Weighted mean of the current effective weights.
+    auto weightedMean = [&](double mean[3], double& sumW) {
+        double sumWY[3] = {0.0, 0.0, 0.0};
+        sumW = 0.0;
+        for (std::size_t j = 0; j < n; ++j) {
+            const double w = scratch.baseWeight[j] * scratch.robustWeight[j];
+            sumW += w;
+            for (int c = 0; c < 3; ++c) sumWY[c] += w * scratch.values[c * cap + j];
+        }
+        for (int c = 0; c < 3; ++c) mean[c] = sumWY[c] / sumW;
+    };
+    // The residual reported for the vertex weighs the samples by their own weights a_j, whatever
+    // the IRLS did: it says how far the function is from what the photographs show.
+    double sumA = 0.0;
+    for (std::size_t j = 0; j < n; ++j) sumA += scratch.baseWeight[j];
+    auto constantResidual = [&](const double mean[3]) {
         double e = 0.0;
         for (std::size_t j = 0; j < n; ++j) {
-            const double sq = scratch.sqrtWeight[j];
             for (int c = 0; c < 3; ++c) {
-                const double d = targets[c * rowsCapacity + j] - sq * mean[c];
-                e += d * d;
+                const double d = scratch.values[c * cap + j] - mean[c];
+                e += scratch.baseWeight[j] * d * d;
             }
         }
-        return std::sqrt(e / (3.0 * sumW));
+        return std::sqrt(e / (3.0 * sumA));
+    };
+    auto finishConstant = [&](const double mean[3], double) {
+        for (int c = 0; c < 3; ++c) result.meanColor[c] = mean[c];
+        result.constantFallback = true;
+        result.residual = constantResidual(mean);
+        writeConstant(frame, mean, out);
+        return result;
     };
 
     if (static_cast<int>(n) < options_.minSamples) {
+        double mean[3], sumW;
+        weightedMean(mean, sumW);
         result.status = FitStatus::PoorlySampled;
-        result.constantFallback = true;
-        result.residual = constantResidual();
-        writeConstant(frame, mean, out);
-        return result;
+        return finishConstant(mean, sumW);
     }
 
     // 3. Coverage of D.
@@ -348,49 +682,86 @@ VertexFitResult RobustRadianceFitter::fit(const Frame& frame, const DirectionalS
     const bool poorly = static_cast<double>(n) < options_.poorSamplingFactor * K || 2 * coveredCount < D;
     result.status = poorly ? FitStatus::PoorlySampled : FitStatus::Fitted;
 
-    // 4. Design matrix [sqrt(a_j) B(l_j) | sqrt(v) B(d_i) for uncovered d_i] and targets.
-    double* design = scratch.design.data();
-    for (std::size_t j = 0; j < n; ++j) {
-        const double sq = scratch.sqrtWeight[j];
-        double* col = design + j * K;
-        evaluateBasis(options_.basis, local[3 * j], local[3 * j + 1], local[3 * j + 2], col);
-        for (int k = 0; k < K; ++k) col[k] *= sq;
-    }
-    std::size_t rows = n;
-    const double virtualWeight = options_.virtualSampleWeight * sumW / static_cast<double>(n);
-    if (virtualWeight > 0.0) {
-        const double sq = std::sqrt(virtualWeight);
-        for (int i = 0; i < D; ++i) {
-            if (scratch.covered[i]) continue;
-            const double* src = coverageBasis_.data() + static_cast<std::size_t>(i) * K;
-            double* col = design + rows * K;
-            for (int k = 0; k < K; ++k) col[k] = sq * src[k];
-            for (int c = 0; c < 3; ++c) targets[c * rowsCapacity + rows] = sq * mean[c];
-            ++rows;
-        }
-    }
-    const ConstMatrixMap B(design, K, static_cast<Eigen::Index>(rows));
-    // G = B B^T. Eigen fills the upper triangle of the column-major G, which is the lower triangle
-    // of the same buffer read row-major, as choleskyInPlace reads it (G is symmetric).
-    MatrixMap G(scratch.gram.data(), K, K);
-    G.setZero();
-    G.selfadjointView<Eigen::Upper>().rankUpdate(B);
-    // r = B Y (K x 3), by hand: an Eigen GEMM here would go through its OpenMP-parallel product
-    // path, pointless inside our per-vertex parallel loop and costly at these sizes.
-    MatrixMap rhs(scratch.rhs.data(), K, 3);
-    rhs.setZero();
-    for (std::size_t j = 0; j < rows; ++j) {
-        const double* col = design + j * K;
-        for (int c = 0; c < 3; ++c) {
-            const double y = targets[c * rowsCapacity + j];
-            double* r = scratch.rhs.data() + c * K;
-            for (int k = 0; k < K; ++k) r[k] += y * col[k];
-        }
-    }
-    MatrixMap X(scratch.trial.data(), K, 3);
-    const double trace = G.trace();
-    const double scale = trace / K;
+    // 4. Basis values of the real samples (once), then the weighted system.
+    for (std::size_t j = 0; j < n; ++j)
+        evaluateBasis(options_.basis, local[3 * j], local[3 * j + 1], local[3 * j + 2],
+                      scratch.basisValues.data() + j * K);
+    Assembly assembly;
+    assemble(scratch, n, assembly);
 
+    // 5. Model choice by validation, and Huber IRLS on the chosen model's leave-one-out residuals
+    // (plain residuals of a sparse fit are near zero even at an outlier, which the fit interpolates;
+    // the leave-one-out residual is what the other views say about it). The weights are then fixed
+    // and the model chosen again with them.
+    Choice choice = choose(scratch, n, assembly);
+    if (options_.robustIterations > 0 && n >= 3) {
+        double errors[kMaxPolynomialDegree + kMaxHarmonicDegree + 2];
+        bool changed = false;
+        for (int it = 0; it < options_.robustIterations; ++it) {
+            // The reference model is the best view-dependent candidate even when the constant won:
+            // outliers push the choice toward the constant, whose residuals are large everywhere
+            // and would inflate the scale (the final choice is made after the reweighting).
+            if (!std::isfinite(choice.error)) {
+                scoreConstant(scratch, n, assembly, true);
+            } else if (it > 0 || lambdaGrid_.empty()) {  // at it = 0, choose() left them in looNorm
+                if (!scoreModels(scratch, n, assembly, choice.lambda, choice.degree, choice.degree, errors, nullptr, true))
+                    break;
+                const std::size_t row = static_cast<std::size_t>(choice.degree) * cap;
+                std::copy(scratch.looByDegree.begin() + static_cast<std::ptrdiff_t>(row),
+                          scratch.looByDegree.begin() + static_cast<std::ptrdiff_t>(row + n), scratch.looNorm.begin());
+            }
+            // Scale: the median absolute leave-one-out residual / 0.6745 (the MAD of a normal
+            // distribution), floored so that exact data (residuals at rounding level) keeps weight 1.
+            double* sorted = scratch.sortBuffer.data();
+            std::copy(scratch.looNorm.begin(), scratch.looNorm.begin() + static_cast<std::ptrdiff_t>(n), sorted);
+            std::nth_element(sorted, sorted + n / 2, sorted + n);
+            const double floor = 1e-4 + 1e-3 * std::max({std::abs(assembly.mean[0]), std::abs(assembly.mean[1]),
+                                                         std::abs(assembly.mean[2])});
+            const double sigma = std::max(sorted[n / 2] / 0.6745, floor);
+            const double threshold = options_.huberThreshold * sigma;
+            // Only vertices with an outlier are reweighted: at least one sample beyond twice the
+            // threshold (Huber weight below 1/2). Milder residuals are the noise the validation
+            // already weighs, and sparing the others the reweighting and second choice halves the
+            // cost of the IRLS on real data.
+            if (it == 0) {
+                bool outlier = false;
+                for (std::size_t j = 0; j < n && !outlier; ++j) outlier = scratch.looNorm[j] > 2.0 * threshold;
+                if (!outlier) break;
+            }
+            double maxChange = 0.0;
+            for (std::size_t j = 0; j < n; ++j) {
+                const double r = scratch.looNorm[j];
+                const double w = r > threshold ? threshold / r : 1.0;  // Huber: 0 for an infinite residual
+                maxChange = std::max(maxChange, std::abs(w - scratch.robustWeight[j]));
+                scratch.robustWeight[j] = w;
+            }
+            if (maxChange < 0.02) break;  // the weights need not be exact
+            changed = true;
+            assemble(scratch, n, assembly);
+        }
+        // The choice is made again with the final weights: the first one was made with the outliers
+        // at full weight, which favours strong regularisation.
+        if (changed) choice = choose(scratch, n, assembly);
+        for (std::size_t j = 0; j < n; ++j) result.downweighted += scratch.robustWeight[j] < 1.0;
+    }
+    double mean[3];
+    for (int c = 0; c < 3; ++c) mean[c] = result.meanColor[c] = assembly.mean[c];
+    result.lambda = choice.lambda;
+    result.degree = choice.degree;
+    result.validationError = lambdaGrid_.empty() ? 0.0 : choice.error;
+    result.constantValidationError = choice.constantError;
+    if (choice.constant) {
+        result.validatedConstant = true;
+        result.lambda = 0.0;
+        result.degree = 0;
+        return finishConstant(mean, assembly.sumW);
+    }
+    result.regularised = choice.lambda > options_.lambda || choice.degree < options_.basis.degree;
+
+    // 6. The chosen model (lambda, degree), under the range guard.
+    const int Ka = degreeK_[choice.degree];
+    const double trace = assembly.trace;
+    const double scale = assembly.scale;
     const bool guard = options_.rangeGuard == RangeGuardScope::AllVertices ||
                        (options_.rangeGuard == RangeGuardScope::PoorlySampledOnly && poorly);
     // The channels share the matrix but not the right-hand side, so the guard accepts or escalates
@@ -399,6 +770,7 @@ VertexFitResult RobustRadianceFitter::fit(const Frame& frame, const DirectionalS
     // are all equal is the constant m_c outright: any fit in its zero-width band would only differ
     // from it by rounding.
     double* final = scratch.solution.data();  // K x 3, column-major: the accepted coefficients
+    std::fill(final, final + 3 * K, 0.0);
     bool pending[3];
     double bandLo[3], bandHi[3];
     int pendingCount = 0;
@@ -407,23 +779,22 @@ VertexFitResult RobustRadianceFitter::fit(const Frame& frame, const DirectionalS
         bandLo[c] = lo[c] - margin;
         bandHi[c] = hi[c] + margin;
         pending[c] = !(guard && hi[c] == lo[c]);
-        if (pending[c]) {
+        if (pending[c])
             ++pendingCount;
-        } else {
-            std::fill(final + c * K, final + (c + 1) * K, 0.0);
+        else
             final[c * K] = mean[c] / constantValue_;
-        }
     }
     // Without the guard, further attempts only happen when the system is singular.
+    double* X = scratch.trial.data();  // K x 3 column-major; the first Ka rows of each column are used
     const int attempts = options_.maxGuardRetries + 1;
     for (int attempt = 0; attempt < attempts && pendingCount > 0; ++attempt) {
-        const double lambda = attempt == 0 ? options_.lambda
-                                           : std::max(options_.lambda, kEscalationBaseLambda) * std::pow(10.0, attempt);
+        const double lambda = attempt == 0 ? choice.lambda
+                                           : std::max(choice.lambda, kEscalationBaseLambda) * std::pow(10.0, attempt);
         double* A = scratch.system.data();
         std::copy(scratch.gram.begin(), scratch.gram.begin() + static_cast<std::ptrdiff_t>(K) * K, A);
         if (lambda > 0.0)
             for (int k = 1; k < K; ++k) A[k * K + k] += lambda * scale;  // the constant function is not penalised
-        X = rhs;
+        std::copy(scratch.rhs.begin(), scratch.rhs.begin() + 3 * K, X);
         // Singular systems: with lambda > 0 the matrix is positive definite by construction
         // (G_00 = sum a_j B_0^2 > 0 and lambda s on the other diagonal entries) and its pivots are at
         // least of the order of lambda s; with lambda = 0 a pivot below 1e-12 trace(G) (about
@@ -433,11 +804,14 @@ VertexFitResult RobustRadianceFitter::fit(const Frame& frame, const DirectionalS
             result.guardRetries = attempt + 1;
             continue;  // singular (lambda = 0 with degenerate samples): escalate lambda
         }
-        choleskySolve3InPlace(A, scratch.invDiag.data(), K, X.data());
+        forward3InPlace(A, scratch.invDiag.data(), K, Ka, X);
+        backward3InPlace(A, scratch.invDiag.data(), K, Ka, X);
+        for (int c = 0; c < 3; ++c)
+            std::fill(X + c * K + Ka, X + (c + 1) * K, 0.0);
         bool escalate = false;
         for (int c = 0; c < 3; ++c) {
             if (!pending[c]) continue;
-            const double* xc = X.data() + c * K;
+            const double* xc = X + c * K;
             bool finite = true;
             for (int k = 0; k < K; ++k) finite = finite && std::isfinite(xc[k]);
             if (finite && (!guard || insideBand(xc, bandLo[c], bandHi[c]))) {
@@ -459,24 +833,17 @@ VertexFitResult RobustRadianceFitter::fit(const Frame& frame, const DirectionalS
         ++constantChannels;
     }
     result.fallbackChannels = constantChannels;
-    if (constantChannels == 3) {
-        result.constantFallback = true;
-        result.residual = constantResidual();
-        writeConstant(frame, mean, out);
-        return result;
-    }
-    // Residual of the real samples: rows 0..n-1 of B^T X - Y are sqrt(a_j) (L(w_j) - y_j).
+    if (constantChannels == 3) return finishConstant(mean, assembly.sumW);
+    // Residual of the real samples, weights a_j.
     double e = 0.0;
     for (std::size_t j = 0; j < n; ++j) {
-        const double* col = design + j * K;
+        const double* b = scratch.basisValues.data() + j * K;
         for (int c = 0; c < 3; ++c) {
-            double f = 0.0;
-            for (int k = 0; k < K; ++k) f += col[k] * final[c * K + k];
-            const double d = f - targets[c * rowsCapacity + j];
-            e += d * d;
+            const double d = dot(b, final + c * K, K) - scratch.values[c * cap + j];
+            e += scratch.baseWeight[j] * d * d;
         }
     }
-    result.residual = std::sqrt(e / (3.0 * sumW));
+    result.residual = std::sqrt(e / (3.0 * sumA));
     writeSolution(frame, scratch.solution.data(), scratch, out);
     return result;
 }

@@ -33,7 +33,30 @@
 //     as fitRadiance in radiance/radiance_projection.h). Double accumulation, in-place Cholesky.
 //     A system whose Cholesky pivot falls below 1e-14 trace(G) (1e-12 when lambda = 0) counts as
 //     singular and is treated like a guard failure (lambda escalated).
-//  5. Range guard: the fitted RF is evaluated on a check set C of kGuardDirections local directions
+//  5. Model choice by validation on the vertex's own samples (options validationLambdas,
+//     validateLowerDegrees, validationMargin). Candidates: the fits of step 4 at lambda, then
+//     max(lambda, 1e-3) x 10, x 100, x 1000, each at the basis degree and every lower degree >= 1
+//     (PB and SH are ordered by degree, so the leading block of one Cholesky factor solves every
+//     lower degree: all degrees cost one factorisation per lambda), and the constant mean colour.
+//     Criterion: leave-one-out error. A vertex gets at most one sample per photograph, so leaving
+//     one sample out IS leaving one view out; for a linear smoother the leave-one-out residual is
+//     (f_j - y_j) / (1 - S_jj) from the self-influence S_jj, one forward substitution per sample
+//     (exact for the constant; for the fits a first-order approximation, since removing a sample
+//     also changes the coverage and the virtual samples' value, which S_jj accounts for to first
+//     order). Chosen over generalised cross-validation because GCV replaces every S_jj by their
+//     mean, and the leverages of a one-sided, clustered vertex are anything but equal: an isolated
+//     view alone determines the fit in its direction (S_jj near 1), which GCV would average away
+//     and exact leave-one-out exposes. Errors are weighted by a_j and measured in sRGB units to
+//     first order (scaled by the sRGB slope at the sample's value), the units photographs are
+//     compared in. The constant is kept unless the best fit's error is lower by more than
+//     validationMargin standard errors of that error (the least of ~16 noisy estimates is biased
+//     low; the one-standard-error rule of cross-validation, here two by default: the constant is
+//     what the fit must never be worse than). Huber IRLS (robustIterations, huberThreshold): the
+//     samples are reweighted by min(1, k s / |e_j|), e_j the leave-one-out residual of the best
+//     view-dependent candidate (plain residuals of a sparse fit are near zero at an outlier, which
+//     it interpolates), s = median |e_j| / 0.6745 (MAD), and the choice is made again with the
+//     new weights; the mean colour is the weighted mean with them too.
+//  6. Range guard: the chosen fit (its lambda and degree) is evaluated on a check set C of kGuardDirections local directions
 //     (Fibonacci spirals and rings on the border z = 0, disjoint from D, ~4.5 degrees apart); if
 //     channel c leaves [min_c - g R_c, max_c + g R_c] (min/max/range R_c of the vertex's observed
 //     values of channel c, g = kGuardMarginFraction * rangeTolerance), lambda is multiplied by 10
@@ -52,7 +75,7 @@
 //     within [min_c - rangeTolerance R_c, max_c + rangeTolerance R_c] (+ float rounding of the
 //     stored coefficients, ~1e-7 of the values) on the whole closed hemisphere, hence everywhere
 //     (border extension), as far as tested.
-//  6. Poorly sampled (status PoorlySampled) := fewer than poorSamplingFactor * K samples (default
+//  7. Poorly sampled (status PoorlySampled) := fewer than poorSamplingFactor * K samples (default
 //     2K), or fewer than half of D covered, or fewer than minSamples samples.
 //     Guard scope (option rangeGuard), measured with bench_fit (glossy analytic radiance, 0.01
 //     noise, RMS error over the hemisphere): on WELL-sampled vertices (300 views, ~124 samples)
@@ -65,7 +88,7 @@
 //     0.023 -> 0.035, SH6 0.033 -> 0.029 with the worst error 0.59 -> 0.25. With the 2K threshold
 //     nearly every vertex of a real acquisition (10-50 photographs) is poorly sampled for PB4 (30
 //     samples) and SH6 (98).
-//  7. Result: the coefficients (3K floats, PB in the local frame, SH in the global frame; plain L or
+//  8. Result: the coefficients (3K floats, PB in the local frame, SH in the global frame; plain L or
 //     reflected L~ of Vanhoey et al. 2015 sec. 3.1 per option), mean colour, sample count, weighted RMS
 //     residual of the real samples, status, guard retries.
 //
@@ -132,7 +155,7 @@ inline constexpr int kGuardFineSpiral = 512;
 inline constexpr int kGuardFineEquator = 64;
 inline constexpr int kGuardDirections = kGuardCoarseSpiral + kGuardCoarseEquator + kGuardFineSpiral + kGuardFineEquator;
 // The guard accepts a fit when it stays within this fraction of the tolerance band on C, so that
-// the guarantee "within rangeTolerance" holds between the points of C too (step 5 above).
+// the guarantee "within rangeTolerance" holds between the points of C too (step 6 above).
 inline constexpr double kGuardMarginFraction = 0.75;
 
 struct RobustFitOptions {
@@ -155,6 +178,21 @@ struct RobustFitOptions {
     // PoorlySampled when the sample count is below poorSamplingFactor * K. >= 0.
     double poorSamplingFactor = 2.0;
 
+    // Per-vertex model choice by leave-one-out validation (step 5 of the file comment): the
+    // candidates are validationLambdas values of lambda (lambda, then max(lambda, 1e-3) x 10, x 100,
+    // ...), each at the basis degree and, with validateLowerDegrees, at every lower degree >= 1, and
+    // the constant mean colour; the candidate with the least validation error is kept.
+    // validationLambdas = 0: no validation (the user's lambda at the full degree, as before). 0..8.
+    int validationLambdas = 4;
+    bool validateLowerDegrees = true;
+    // A view-dependent candidate replaces the constant only when its validation error is lower by
+    // more than this many standard errors of that error (step 5). >= 0.
+    double validationMargin = 2.0;
+    // Huber IRLS against outliers (highlights, misregistered depth edges): this many reweighting
+    // passes (0: off), threshold huberThreshold x the MAD scale of the leave-one-out residuals. 0..10.
+    int robustIterations = 2;
+    double huberThreshold = 1.345;  // > 0
+
     // Empty when usable; otherwise a sentence naming the bad option and its valid range.
     std::string validate() const;
 };
@@ -169,6 +207,16 @@ struct VertexFitResult {
     bool constantFallback = false;  // the whole RF is the constant mean colour (too few samples or guard)
     double meanColor[3] = {0.0, 0.0, 0.0};  // weighted mean of the samples (linear RGB)
     double residual = 0.0;        // sqrt(sum a_j |L(w_j) - y_j|^2 / (3 sum a_j)), real samples only
+    // Model choice (step 5): the lambda and degree of the validated fit (before any guard
+    // escalation), whether validation preferred the constant mean colour, and the validation errors
+    // (weighted mean squared leave-one-out error per sample, summed over channels; 0 when not run).
+    double lambda = 0.0;
+    int degree = 0;
+    bool validatedConstant = false;
+    bool regularised = false;     // validation chose a larger lambda or a lower degree than the user's
+    double validationError = 0.0;
+    double constantValidationError = 0.0;
+    int downweighted = 0;         // samples the Huber IRLS gave a weight below 1
 };
 
 class RobustRadianceFitter;
@@ -183,7 +231,23 @@ private:
     void reserveSamples(int K, std::size_t sampleCount);
 
     std::vector<double> local;      // 3 per real sample: local direction
-    std::vector<double> sqrtWeight; // per real sample
+    std::vector<double> sqrtWeight; // per real sample: sqrt of the effective weight
+    std::vector<double> baseWeight; // per real sample: the sample's weight a_j
+    std::vector<double> robustWeight;  // per real sample: the Huber weight (1 without IRLS)
+    std::vector<double> values;     // rows x 3, column-major: y (unweighted)
+    std::vector<double> basisValues;  // K x real samples, column-major: B(l_j)
+    std::vector<double> looNorm;    // per real sample: |leave-one-out residual| (IRLS)
+    std::vector<double> looByDegree;  // (max degree + 1) x capacity: the same, per degree of one lambda
+    std::vector<double> errorScale; // rows x 3, column-major: (d sRGB / d linear)^2 at y (validation)
+    std::vector<double> sortBuffer; // per real sample: for the median
+    std::vector<double> forward;    // K x 3: L^-1 r
+    std::vector<double> degreeSolutions;  // (degree + 1) x K x 3: the solution at each degree
+    std::vector<double> designT;    // K x capacity, row-major: sqrt(a_j) B(l_j) of the real samples
+    std::vector<double> zMatrix;    // K x capacity, row-major: L^-1 designT
+    std::vector<double> hatP, hatQ; // per real sample: the self-influence's two running sums
+    std::vector<double> residuals;  // 3 x capacity: weighted residuals of one candidate
+    std::vector<double> virtualLeverage;  // K: L^-1 (sum of B over the virtual samples' directions)
+    std::vector<double> virtualSum; // K
     std::vector<double> design;     // K x rows, column-major: sqrt(a) B(l)
     std::vector<double> targets;    // rows x 3, column-major: sqrt(a) y
     std::vector<double> gram;       // K x K (lower triangle)
@@ -228,6 +292,13 @@ private:
     void writeConstant(const Frame& frame, const double mean[3], float* out) const;
     void writeSolution(const Frame& frame, const double* solution, FitScratch& scratch, float* out) const;
     bool insideBand(const double* channelCoefficients, double lo, double hi) const;
+    struct Assembly;
+    struct Choice;
+    void assemble(FitScratch& scratch, std::size_t n, Assembly& a) const;
+    bool scoreModels(FitScratch& scratch, std::size_t n, const Assembly& a, double lambda, int degreeLow,
+                     int degreeHigh, double* errors, double* standardErrors, bool storeLooNorms) const;
+    double scoreConstant(FitScratch& scratch, std::size_t n, const Assembly& a, bool storeLooNorms) const;
+    Choice choose(FitScratch& scratch, std::size_t n, const Assembly& a, const double* onlyLambda = nullptr) const;
 
     RobustFitOptions options_;
     int K_ = 0;
@@ -238,6 +309,8 @@ private:
     std::vector<double> coverageBasis_;  // K x |D|, column-major, basis at D (local frame)
     std::vector<double> checkBasis_;     // |C| x K, k-major: checkBasis_[k * |C| + i] (vectorises over i)
     std::vector<double> reflectSign_;    // K: +-1, the local-frame reflection (x, y, z) -> (-x, -y, z)
+    std::vector<int> degreeK_;           // coefficients of the basis of degree 0..d (a prefix of the K)
+    std::vector<double> lambdaGrid_;     // the validation's lambdas
 };
 
 // Unit directions of a Fibonacci spiral on the hemisphere z >= 0: point i has

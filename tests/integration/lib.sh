@@ -69,13 +69,21 @@ create_radiance_mlx() {
         "<Param type=\"RichPoint3f\" name=\"light\" x=\"$lx\" y=\"$ly\" z=\"$lz\"/>" \
         '<Param type="RichFloat" name="lightIntensity" value="3"/>' \
         '<Param type="RichFloat" name="ambient" value="0.05"/>' \
-        '<Param type="RichBool" name="setColor" value="true"/>'
+        '<Param type="RichBool" name="setColor" value="true"/>' \
+        "<Param type=\"RichBool\" name=\"validation\" value=\"$validation\"/>" \
+        "<Param type=\"RichBool\" name=\"robust\" value=\"$robust\"/>" \
+        '<Param type="RichBool" name="exposureCompensation" value="true"/>' \
+        '<Param type="RichInt" name="heldOutEvery" value="0"/>'
 }
 
-# fit_mlx FILE [BASIS(0=PB,1=SH)] [DEGREE] [REFLECTED] [QUALITY(0=count,1=residual)]: a script
-# running "Fit Radiance Functions from Rasters" with every parameter listed.
+# fit_mlx FILE [BASIS(0=PB,1=SH)] [DEGREE] [REFLECTED] [QUALITY(0=count,1=residual)] [VALIDATION] [ROBUST]:
+# a script running "Fit Radiance Functions from Rasters" with every parameter listed. VALIDATION and
+# ROBUST default to false: these tests check that the least-squares fit reproduces the photographs
+# it was fitted on (the per-vertex validation keeps the constant where a single photograph shows a
+# highlight; tests/python/test_pymeshlab_fit.py checks the defaults).
 fit_mlx() {
     local file="$1" basis="${2:-0}" degree="${3:-4}" reflected="${4:-false}" quality="${5:-0}"
+    local validation="${6:-false}" robust="${7:-false}"
     write_mlx "$file" "Radiance: Fit Radiance Functions from Rasters" \
         '<Param type="RichBool" name="visibleOnly" value="false"/>' \
         "<Param type=\"RichEnum\" name=\"basis\" value=\"$basis\" enum_cardinality=\"2\" enum_val0=\"PB\" enum_val1=\"SH\"/>" \
@@ -87,7 +95,11 @@ fit_mlx() {
         '<Param type="RichInt" name="minSamples" value="3"/>' \
         "<Param type=\"RichBool\" name=\"reflected\" value=\"$reflected\"/>" \
         "<Param type=\"RichEnum\" name=\"quality\" value=\"$quality\" enum_cardinality=\"2\" enum_val0=\"count\" enum_val1=\"residual\"/>" \
-        '<Param type="RichBool" name="setColor" value="true"/>'
+        '<Param type="RichBool" name="setColor" value="true"/>' \
+        "<Param type=\"RichBool\" name=\"validation\" value=\"$validation\"/>" \
+        "<Param type=\"RichBool\" name=\"robust\" value=\"$robust\"/>" \
+        '<Param type="RichBool" name="exposureCompensation" value="true"/>' \
+        '<Param type="RichInt" name="heldOutEvery" value="0"/>'
 }
 
 VIRTUAL_ACQUISITION="$RADIANCE_BUILD_DIR/tools/virtual_acquisition"

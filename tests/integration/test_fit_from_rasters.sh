@@ -16,7 +16,7 @@ fit_mlx "$WORK/fit_pb4.mlx" 0 4 false 0
 run_meshlabserver "$WORK/pb4.log" -i "$WORK/photos/mesh.ply" -p "$WORK/photos/project.mlp" \
     -s "$WORK/fit_pb4.mlx" -o "$WORK/fit_pb4.rply" -m vc vq vn \
     || { cat "$WORK/pb4.log" >&2; fail "fit failed"; }
-grep -qE "Fitted PB4 radiance functions from 16 of 16 rasters \([0-9]+ samples\) on 2562 vertices" "$WORK/pb4.log" \
+grep -qE "Fitted PB4 radiance functions on 2562 vertices from 16 of 16 rasters in [0-9.]+ s: [0-9]+ samples, median [0-9]+ per seen vertex" "$WORK/pb4.log" \
     || { cat "$WORK/pb4.log" >&2; fail "no fit summary in the log"; }
 # Median and 90th percentile of |fitted - photo| in 8-bit sRGB levels over vertex-view pairs.
 $CHECK_FIT "$WORK/fit_pb4.rply" "$WORK/photos/project.mlp" 2 8 || fail "fitted functions do not reproduce the photographs"

@@ -93,7 +93,9 @@ def photo_errors(fit, cameras, min_cos=0.5):
 def test_fit_reproduces_the_photographs(photos, tmp_path):
     ms = with_rasters(photos)
     assert ms.mesh_number() == 1 and ms.raster_number() == VIEWS, "load_project did not add the raster layers"
-    ms.apply_filter(h.FIT, **fit_parameters())
+    # The least-squares fit itself (no per-vertex validation, no robust weights): it must reproduce
+    # the photographs it was fitted on, highlights included.
+    ms.apply_filter(h.FIT, **fit_parameters(validation=False, robust=False))
     ms.save_current_mesh(str(tmp_path / "fit_pb4.rply"))
     fit = rply.read_rply(str(tmp_path / "fit_pb4.rply"))
     assert fit.basis == "PB4" and not fit.reflected and fit.vertex_count == 2562
@@ -102,6 +104,16 @@ def test_fit_reproduces_the_photographs(photos, tmp_path):
     median, p90 = errors[errors.size // 2], errors[int(0.9 * errors.size)]
     # The same bounds as the integration test (median 2, 90th percentile 8 sRGB levels).
     assert median <= 2.0 and p90 <= 8.0, f"median {median:.2f}, 90th percentile {p90:.2f} sRGB levels"
+    # The defaults keep the constant mean colour where the other photographs do not confirm what one
+    # shows: on this sphere (16 views, 5-8 per vertex) a highlight is mostly seen by a single
+    # photograph, so the median stays but the 90th percentile rises (measured 18.7 levels).
+    ms = with_rasters(photos)
+    ms.apply_filter(h.FIT, **fit_parameters())
+    ms.save_current_mesh(str(tmp_path / "fit_default.rply"))
+    errors = np.sort(photo_errors(rply.read_rply(str(tmp_path / "fit_default.rply")),
+                                  read_cameras(photos / "project.mlp")))
+    median, p90 = errors[errors.size // 2], errors[int(0.9 * errors.size)]
+    assert median <= 2.0 and p90 <= 22.0, f"median {median:.2f}, 90th percentile {p90:.2f} sRGB levels"
     # Vertex quality = sample count: every vertex of a sphere seen from 16 directions all around is
     # seen several times, and none by more than the 16 photographs.
     quality = ms.current_mesh().vertex_scalar_array()
@@ -167,3 +179,170 @@ def test_fit_refuses_a_point_cloud_without_normals(photos, tmp_path):
     ms.load_project(str(photos / "project.mlp"))
     h.expect_refusal(ms, h.FIT, "vertices has a usable normal and there are no faces",
                      **fit_parameters())
+
+
+# ---------------------------------------------------------------------------------------------------
+# Real photographs: OpenCV's chessboard samples (Debian opencv-doc, fetched with checksums by
+# samples/fetch_data.sh), calibrated by scripts/calibrate_chessboard.py into a MeshLab project
+# (26 photographs of a 640x480 webcam pair in automatic exposure, a planar mesh of the board).
+
+HELD_OUT_LINE = re.compile(r"Held-out raster (\S+): (\d+) vertices, RMS error in sRGB levels: fitted ([\d.]+), "
+                           r"constant mean colour ([\d.]+), colour projection ([\d.]+); exposure-matched: ([\d.]+), "
+                           r"([\d.]+), ([\d.]+)\.")
+
+
+def _opencv_python():
+    """An interpreter with OpenCV's bindings: $RADIANCE_OPENCV_PYTHON, this one, or the system's."""
+    import shutil
+    import subprocess
+    import sys
+
+    candidates = [os.environ.get("RADIANCE_OPENCV_PYTHON"), sys.executable, shutil.which("python3"),
+                  "/usr/bin/python3"]
+    for exe in [c for c in candidates if c]:
+        if subprocess.run([exe, "-c", "import cv2"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL).returncode == 0:
+            return exe
+    pytest.fail("no Python with OpenCV (cv2) found: apt-get install python3-opencv (scripts/setup.sh does), or set "
+                "RADIANCE_OPENCV_PYTHON to an interpreter that has it")
+
+
+@pytest.fixture(scope="module")
+def chessboard(repo_dir, tmp_path_factory):
+    import subprocess
+
+    cache = os.environ.get("RADIANCE_DATA_CACHE", os.path.join(str(repo_dir), "data-cache"))
+    photos = os.path.join(cache, "photos", "opencv-chessboard")
+    if not os.path.isfile(os.path.join(photos, "right14.jpg")):
+        pytest.fail(f"the chessboard photographs are missing from {photos}: run samples/fetch_data.sh")
+    out = tmp_path_factory.mktemp("chessboard")
+    result = subprocess.run([_opencv_python(), os.path.join(str(repo_dir), "scripts", "calibrate_chessboard.py"),
+                             "--photos", photos, "--out", str(out)], stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True, timeout=300)
+    assert result.returncode == 0, result.stdout
+    # Both cameras calibrate to well below a pixel (OpenCV's own samples report about 0.4 px).
+    for line in result.stdout.splitlines():
+        if "RMS reprojection error" in line:
+            assert float(line.split()[-2]) < 0.6, line
+    return out
+
+
+def _fit_with_held_out_views(folder, every):
+    """Runs the fit in a fresh process with MeshLab's log printed; returns the log and the .rply."""
+    code = f"""
+import pymeshlab, pymeshlab_radiance
+ms = pymeshlab.MeshSet()
+ms.set_verbosity(True)
+ms.load_new_mesh({str(folder / 'board.ply')!r})
+ms.load_project({str(folder / 'project.mlp')!r})
+ms.apply_filter({h.FIT!r}, degree=4, heldoutevery={every})
+ms.save_current_mesh({str(folder / f'fit_{every}.rply')!r})
+"""
+    result = h.run_python(code)
+    assert result.returncode == 0, result.stdout
+    return result.stdout, rply.read_rply(str(folder / f"fit_{every}.rply"))
+
+
+def _views(folder):
+    """Cameras and linear images of the project, in raster order (the .mlp camera model, as read_cameras)."""
+    views = []
+    for raster in ET.parse(str(folder / "project.mlp")).getroot().iter("MLRaster"):
+        cam = raster.find("VCGCamera")
+        nums = lambda key: np.array([float(x) for x in cam.get(key).split()])  # noqa: E731
+        image, _ = h.read_png(str(folder / raster.find("Plane").get("fileName")))
+        views.append(dict(label=raster.get("label"), rows=nums("RotationMatrix").reshape(4, 4)[:3, :3],
+                          centre=-nums("TranslationVector")[:3], focal=float(cam.get("FocalMm")),
+                          pixel=nums("PixelSizeMm"), centre_px=nums("CenterPx"),
+                          linear=h.srgb_decode(image[:, :, :3] * 255.0)))
+    return views
+
+
+def _observe(view, p, n, margin=2.0, grazing_degrees=80.0):
+    """Directions toward the camera, visibility (facing within the cut-off, in front, inside the image
+    minus the margin; a plane hides nothing) and the bilinear linear colour at the projection."""
+    w = h.normalized(view["centre"][None, :] - p)
+    cp = (p - view["centre"][None, :]) @ view["rows"].T
+    depth = -cp[:, 2]
+    safe = np.where(depth > 0, depth, 1.0)
+    u = cp[:, 0] * view["focal"] / safe / view["pixel"][0] + view["centre_px"][0]
+    height, width, _ = view["linear"].shape
+    v = height - (cp[:, 1] * view["focal"] / safe / view["pixel"][1] + view["centre_px"][1])
+    ok = ((n * w).sum(1) >= np.cos(np.radians(grazing_degrees))) & (depth > 0)
+    ok &= (u >= margin) & (v >= margin) & (u <= width - margin) & (v <= height - margin)
+    x = np.clip(u - 0.5, 0, width - 1.001)
+    y = np.clip(v - 0.5, 0, height - 1.001)
+    x0, y0 = x.astype(int), y.astype(int)
+    fx, fy = (x - x0)[:, None], (y - y0)[:, None]
+    im = view["linear"]
+    colour = ((im[y0, x0] * (1 - fx) + im[y0, x0 + 1] * fx) * (1 - fy) +
+              (im[y0 + 1, x0] * (1 - fx) + im[y0 + 1, x0 + 1] * fx) * fy)
+    return w, ok, colour
+
+
+def test_fit_on_real_photographs_predicts_held_out_views(chessboard):
+    """Every second photograph held out. The filter's per-view errors are checked against the same
+    errors computed here (fitted functions from the .rply, colour projection from the photographs),
+    then: the validated fit is, on average over the held-out views, no worse than the constant mean
+    colour and better than the colour projection, as is and exposure-matched, and not worse than the
+    constant in at least 80 % of the views (see the strict 95 % test below for the target)."""
+    log, fit = _fit_with_held_out_views(chessboard, 2)
+    rows = {m.group(1): [float(g) for g in m.groups()[1:]] for m in HELD_OUT_LINE.finditer(log)}
+    views = _views(chessboard)
+    held_out = [v for i, v in enumerate(views) if (i + 1) % 2 == 0]
+    training = [v for i, v in enumerate(views) if (i + 1) % 2 != 0]
+    assert sorted(rows) == sorted(v["label"] for v in held_out), log[-3000:]
+
+    p, n = fit.positions.astype(float), fit.normals.astype(float)
+    train_obs = [_observe(v, p, n) for v in training]
+    seen_by_training = np.any([ok for _, ok, _ in train_obs], axis=0)
+    count = np.sum([ok for _, ok, _ in train_obs], axis=0)
+    projection = np.sum([np.where(ok[:, None], h.srgb_encode(c), 0.0) for _, ok, c in train_obs], axis=0)
+    projection /= np.maximum(count, 1)[:, None]
+    for view in held_out:
+        w, ok, seen = _observe(view, p, n)
+        ok &= seen_by_training
+        vertices, fitted, _constant, proj = rows[view["label"]][:4]
+        assert abs(ok.sum() - vertices) <= 0.005 * vertices + 2, (view["label"], ok.sum(), vertices)
+        mine = np.sqrt(np.mean((h.srgb_encode(h.evaluate_pb(fit, w)[ok]) - h.srgb_encode(seen[ok])) ** 2))
+        assert abs(mine - fitted) < 0.25, (view["label"], mine, fitted)
+        mine = np.sqrt(np.mean((projection[ok] - h.srgb_encode(seen[ok])) ** 2))
+        assert abs(mine - proj) < 0.25, (view["label"], mine, proj)
+
+    errors = np.array(list(rows.values()))  # vertices, fitted, constant, projection, then exposure-matched
+    for name, (f, c, pr) in (("as is", (1, 2, 3)), ("exposure-matched", (4, 5, 6))):
+        not_worse = np.mean(errors[:, f] <= errors[:, c])
+        ratio = np.mean(errors[:, f] / errors[:, pr])
+        print(f"held-out views ({name}): mean RMS fitted {errors[:, f].mean():.2f}, constant {errors[:, c].mean():.2f}, "
+              f"colour projection {errors[:, pr].mean():.2f} sRGB levels; fitted <= constant in {not_worse:.0%} of "
+              f"{len(errors)} views; mean ratio fitted / projection {ratio:.3f}")
+        assert errors[:, f].mean() <= errors[:, c].mean(), name
+        assert ratio < 1.0, name
+        assert not_worse >= 0.8, name
+
+    # The log reads as a normal acquisition: counts, a median sample count, the gains of a camera in
+    # automatic exposure (this webcam's vary by more than 1.5 x between photographs).
+    assert "poorly sampled" not in log
+    assert re.search(r"median \d+ per seen vertex", log), log[-3000:]
+    gains = re.search(r"gains between ([\d.]+) and ([\d.]+)", log)
+    assert gains and float(gains.group(2)) / float(gains.group(1)) > 1.5, log[-3000:]
+
+
+@pytest.mark.xfail(strict=True, reason="the target of issue 16, not met yet: on this set the validated fit is "
+                   "worse than the constant in about 1 held-out view in 7 (README, fit section)")
+def test_fit_on_real_photographs_is_not_worse_than_the_constant_in_95_percent_of_held_out_views(chessboard):
+    not_worse = total = 0
+    for every in (2, 4):
+        log, _ = _fit_with_held_out_views(chessboard, every)
+        for m in HELD_OUT_LINE.finditer(log):
+            fitted, constant = float(m.group(6)), float(m.group(7))
+            not_worse += fitted <= constant
+            total += 1
+    assert total >= 19 and not_worse >= 0.95 * total, f"{not_worse} of {total}"
+
+
+def test_fit_refuses_unusable_held_out_settings(photos):
+    ms = with_rasters(photos)
+    h.expect_refusal(ms, h.FIT, "Hold out every k-th raster: 1 is not usable; use 0 to fit on every raster",
+                     **fit_parameters(heldoutevery=1))
+    ms = with_rasters(photos)
+    h.expect_refusal(ms, h.FIT, f"only {VIEWS} usable rasters, so none would be held out; use a k of at most {VIEWS}",
+                     **fit_parameters(heldoutevery=VIEWS + 1))
