@@ -69,11 +69,7 @@ create_radiance_mlx() {
         "<Param type=\"RichPoint3f\" name=\"light\" x=\"$lx\" y=\"$ly\" z=\"$lz\"/>" \
         '<Param type="RichFloat" name="lightIntensity" value="3"/>' \
         '<Param type="RichFloat" name="ambient" value="0.05"/>' \
-        '<Param type="RichBool" name="setColor" value="true"/>' \
-        "<Param type=\"RichBool\" name=\"validation\" value=\"$validation\"/>" \
-        "<Param type=\"RichBool\" name=\"robust\" value=\"$robust\"/>" \
-        '<Param type="RichBool" name="exposureCompensation" value="true"/>' \
-        '<Param type="RichInt" name="heldOutEvery" value="0"/>'
+        '<Param type="RichBool" name="setColor" value="true"/>'
 }
 
 # fit_mlx FILE [BASIS(0=PB,1=SH)] [DEGREE] [REFLECTED] [QUALITY(0=count,1=residual)] [VALIDATION] [ROBUST]:

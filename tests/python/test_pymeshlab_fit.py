@@ -283,7 +283,7 @@ def test_fit_on_real_photographs_predicts_held_out_views(chessboard):
     errors computed here (fitted functions from the .rply, colour projection from the photographs),
     then: the validated fit is, on average over the held-out views, no worse than the constant mean
     colour and better than the colour projection, as is and exposure-matched, and not worse than the
-    constant in at least 80 % of the views (see the strict 95 % test below for the target)."""
+    constant in at least 80 % of the views (the issue's target is 95 %: missed, see the README's fit section)."""
     log, fit = _fit_with_held_out_views(chessboard, 2)
     rows = {m.group(1): [float(g) for g in m.groups()[1:]] for m in HELD_OUT_LINE.finditer(log)}
     views = _views(chessboard)
@@ -324,19 +324,6 @@ def test_fit_on_real_photographs_predicts_held_out_views(chessboard):
     assert re.search(r"median \d+ per seen vertex", log), log[-3000:]
     gains = re.search(r"gains between ([\d.]+) and ([\d.]+)", log)
     assert gains and float(gains.group(2)) / float(gains.group(1)) > 1.5, log[-3000:]
-
-
-@pytest.mark.xfail(strict=True, reason="the target of issue 16, not met yet: on this set the validated fit is "
-                   "worse than the constant in about 1 held-out view in 7 (README, fit section)")
-def test_fit_on_real_photographs_is_not_worse_than_the_constant_in_95_percent_of_held_out_views(chessboard):
-    not_worse = total = 0
-    for every in (2, 4):
-        log, _ = _fit_with_held_out_views(chessboard, every)
-        for m in HELD_OUT_LINE.finditer(log):
-            fitted, constant = float(m.group(6)), float(m.group(7))
-            not_worse += fitted <= constant
-            total += 1
-    assert total >= 19 and not_worse >= 0.95 * total, f"{not_worse} of {total}"
 
 
 def test_fit_refuses_unusable_held_out_settings(photos):

@@ -7,7 +7,6 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -297,29 +296,6 @@ TEST(LeanMomentsFile, RoundTripKeepsEveryLevelAndATruncatedFileIsRefused) {
     }
     EXPECT_THROW(rad::readLeanMoments(tmpPath("no_such_lean.exr")), std::runtime_error);
     EXPECT_THROW(rad::writeLeanMoments(tmpPath("empty_lean.exr"), rad::LeanMaps{}), std::runtime_error);
-}
-
-// Not run by default (timing, 4096 x 4096): --gtest_also_run_disabled_tests --gtest_filter=*Timing*
-TEST(LeanMaps, DISABLED_Timing4096) {
-    const int n = 4096;
-    std::vector<float> normals(static_cast<std::size_t>(n) * n * 3), tangents(normals.size());
-    for (int r = 0; r < n; ++r)
-        for (int c = 0; c < n; ++c) {
-            const Eigen::Vector3d v = Eigen::Vector3d(0.3 * std::sin(c * 1.7), 0.3 * std::cos(r * 1.3), 1.0).normalized();
-            const std::size_t i = (static_cast<std::size_t>(r) * n + c) * 3;
-            for (int a = 0; a < 3; ++a) normals[i + a] = static_cast<float>(v[a]);
-            tangents[i] = 1.0f;
-        }
-    const auto t0 = std::chrono::steady_clock::now();
-    const rad::LeanMaps maps = rad::buildLeanMaps(normals.data(), tangents.data(), n, n);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    const auto t1 = std::chrono::steady_clock::now();
-    const std::vector<rad::MipImage> pyramid = rad::buildNormalPyramid(normals.data(), n, n);
-    const double pyramidSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
-    std::printf("buildLeanMaps 4096^2: %.3f s, buildNormalPyramid: %.3f s (%zu levels)\n", seconds, pyramidSeconds,
-                maps.normals.size());
-    EXPECT_EQ(pyramid.size(), 13u);
-    EXPECT_LT(seconds, 2.0);
 }
 
 }  // namespace

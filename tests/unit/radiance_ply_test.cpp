@@ -1052,6 +1052,16 @@ std::string sparseFile(const std::string& name, std::size_t n, std::size_t faces
 }
 }  // namespace
 
+// Reading the 512 MiB file whole would raise the peak by more than 512 MiB. Under AddressSanitizer the
+// reserved (never filled) output arrays cost 1/8 of their size in shadow memory when they are freed
+// (about 70 MiB here, measured 88 MiB in all), so the sanitizer build gets a looser bound that still
+// lies far below the file's size.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr long kSparseReadRssLimitKilobytes = 192 * 1024;
+#else
+constexpr long kSparseReadRssLimitKilobytes = 64 * 1024;
+#endif
+
 TEST(RadiancePlyHostile, SparseFileIsRefusedWithoutAllocatingItsSize) {
     // 512 MiB of zeros behind a plausible header: reading it whole would cost 512 MiB of buffer plus
     // as much again in arrays; refused after one chunk it costs a few MiB.
@@ -1063,7 +1073,7 @@ TEST(RadiancePlyHostile, SparseFileIsRefusedWithoutAllocatingItsSize) {
     const std::string noFaces = sparseFile("sparse_vertices.ply", n, 0);
     message = errorOf([&] { rad::readRadiancePly(noFaces); });
     EXPECT_NE(message.find("normal of vertex 0 is not unit length"), std::string::npos) << message;
-    EXPECT_LT(maxRssKilobytes() - before, 64 * 1024);
+    EXPECT_LT(maxRssKilobytes() - before, kSparseReadRssLimitKilobytes);
     std::filesystem::remove(withFaces);
     std::filesystem::remove(noFaces);
 }
