@@ -107,6 +107,33 @@ def run_python(code, timeout=300):
                           text=True, timeout=timeout, env=env)
 
 
+def create_mlx(path, case):
+    """A meshlabserver script running the create filter with every parameter listed (as lib.sh's
+    create_radiance_mlx); `case` gives basis, degree, reflected, specular, stripes, lighttype, light."""
+    lx, ly, lz = case["light"]
+    path.write_text(f"""<!DOCTYPE FilterScript>
+<FilterScript>
+ <filter name="Radiance: Create Radiance Data from Analytic Material">
+  <Param type="RichEnum" name="basis" value="{case['basis']}" enum_cardinality="2" enum_val0="PB" enum_val1="SH"/>
+  <Param type="RichInt" name="degree" value="{case['degree']}"/>
+  <Param type="RichBool" name="reflected" value="{str(case['reflected']).lower()}"/>
+  <Param type="RichColor" name="albedo" r="230" g="60" b="40" a="255"/>
+  <Param type="RichColor" name="specularColor" r="255" g="255" b="255" a="255"/>
+  <Param type="RichFloat" name="specular" value="{case['specular']}"/>
+  <Param type="RichFloat" name="shininess" value="40"/>
+  <Param type="RichInt" name="stripes" value="{case['stripes']}"/>
+  <Param type="RichEnum" name="stripeAxis" value="1" enum_cardinality="3" enum_val0="X" enum_val1="Y" enum_val2="Z"/>
+  <Param type="RichEnum" name="lightType" value="{case['lighttype']}" enum_cardinality="2" enum_val0="Directional" enum_val1="Point"/>
+  <Param type="RichPoint3f" name="light" x="{lx}" y="{ly}" z="{lz}"/>
+  <Param type="RichFloat" name="lightIntensity" value="3"/>
+  <Param type="RichFloat" name="ambient" value="0.05"/>
+  <Param type="RichBool" name="setColor" value="true"/>
+ </filter>
+</FilterScript>
+""")
+    return path
+
+
 # ---------------------------------------------------------------------------------------------------
 # pymeshlab
 
