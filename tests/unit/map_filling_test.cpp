@@ -7,7 +7,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -250,24 +249,21 @@ TEST(MapFilling, NormalizeTexelVectors) {
 }
 
 // 4096 x 4096 x 3 with a per-triangle-atlas-like pattern of holes (every 8th row and column, plus
-// the upper-left triangle of every 16-texel cell). Budget: 1 s of wall time on 2 cores, also in
-// unoptimised or sanitizer builds only a smoke run (the bound is only asserted with NDEBUG).
-TEST(MapFilling, FillsA4096MapQuickly) {
+// the upper-left triangle of every 16-texel cell): every texel is filled, and a constant field stays
+// that constant. The time of a 4096^2 fill is printed by bench/bench_bake_normals (fill column).
+TEST(MapFilling, FillsEveryTexelOfA4096Map) {
     const int w = 4096, h = 4096;
     std::vector<float> values(std::size_t(w) * h * 3, 0.5f);
     std::vector<std::uint8_t> valid(std::size_t(w) * h);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
             valid[std::size_t(y) * w + x] = (x % 8 != 0) && (y % 8 != 0) && ((x % 16) + (y % 16) > 15);
-    const auto t0 = std::chrono::steady_clock::now();
     const std::size_t filled = rad::fillByPullPush(values.data(), 3, w, h, valid);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     EXPECT_GT(filled, std::size_t(w) * h / 3);
     EXPECT_EQ(std::count(valid.begin(), valid.end(), 0), 0);
-    std::printf("pull-push 4096 x 4096 x 3: %.3f s, %zu texels filled\n", seconds, filled);
-#ifdef NDEBUG
-    EXPECT_LT(seconds, 1.0);
-#endif
+    const auto [lowest, highest] = std::minmax_element(values.begin(), values.end());
+    EXPECT_FLOAT_EQ(*lowest, 0.5f);
+    EXPECT_FLOAT_EQ(*highest, 0.5f);
 }
 
 }  // namespace
