@@ -199,10 +199,10 @@ public:
                 level.faceCount(), qUtf8Printable(layer->label())));
         }
         ctx.progress(100, "Done");
-        if (result.facesRepeatingAVertexRemoved > 0 || result.zeroAreaFaces > 0)
-            ctx.log(formatLine("Input defects handled: %zu faces repeating a vertex removed, %zu zero-area faces "
-                               "simplified like the others",
-                               result.facesRepeatingAVertexRemoved, result.zeroAreaFaces));
+        if (result.facesRepeatingAVertexRemoved > 0 || result.duplicateFacesRemoved > 0 || result.zeroAreaFaces > 0)
+            ctx.log(formatLine("Input defects handled: %zu faces repeating a vertex removed, %zu duplicate faces "
+                               "removed (later copies of a triangle), %zu zero-area faces simplified like the others",
+                               result.facesRepeatingAVertexRemoved, result.duplicateFacesRemoved, result.zeroAreaFaces));
         const rad::EdgeCollapseResult& r = result.collapse;
         ctx.log(formatLine("Simplified %zu -> %zu faces (%zu vertices) with the %s metric, %s collapse: %zu collapses in %.2f s "
             "(%zu to this layer), cost of its last collapse %.4g; coarsest level %zu faces, last cost %.4g (%s)%s",
@@ -235,8 +235,9 @@ QString RadianceSimplificationFilter::description() const {
                "keep the boundary and valences within bounds. The whole collapse sequence is recorded "
                "(progressive mesh, sec. 4.5): extra levels of detail become new layers, and the sequence "
                "can be saved as a .rpm file and replayed with the simplify_radiance tool. The mesh must be "
-               "a clean 2-manifold triangle mesh (no duplicate or zero-area faces, no non-manifold edges); "
-               "the filter says which cleaning filter to run otherwise.") +
+               "a 2-manifold triangle mesh (no edge shared by more than two faces; the filter says which "
+               "cleaning filter to run otherwise); faces repeating a vertex and repeated triangles are removed, "
+               "zero-area faces are simplified like the others, and the log counts them.") +
            kCiteVanhoey2015;
 }
 

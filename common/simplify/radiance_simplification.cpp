@@ -36,17 +36,56 @@ bool needsRadiance(SimplificationMetric metric) { return metric != Simplificatio
 bool repeatsAVertex(const std::uint32_t* t) { return t[0] == t[1] || t[1] == t[2] || t[0] == t[2]; }
 
 // Removes the faces that repeat a vertex (no area, no edge of their own); returns how many.
-std::size_t removeFacesRepeatingAVertex(RadianceMesh& mesh) {
+// A face's vertices in increasing order: two faces over the same three vertices (either orientation)
+// are the same triangle.
+std::array<std::uint32_t, 3> sortedCorners(const std::uint32_t* t) {
+    std::array<std::uint32_t, 3> s{t[0], t[1], t[2]};
+    std::sort(s.begin(), s.end());
+    return s;
+}
+
+// Marks the faces that repeat a vertex and every copy of a triangle after its first occurrence in
+// face order; returns the marks and the two counts.
+struct UnusableFaces {
+    std::vector<std::uint8_t> drop;
+    std::size_t repeatingAVertex = 0;
+    std::size_t duplicates = 0;
+};
+
+UnusableFaces findUnusableFaces(const RadianceMesh& mesh) {
+    const std::size_t nf = mesh.faceCount();
+    UnusableFaces u;
+    u.drop.assign(nf, 0);
+    std::vector<std::pair<std::array<std::uint32_t, 3>, std::uint32_t>> keyed;
+    keyed.reserve(nf);
+    for (std::size_t f = 0; f < nf; ++f) {
+        const std::uint32_t* t = mesh.faces.data() + 3 * f;
+        if (repeatsAVertex(t)) {
+            u.drop[f] = 1;
+            ++u.repeatingAVertex;
+        } else {
+            keyed.emplace_back(sortedCorners(t), static_cast<std::uint32_t>(f));
+        }
+    }
+    std::sort(keyed.begin(), keyed.end());  // equal triangles together, lowest face index first
+    for (std::size_t i = 1; i < keyed.size(); ++i)
+        if (keyed[i].first == keyed[i - 1].first) {
+            u.drop[keyed[i].second] = 1;
+            ++u.duplicates;
+        }
+    return u;
+}
+
+void removeFaces(RadianceMesh& mesh, const std::vector<std::uint8_t>& drop) {
     std::size_t kept = 0;
     const std::size_t nf = mesh.faceCount();
     for (std::size_t f = 0; f < nf; ++f) {
+        if (drop[f]) continue;
         const std::uint32_t* t = mesh.faces.data() + 3 * f;
-        if (repeatsAVertex(t)) continue;
         if (kept != f) std::copy(t, t + 3, mesh.faces.data() + 3 * kept);
         ++kept;
     }
     mesh.faces.resize(3 * kept);
-    return nf - kept;
 }
 
 std::size_t countZeroAreaFaces(const RadianceMesh& mesh) {
@@ -84,27 +123,18 @@ std::string checkSimplificationInput(const RadianceMesh& mesh, SimplificationMet
                "vertex's function is interpolated between two frames, which needs a rotation-invariant basis); the mesh "
                "has " + mesh.radiance->basis.name() + ": choose half-edge collapse";
 
-    // Faces repeating a vertex are dropped by simplifyRadianceMesh and zero-area faces are collapsed
-    // like any other (they are the cheapest collapses there are): neither is a reason to refuse.
+    // Faces repeating a vertex and repeated triangles are dropped by simplifyRadianceMesh, zero-area
+    // faces are collapsed like any other (they are the cheapest collapses there are): none of them is
+    // a reason to refuse. What is left must be a 2-manifold.
     const std::size_t nf = mesh.faceCount();
-    std::vector<std::array<std::uint32_t, 3>> sortedFaces;
-    sortedFaces.reserve(nf);
+    const UnusableFaces unusable = findUnusableFaces(mesh);
     std::vector<std::uint64_t> edges;
     edges.reserve(3 * nf);
     for (std::size_t f = 0; f < nf; ++f) {
+        if (unusable.drop[f]) continue;
         const std::uint32_t* t = mesh.faces.data() + 3 * f;
-        if (repeatsAVertex(t)) continue;
-        std::array<std::uint32_t, 3> s{t[0], t[1], t[2]};
-        std::sort(s.begin(), s.end());
-        sortedFaces.push_back(s);
         for (int k = 0; k < 3; ++k) edges.push_back(undirectedEdgeKey(t[k], t[(k + 1) % 3]));
     }
-    std::sort(sortedFaces.begin(), sortedFaces.end());
-    const std::size_t distinctFaces =
-        static_cast<std::size_t>(std::unique(sortedFaces.begin(), sortedFaces.end()) - sortedFaces.begin());
-    if (distinctFaces != sortedFaces.size())
-        return "the mesh has " + plural(sortedFaces.size() - distinctFaces, "duplicate face") +
-               ": run 'Cleaning and Repairing: Remove Duplicate Faces' and try again";
     const std::size_t nonManifold = countNonManifoldEdges(edges);
     if (nonManifold > 0)
         return "the mesh has " + plural(nonManifold, "non-manifold edge") +
@@ -117,7 +147,8 @@ RadianceSimplificationResult simplifyRadianceMesh(RadianceMesh mesh, const Radia
     if (const std::string problem = options.collapse.validate(); !problem.empty()) throw SimplificationError(problem);
     if (const std::string problem = checkSimplificationInput(mesh, options.metric, options.collapse.kind); !problem.empty())
         throw SimplificationError(problem);
-    const std::size_t facesRepeatingAVertex = removeFacesRepeatingAVertex(mesh);
+    const UnusableFaces unusable = findUnusableFaces(mesh);
+    removeFaces(mesh, unusable.drop);
     if (mesh.faceCount() == 0)
         throw SimplificationError("every face of the mesh repeats a vertex (no area): there is no surface to simplify");
     if (options.collapse.targetFaceCount >= mesh.faceCount())
@@ -126,7 +157,8 @@ RadianceSimplificationResult simplifyRadianceMesh(RadianceMesh mesh, const Radia
                                   ": choose a smaller target or ratio");
 
     RadianceSimplificationResult result;
-    result.facesRepeatingAVertexRemoved = facesRepeatingAVertex;
+    result.facesRepeatingAVertexRemoved = unusable.repeatingAVertex;
+    result.duplicateFacesRemoved = unusable.duplicates;
     result.zeroAreaFaces = countZeroAreaFaces(mesh);
     result.progressive.kind = options.collapse.kind;
     result.progressive.base = std::move(mesh);

@@ -39,19 +39,22 @@ struct RadianceSimplificationResult {
     ProgressiveRadianceMesh progressive;  // base = the input, steps down to the coarsest mesh
     EdgeCollapseResult collapse;
     std::size_t facesRepeatingAVertexRemoved = 0;  // dropped before simplifying (the base lacks them)
+    std::size_t duplicateFacesRemoved = 0;         // later copies of a triangle, dropped likewise
     std::size_t zeroAreaFaces = 0;                 // of the base, simplified like the others
     double seconds = 0.0;                 // setup + simplification (not extraction)
 };
 
 // Empty when `mesh` can be simplified with `metric`; otherwise a sentence saying what is wrong and
 // how to fix it in MeshLab: no faces, invalid arrays, radiance missing (for the metrics that need
-// it) or of mismatched size, non-finite values, duplicate faces, non-manifold edges (more than two
-// faces). Faces repeating a vertex and faces of zero area are accepted (see simplifyRadianceMesh).
+// it) or of mismatched size, non-finite values, coordinates beyond float precision, non-manifold edges
+// (more than two faces, once the dropped faces are gone). Faces repeating a vertex, repeated triangles
+// and faces of zero area are accepted (see simplifyRadianceMesh).
 std::string checkSimplificationInput(const RadianceMesh& mesh, SimplificationMetric metric,
                                      CollapseKind kind = CollapseKind::HalfEdge);
 
 // Simplifies (the mesh is taken by value: move it in to avoid a copy; it becomes the progressive
-// mesh's base, without its faces that repeat a vertex: counted in the result). Zero-area faces of
+// mesh's base, without its faces that repeat a vertex and without the later copies of a triangle
+// (same three vertices, either orientation): both counted in the result). Zero-area faces of
 // real scans are simplified like the others: the collapse of their short edge costs nothing. Throws SimplificationError when checkSimplificationInput fails or the target is
 // not below the face count, std::invalid_argument for inconsistent options (e.g. full collapse
 // with a PB field and the radiance metric: the message says why).

@@ -2,7 +2,8 @@
 # "Radiance-Aware Simplification" on bad input, through the real meshlabserver: a clear message in
 # the log, no crash, and the layer saved unchanged:
 #  - a mesh without radiance data (radiance metric); - a target not below the face count;
-#  - a non-manifold edge (three faces on one edge); - duplicate faces; - a point cloud.
+#  - a non-manifold edge (three faces on one edge); - a point cloud.
+# A repeated face is not refused: it is removed, counted in the log, and the rest simplified.
 source "$(dirname "$0")/lib.sh"
 TOOLS="$RADIANCE_BUILD_DIR/tools"
 WRITE_MLX="bash $RADIANCE_SOURCE_DIR/scripts/write_simplify_mlx.sh"
@@ -51,7 +52,6 @@ write("duplicate", verts, faces + [faces[3]])
 write("points", verts, [])
 PY
 expect_refusal nonmanifold "non-manifold edge" "$WORK/nonmanifold.ply" "$WORK/geometry.mlx"
-expect_refusal duplicate "duplicate face" "$WORK/duplicate.ply" "$WORK/geometry.mlx"
 expect_refusal point_cloud "has no faces" "$WORK/points.ply" "$WORK/geometry.mlx"
 # The clean strip (with boundary) simplifies as far as its boundary allows.
 run_meshlabserver "$WORK/strip.log" -i "$WORK/strip.ply" -s "$WORK/geometry.mlx" -o "$WORK/strip.out.ply" \
@@ -60,6 +60,11 @@ run_meshlabserver "$WORK/strip.log" -i "$WORK/strip.ply" -s "$WORK/geometry.mlx"
 # why the target of 16 faces was not reached.
 grep -qF "Simplified 32 -> 18 faces (20 vertices)" "$WORK/strip.log" || { cat "$WORK/strip.log" >&2; fail "no summary for the strip"; }
 grep -qF "Stopped at 18 faces above the target of 16" "$WORK/strip.log" || { cat "$WORK/strip.log" >&2; fail "no warning for the unreached target"; }
+# The same strip with one face twice: the copy is removed and counted, the result is the clean strip's.
+run_meshlabserver "$WORK/duplicate.log" -i "$WORK/duplicate.ply" -s "$WORK/geometry.mlx" -o "$WORK/duplicate.out.ply" \
+    || { cat "$WORK/duplicate.log" >&2; fail "the strip with a duplicate face failed"; }
+grep -qF "1 duplicate faces removed" "$WORK/duplicate.log" || { cat "$WORK/duplicate.log" >&2; fail "duplicate not counted"; }
+cmp -s "$WORK/duplicate.out.ply" "$WORK/strip.out.ply" || fail "the strip with a duplicate face did not simplify like the clean strip"
 
 # Script mistakes meshlabserver passes through unchecked: an enum index beyond the choices (it used to
 # be read as another metric), a NaN weight, a negative angle. Each is refused, naming the parameter.

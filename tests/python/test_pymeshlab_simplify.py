@@ -6,6 +6,7 @@ Checks independent of the C++ code: topology (every directed edge once with its 
 characteristic 2), half-edge collapses keep original vertices with their own radiance rows (numpy
 .rply reader), expected face counts from the arguments.
 """
+import pymeshlab
 import numpy as np
 import pytest
 
@@ -134,19 +135,32 @@ def test_refuses_full_collapse_on_a_pb_field(striped, tmp_path):
     assert striped.read_bytes() == (tmp_path / "after.rply").read_bytes(), "the refused filter changed the layer"
 
 
-@pytest.mark.parametrize("case,message", [("nonmanifold", "non-manifold edge"), ("duplicate", "duplicate face"),
-                                          ("points", "has no faces")])
+@pytest.mark.parametrize("case,message", [("nonmanifold", "non-manifold edge"), ("points", "has no faces")])
 def test_refuses_bad_geometry(case, message, tmp_path):
     vertices, faces = h.grid(8, 2)
     if case == "nonmanifold":  # two more faces on the edge (0, 1): three faces on one edge
         vertices = vertices + [(0.5, -0.5, 1.0), (0.5, -0.5, -1.0)]
         faces = faces + [(1, 0, 27), (0, 1, 28)]
-    elif case == "duplicate":
-        faces = faces + [faces[3]]
     else:
         faces = []
     ms = h.load(h.write_ascii_ply(tmp_path / f"{case}.ply", vertices, faces))
     h.expect_refusal(ms, h.SIMPLIFY, message, **simplify_parameters(metric=3, targetpercentage=0.5))
+
+
+def test_a_repeated_face_is_removed_and_the_rest_simplified(tmp_path):
+    """A face listed twice (as scans have): the copy is removed (the meshlabserver test checks the log
+    line) and the result is the clean strip's (same vertices and faces)."""
+    vertices, faces = h.grid(8, 2)
+    results = {}
+    for case, extra in (("clean", []), ("duplicate", [faces[3]])):
+        ms = pymeshlab.MeshSet()
+        ms.load_new_mesh(h.write_ascii_ply(tmp_path / f"{case}.ply", vertices, faces + extra))
+        ms.apply_filter(h.SIMPLIFY, **simplify_parameters(metric=3, targetpercentage=0.5))
+        m = ms.current_mesh()
+        results[case] = (m.vertex_matrix().copy(), m.face_matrix().copy())
+    assert np.array_equal(results["clean"][0], results["duplicate"][0])
+    assert np.array_equal(results["clean"][1], results["duplicate"][1])
+    assert results["clean"][1].shape[0] < len(faces)
 
 
 def test_meshset_still_works_after_a_refusal(striped):

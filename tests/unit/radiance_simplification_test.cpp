@@ -54,12 +54,31 @@ TEST(RadianceSimplification, ZeroAreaFacesAndFacesRepeatingAVertexAreSimplifiedN
     for (std::size_t v = 0; v < coarse.vertexCount(); ++v) EXPECT_EQ(coarse.positions[3 * v + 2], 0.0f);
 }
 
-TEST(RadianceSimplification, DuplicateFacesAreStillRefusedWithTheFix) {
+TEST(RadianceSimplification, DuplicateFacesAreRemovedAndCounted) {
     rad::RadianceMesh mesh = gridWithDefects();
-    mesh.faces.insert(mesh.faces.end(), {0, 1, 9});  // the first grid face again
+    mesh.faces.insert(mesh.faces.end(), {0, 1, 9});   // the first grid face again
+    mesh.faces.insert(mesh.faces.end(), {9, 1, 0});   // and reversed
+    ASSERT_EQ(mesh.faceCount(), 102u);
+    ASSERT_EQ(std::vector<std::uint32_t>(mesh.faces.begin(), mesh.faces.begin() + 3),
+              (std::vector<std::uint32_t>{0, 1, 9}));
+    EXPECT_EQ(rad::checkSimplificationInput(mesh, rad::SimplificationMetric::Radiance), "");
+    rad::RadianceSimplificationOptions options;
+    options.collapse.targetFaceCount = 40;
+    options.collapse.preserveBoundary = false;
+    const rad::RadianceSimplificationResult r = rad::simplifyRadianceMesh(mesh, options);
+    EXPECT_EQ(r.duplicateFacesRemoved, 2u);
+    EXPECT_EQ(r.facesRepeatingAVertexRemoved, 1u);
+    EXPECT_EQ(r.progressive.base.faceCount(), 99u);  // 98 grid faces and the zero-area one
+    EXPECT_LE(r.collapse.finalFaceCount, 40u);
+}
+
+TEST(RadianceSimplification, NonManifoldEdgesAreRefusedWithTheFix) {
+    rad::RadianceMesh mesh = gridWithDefects();
+    mesh.faces.insert(mesh.faces.end(), {0, 1, 50});  // with the grid's face: three faces on the
+    mesh.faces.insert(mesh.faces.end(), {1, 0, 51});  // border edge (0, 1)
     const std::string problem = rad::checkSimplificationInput(mesh, rad::SimplificationMetric::Radiance);
-    EXPECT_NE(problem.find("1 duplicate face"), std::string::npos) << problem;
-    EXPECT_NE(problem.find("Remove Duplicate Faces"), std::string::npos) << problem;
+    EXPECT_NE(problem.find("1 non-manifold edge"), std::string::npos) << problem;
+    EXPECT_NE(problem.find("Repair non Manifold Edges"), std::string::npos) << problem;
 }
 
 TEST(RadianceSimplification, InvalidOptionsAreRefusedBeforeAnyWork) {
