@@ -302,6 +302,10 @@ void computeTransferVectors(const TransferEstimator& estimator, const float* pos
     // at once vs rays that traverse the whole mesh), and a chunk amortises the scheduling and the
     // progress bookkeeping. Small enough that a cancel is seen within a few milliseconds.
     const std::size_t chunk = 32;
+    // One chunk (the adaptive subdivision's calls of a few new vertices): the calling thread alone,
+    // so that the call never waits at the team's barrier for a second thread that has nothing to do
+    // (on a busy machine that wait costs a scheduler time slice per call).
+    if (count <= chunk) threads = 1;
     const auto chunkCount = static_cast<std::ptrdiff_t>((count + chunk - 1) / chunk);
     std::atomic<std::size_t> done{0};
     std::atomic<bool> stop{false};
