@@ -89,11 +89,20 @@ void addBudgetParameters(RichParameterList& par, const MeshModel& m) {
                            "If non-zero, the budget as a multiple of the current face count (e.g. 4)."));
 }
 
+QStringList measureChoices() {
+    return QStringList() << "Eq. 2: contrast |t1-t2| / |t1+t2|" << "Eq. 3: difference |t1-t2|"
+                         << "Eq. 4: difference / (1 + alpha normal divergence)"
+                         << "Probed: midpoint interpolation error, relative"
+                         << "Probed: midpoint interpolation error, absolute";
+}
+
 rad::TransferErrorMeasure measureParameter(const RichParameterList& par) {
     switch (par.getEnum("measure")) {
         case 0: return rad::TransferErrorMeasure::Contrast;
         case 1: return rad::TransferErrorMeasure::Difference;
-        default: return rad::TransferErrorMeasure::NormalDivergence;
+        case 2: return rad::TransferErrorMeasure::NormalDivergence;
+        case 3: return rad::TransferErrorMeasure::ProbedRelative;
+        default: return rad::TransferErrorMeasure::ProbedAbsolute;
     }
 }
 
@@ -101,7 +110,9 @@ const char* measureCitation(const RichParameterList& par) {
     switch (par.getEnum("measure")) {
         case 0: return "Křivánek et al. 2004, eq. 2";
         case 1: return "Křivánek et al. 2004, eq. 3";
-        default: return "Křivánek et al. 2004, eq. 4";
+        case 2: return "Křivánek et al. 2004, eq. 4";
+        case 3: return "probed midpoint interpolation error, relative";
+        default: return "probed midpoint interpolation error, absolute";
     }
 }
 

@@ -40,7 +40,9 @@ void refuseOutOfMemory(const std::function<void()>& body);
 
 // The budget parameters of both subdivision filters ("budget", "budgetFactor").
 void addBudgetParameters(RichParameterList& par, const MeshModel& m);
-// The error estimate of the "measure" parameter (0: eq. 2, 1: eq. 3, 2: eq. 4), and its citation.
+// The choices of the "measure" parameter (0: eq. 2, 1: eq. 3, 2: eq. 4 of Křivánek et al. 2004,
+// 3: probed relative, 4: probed absolute; transfer_error_estimate.h), the estimate and its name.
+QStringList measureChoices();
 rad::TransferErrorMeasure measureParameter(const RichParameterList& par);
 const char* measureCitation(const RichParameterList& par);
 

@@ -31,9 +31,11 @@ public:
     RichParameterList parameters(const MeshDocument&, const MeshModel& m) const override {
         RichParameterList par;
         addBudgetParameters(par, m);
-        par.addParam(RichEnum("measure", 2, QStringList() << "Eq. 2" << "Eq. 3" << "Eq. 4", "Error estimate shown",
-                              "The estimate of Křivánek et al. 2004 written as face quality (for comparison with "
-                              "the adaptive filter)."));
+        par.addParam(RichEnum("measure", 2, measureChoices(), "Error estimate shown",
+                              "The estimate written as face quality, for comparison with the adaptive filter "
+                              "(eq. 2-4 of Křivánek et al. 2004 from the corners; the probed ones ray-cast every "
+                              "final edge's midpoint, about three times the rays of the subdivision itself, so "
+                              "eq. 4 is the default here)."));
         par.addParam(RichFloat("alpha", float(rad::kDefaultNormalDivergenceAlpha), "Alpha (eq. 4)",
                                "Weight of the normal divergence in eq. 4."));
         return par;

@@ -244,7 +244,7 @@ def main():
     filter_start = time.perf_counter()
     ms.apply_filter("radiance_adaptive_prt_subdivision",
                     budget=0, budgetfactor=4,                          # 4 x the face count
-                    measure="Eq. 4: difference / (1 + alpha normal divergence)", alpha=4, threshold=0)
+                    measure="Probed: midpoint interpolation error, relative", alpha=4, threshold=0)
     subdivided = ms.current_mesh()
     log(f"adaptive PRT subdivision: {column_faces:,} -> {subdivided.face_number():,} faces, "
         f"{subdivided.vertex_number():,} vertices, in {time.perf_counter() - filter_start:.2f} s")

@@ -2,7 +2,7 @@
 # write_prt_mlx.sh OUT.mlx STEP [STEP...]: a meshlabserver script running the PRT filters in order,
 # each with every parameter listed, as meshlabserver 2020.09 requires. Steps:
 #   transfer:ORDER:RAYS[:OCCLUDERS(0 mesh|1 visible layers)[:ALBEDO(true|false)]]
-#   adaptive:FACTOR[:MEASURE(0 eq.2|1 eq.3|2 eq.4)[:ALPHA[:THRESHOLD[:BUDGET]]]]
+#   adaptive:FACTOR[:MEASURE(0 eq.2|1 eq.3|2 eq.4|3 probed (default)|4 probed absolute)[:ALPHA[:THRESHOLD[:BUDGET]]]]
 #   uniform:FACTOR[:BUDGET]
 #   relight-dir:X:Y:Z[:INTENSITY]
 #   relight-env:FILE[:ROTATION_DEGREES[:UP(0 +X|1 +Y|2 +Z)]]   (the map at intensity 1)
@@ -31,7 +31,7 @@ MLX
  <filter name="Radiance: Adaptive PRT Subdivision">
   <Param type="RichInt" name="budget" value="${e:-0}"/>
   <Param type="RichFloat" name="budgetFactor" value="${a:-4}"/>
-  <Param type="RichEnum" name="measure" value="${b:-2}" enum_cardinality="3" enum_val0="eq2" enum_val1="eq3" enum_val2="eq4"/>
+  <Param type="RichEnum" name="measure" value="${b:-3}" enum_cardinality="5" enum_val0="eq2" enum_val1="eq3" enum_val2="eq4" enum_val3="probed" enum_val4="probed-absolute"/>
   <Param type="RichFloat" name="alpha" value="${c:-4}"/>
   <Param type="RichFloat" name="threshold" value="${d:-0}"/>
  </filter>
@@ -42,7 +42,7 @@ MLX
  <filter name="Radiance: Uniform PRT Subdivision">
   <Param type="RichInt" name="budget" value="${b:-0}"/>
   <Param type="RichFloat" name="budgetFactor" value="${a:-4}"/>
-  <Param type="RichEnum" name="measure" value="2" enum_cardinality="3" enum_val0="eq2" enum_val1="eq3" enum_val2="eq4"/>
+  <Param type="RichEnum" name="measure" value="2" enum_cardinality="5" enum_val0="eq2" enum_val1="eq3" enum_val2="eq4" enum_val3="probed" enum_val4="probed-absolute"/>
   <Param type="RichFloat" name="alpha" value="4"/>
  </filter>
 MLX

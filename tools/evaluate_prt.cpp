@@ -57,7 +57,8 @@ void usage(std::ostream& out) {
            "  --simplify-to F           simplify the scan to F faces first (geometry QEM) [0: no]\n"
            "  --ground N                ground plane cells per side for --mesh [8]\n"
            "  --levels L                uniform subdivision levels; budget = faces x 4^L [2]\n"
-           "  --measure 2|3|4           Křivánek et al. 2004 error estimate [4]\n"
+           "  --measure M               error estimate: 2, 3, 4 (Křivánek et al. 2004 eq. 2-4), probed\n"
+           "                            (ray-cast midpoints, relative) or probed-absolute [library default]\n"
            "  --alpha A                 eq. 4 alpha [library default]\n"
            "  --order N                 SH order (N^2 coefficients) [6]\n"
            "  --rays N                  rays per transfer vector [256]\n"
@@ -77,7 +78,7 @@ struct Settings {
     int simplifyTo = 0;
     int ground = 8;
     int levels = 2;
-    rad::TransferErrorMeasure measure = rad::TransferErrorMeasure::NormalDivergence;
+    rad::TransferErrorMeasure measure = rad::AdaptiveSubdivisionOptions{}.measure;
     double alpha = rad::kDefaultNormalDivergenceAlpha;
     int order = rad::kDefaultTransferDegree + 1;
     int rays = rad::kDefaultTransferRayCount;
@@ -105,11 +106,13 @@ Settings parse(int argc, char** argv) {
         else if (key == "--ground") s.ground = toInt(key, value());
         else if (key == "--levels") s.levels = toInt(key, value());
         else if (key == "--measure") {
-            const int m = toInt(key, value());
-            if (m < 2 || m > 4) throw UsageError("--measure needs 2, 3 or 4");
-            s.measure = m == 2 ? rad::TransferErrorMeasure::Contrast
-                        : m == 3 ? rad::TransferErrorMeasure::Difference
-                                 : rad::TransferErrorMeasure::NormalDivergence;
+            const std::string m = value();
+            if (m == "2") s.measure = rad::TransferErrorMeasure::Contrast;
+            else if (m == "3") s.measure = rad::TransferErrorMeasure::Difference;
+            else if (m == "4") s.measure = rad::TransferErrorMeasure::NormalDivergence;
+            else if (m == "probed") s.measure = rad::TransferErrorMeasure::ProbedRelative;
+            else if (m == "probed-absolute") s.measure = rad::TransferErrorMeasure::ProbedAbsolute;
+            else throw UsageError("--measure needs 2, 3, 4, probed or probed-absolute");
         } else if (key == "--alpha") s.alpha = toNumber(key, value());
         else if (key == "--order") s.order = toInt(key, value());
         else if (key == "--rays") s.rays = toInt(key, value());
@@ -399,9 +402,11 @@ int run(int argc, char** argv) {
     std::printf("scene: %s, %zu vertices, %zu faces; SH order %d, %d rays; estimate %s, alpha %.3g\n",
                 s.scene == "column" ? "column on a plane (Křivánek et al. 2004 Fig. 1)" : s.meshPath.c_str(),
                 scene.vertexCount(), scene.faceCount(), s.order, s.rays,
-                s.measure == rad::TransferErrorMeasure::Contrast     ? "eq. 2"
-                : s.measure == rad::TransferErrorMeasure::Difference ? "eq. 3"
-                                                                     : "eq. 4",
+                s.measure == rad::TransferErrorMeasure::Contrast           ? "eq. 2"
+                : s.measure == rad::TransferErrorMeasure::Difference       ? "eq. 3"
+                : s.measure == rad::TransferErrorMeasure::NormalDivergence ? "eq. 4"
+                : s.measure == rad::TransferErrorMeasure::ProbedRelative   ? "probed (relative)"
+                                                                           : "probed (absolute)",
                 s.alpha);
     std::printf("uniform: %d levels, %.2f s; adaptive: budget %zu, %zu regular splits (%zu forced), %zu T-vertex "
                 "fixes, %.2f s; %zu samples (%.2f s); %zu lightings (Weber floor %.2f of the mean)\n",
@@ -449,6 +454,22 @@ int run(int argc, char** argv) {
     const double ratio = reports[2].overall.meanRelativeError / reports[1].overall.meanRelativeError;
     std::printf("adaptive / uniform mean relative error: %.3f (%.1f %% lower); p95: %.3f\n", ratio,
                 100.0 * (1.0 - ratio), reports[2].overall.p95RelativeError / reports[1].overall.p95RelativeError);
+    // The same comparison with |L - L_int| divided by the lighting's mean luminance (absolute: the
+    // dark regions that dominate the relative error weigh little here).
+    std::vector<rad::RelightingErrorReport> absolute;
+    for (const auto& [name, result] : meshes) {
+        const std::vector<float> interpolated = rad::interpolateAtSamples(samples, input, *result);
+        absolute.push_back(rad::relightingErrorOverLightings(samples, interpolated, degree, 1, sh, degree,
+                                                             rad::RelightingErrorNormalisation::MeanLuminance));
+    }
+    std::printf("absolute error (|L - L_int| / mean L), mean/p95: input %.5f %.5f, uniform %.5f %.5f, adaptive %.5f "
+                "%.5f; adaptive / uniform mean %.3f, p95 %.3f\n",
+                absolute[0].overall.meanRelativeError, absolute[0].overall.p95RelativeError,
+                absolute[1].overall.meanRelativeError, absolute[1].overall.p95RelativeError,
+                absolute[2].overall.meanRelativeError, absolute[2].overall.p95RelativeError,
+                absolute[2].overall.meanRelativeError / absolute[1].overall.meanRelativeError,
+                absolute[2].overall.p95RelativeError / absolute[1].overall.p95RelativeError);
+    std::printf("adaptive probes: %zu midpoints ray-cast for the estimate\n", adaptive.probes);
 
     if (!s.outDir.empty()) {
         writePictures(s, input, estimator, rays,

@@ -19,6 +19,7 @@
 #include "geometry/triangle_mesh.h"
 
 #include <algorithm>
+#include <unordered_map>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -135,6 +136,8 @@ public:
             edges_.push_back(e);
             i = j;
         }
+        known_.assign(vertexCount(), 1);
+        if (isProbed(measure_)) setUpProbes(input);
     }
 
     std::size_t triangleCount() const { return triangles_.size(); }
@@ -232,14 +235,102 @@ public:
         }
     }
 
-    // Transfer of the vertices from `firstVertex` on, in one oracle call (none when there are none).
+    // Transfer of the vertices from `firstVertex` on, in one oracle call (none when there are none);
+    // vertices whose transfer a probe already gave (probed measures) are not cast again.
     void castTransfer(std::size_t firstVertex, const TransferOracle& oracle) {
         const std::size_t count = vertexCount() - firstVertex;
-        transfer_.resize(vertexCount() * std::size_t(width_));
+        const std::size_t w = std::size_t(width_);
+        transfer_.resize(vertexCount() * w);
         if (count == 0) return;
-        oracle(positions_.data() + 3 * firstVertex, normals_.data() + 3 * firstVertex, count,
-               transfer_.data() + std::size_t(width_) * firstVertex);
+        std::vector<std::uint32_t> unknown;
+        for (std::size_t v = firstVertex; v < vertexCount(); ++v)
+            if (!known_[v]) unknown.push_back(static_cast<std::uint32_t>(v));
+        if (unknown.size() == count) {
+            oracle(positions_.data() + 3 * firstVertex, normals_.data() + 3 * firstVertex, count,
+                   transfer_.data() + w * firstVertex);
+        } else if (!unknown.empty()) {
+            std::vector<float> p(3 * unknown.size()), n(3 * unknown.size()), t(w * unknown.size());
+            for (std::size_t i = 0; i < unknown.size(); ++i)
+                for (int c = 0; c < 3; ++c) {
+                    p[3 * i + c] = positions_[3 * std::size_t(unknown[i]) + c];
+                    n[3 * i + c] = normals_[3 * std::size_t(unknown[i]) + c];
+                }
+            oracle(p.data(), n.data(), unknown.size(), t.data());
+            for (std::size_t i = 0; i < unknown.size(); ++i)
+                std::copy(t.begin() + std::ptrdiff_t(w * i), t.begin() + std::ptrdiff_t(w * (i + 1)),
+                          transfer_.begin() + std::ptrdiff_t(w * unknown[i]));
+        }
+        std::fill(known_.begin() + std::ptrdiff_t(firstVertex), known_.end(), 1);
     }
+
+    // Probed measures: ray-casts the transfer at the midpoint of every unsplit edge of the leaves in
+    // [first, last) that has no probe yet, in one oracle call (both sides of an edge share a probe
+    // when they use the same two vertices; across an attribute seam each side has its own normal).
+    void probeEdges(std::size_t first, std::size_t last, const TransferOracle& oracle) {
+        if (!probing_) return;
+        const std::size_t w = std::size_t(width_);
+        probed_.resize(2 * edges_.size(), 0);
+        probe_.resize(2 * edges_.size() * w);
+        std::vector<float> p, n;
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> slots;  // (edge side code, batch slot)
+        std::unordered_map<std::uint32_t, std::uint32_t> slotOfCode;
+        for (std::size_t t = first; t < last; ++t) {
+            if (!isLeaf(std::uint32_t(t))) continue;
+            for (int k = 0; k < 3; ++k) {
+                const std::uint32_t code = triangles_[t].edge[k];
+                const Edge& e = edges_[code >> 1];
+                if (e.firstChild != kNone || probed_[code]) continue;
+                const std::uint32_t a = triangles_[t].v[k], b = triangles_[t].v[(k + 1) % 3];
+                // The other side with the same two vertices: its probe (done, or in this batch).
+                const std::uint32_t other = e.side[(code & 1) ^ 1];
+                if (other != kNone && sameEnds(other, a, b)) {
+                    if (probed_[code ^ 1]) {
+                        std::copy_n(&probe_[w * (code ^ 1)], w, &probe_[w * code]);
+                        probed_[code] = 1;
+                        continue;
+                    }
+                    if (const auto pending = slotOfCode.find(code ^ 1); pending != slotOfCode.end()) {
+                        slots.emplace_back(code, pending->second);
+                        slotOfCode.emplace(code, pending->second);
+                        continue;
+                    }
+                }
+                float normal[3];
+                midpointNormal(a, b, std::uint32_t(t), normal);
+                for (int c = 0; c < 3; ++c) {
+                    p.push_back(0.5f * (positions_[3 * std::size_t(a) + c] + positions_[3 * std::size_t(b) + c]));
+                    n.push_back(normal[c]);
+                }
+                slots.emplace_back(code, static_cast<std::uint32_t>(p.size() / 3 - 1));
+                slotOfCode.emplace(code, static_cast<std::uint32_t>(p.size() / 3 - 1));
+            }
+        }
+        if (p.empty()) return;
+        std::vector<float> values(w * (p.size() / 3));
+        oracle(p.data(), n.data(), p.size() / 3, values.data());
+        probeCount_ += p.size() / 3;
+        for (const auto& [code, slot] : slots) {
+            std::copy_n(&values[w * slot], w, &probe_[w * code]);
+            probed_[code] = 1;
+        }
+    }
+
+    // The leaf's priority: eq. 2-4 from its corners, or its probed contribution to the mean error.
+    double leafError(std::uint32_t t) const {
+        if (!probing_) return error(t);
+        const std::size_t w = std::size_t(width_);
+        const Triangle& tri = triangles_[t];
+        double sum = 0.0;
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t code = tri.edge[k];
+            const Edge& e = edges_[code >> 1];
+            const float* middle = e.firstChild != kNone ? &transfer_[w * e.midVertex[code & 1]] : &probe_[w * code];
+            sum += probedEdgeError(measure_, &transfer_[w * tri.v[k]], &transfer_[w * tri.v[(k + 1) % 3]], middle,
+                                   width_, probeFloor_);
+        }
+        return std::sqrt(squaredDoubleArea(tri.v[0], tri.v[1], tri.v[2])) * inverseDoubleArea_ * sum / 3.0;
+    }
+    std::size_t probeCount() const { return probeCount_; }
 
     double error(std::uint32_t v0, std::uint32_t v1, std::uint32_t v2) const {
         const std::size_t w = std::size_t(width_);
@@ -261,6 +352,7 @@ public:
     // T-vertex removal of Fig. 3b.
     void emit(SubdivisionResult& out) {
         PrtMesh& mesh = out.mesh;
+        std::vector<std::uint32_t> leafOfFace;
         for (std::uint32_t t = 0; t < triangles_.size(); ++t) {
             if (!isLeaf(t)) continue;
             const Triangle& tri = triangles_[t];
@@ -269,6 +361,7 @@ public:
             const auto face = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
                 mesh.faces.insert(mesh.faces.end(), {a, b, c});
                 out.originFace.push_back(tri.origin);
+                leafOfFace.push_back(t);
             };
             if (hanging > 0) ++out.tVertexFixes;
             if (hanging == 0) {
@@ -301,8 +394,11 @@ public:
         }
         const std::size_t F = mesh.faceCount();
         out.faceError.resize(F);
+        // Probed measures: every face shows its leaf's probed error (faces of the T-vertex removal have
+        // no probes of their own).
         for (std::size_t f = 0; f < F; ++f)
-            out.faceError[f] = static_cast<float>(error(mesh.faces[3 * f], mesh.faces[3 * f + 1], mesh.faces[3 * f + 2]));
+            out.faceError[f] = static_cast<float>(
+                probing_ ? leafError(leafOfFace[f]) : error(mesh.faces[3 * f], mesh.faces[3 * f + 1], mesh.faces[3 * f + 2]));
         mesh.width = width_;
         mesh.positions = std::move(positions_);
         mesh.normals = std::move(normals_);
@@ -345,6 +441,13 @@ private:
                                       ((ends[1][0] == ends[0][0] && ends[1][1] == ends[0][1]) ||
                                        (ends[1][0] == ends[0][1] && ends[1][1] == ends[0][0]));
             edges_[e].midVertex[s] = sameVertices ? edges_[e].midVertex[0] : addMidpoint(ends[s][0], ends[s][1], h / 3, midPid);
+            const std::uint32_t code = 2 * e + std::uint32_t(s);
+            if (!sameVertices && code < probed_.size() && probed_[code]) {
+                // The probe was cast at exactly this point with exactly this normal: it is the transfer.
+                const std::size_t w = std::size_t(width_);
+                std::copy_n(&probe_[w * code], w, &transfer_[w * edges_[e].midVertex[s]]);
+                known_[edges_[e].midVertex[s]] = 1;
+            }
         }
         const std::uint32_t anyEnd = ends[0][0] != kNone ? ends[0][0] : ends[1][0];
         const std::uint32_t otherEnd = ends[0][0] != kNone ? ends[0][1] : ends[1][1];
@@ -363,14 +466,25 @@ private:
     // so both sides' midpoints coincide bit for bit) with normal normalize(n_a + n_b).
     std::uint32_t addMidpoint(std::uint32_t a, std::uint32_t b, std::uint32_t triangle, std::uint32_t midPid) {
         const auto index = static_cast<std::uint32_t>(vertexCount());
+        float normal[3];
+        midpointNormal(a, b, triangle, normal);
+        for (int c = 0; c < 3; ++c)
+            positions_.push_back(0.5f * (positions_[3 * std::size_t(a) + c] + positions_[3 * std::size_t(b) + c]));
+        normals_.insert(normals_.end(), normal, normal + 3);
+        pid_.push_back(midPid);
+        transfer_.resize(vertexCount() * std::size_t(width_));
+        known_.push_back(0);
+        return index;
+    }
+
+    // normalize(n_a + n_b); for opposite end normals, the geometric normal of `triangle` instead.
+    void midpointNormal(std::uint32_t a, std::uint32_t b, std::uint32_t triangle, float out[3]) const {
         double n[3], length2 = 0.0;
         for (int c = 0; c < 3; ++c) {
-            positions_.push_back(0.5f * (positions_[3 * std::size_t(a) + c] + positions_[3 * std::size_t(b) + c]));
             n[c] = double(normals_[3 * std::size_t(a) + c]) + double(normals_[3 * std::size_t(b) + c]);
             length2 += n[c] * n[c];
         }
         if (length2 == 0.0) {
-            // Opposite end normals: the geometric normal of the triangle on this side instead.
             const Triangle& t = triangles_[triangle];
             double p[3][3];
             for (int k = 0; k < 3; ++k)
@@ -383,9 +497,44 @@ private:
             length2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
         }
         const double inverse = length2 > 0.0 ? 1.0 / std::sqrt(length2) : 0.0;
-        for (int c = 0; c < 3; ++c) normals_.push_back(static_cast<float>(n[c] * inverse));
-        pid_.push_back(midPid);
-        return index;
+        for (int c = 0; c < 3; ++c) out[c] = static_cast<float>(n[c] * inverse);
+    }
+
+    // Whether the triangle side `half` (3 * triangle + local edge) joins vertices a and b.
+    bool sameEnds(std::uint32_t half, std::uint32_t a, std::uint32_t b) const {
+        const Triangle& t = triangles_[half / 3];
+        const std::uint32_t x = t.v[half % 3], y = t.v[(half % 3 + 1) % 3];
+        return (x == a && y == b) || (x == b && y == a);
+    }
+
+    double squaredDoubleArea(std::uint32_t a, std::uint32_t b, std::uint32_t c) const {
+        double u[3], v[3];
+        for (int k = 0; k < 3; ++k) {
+            u[k] = double(positions_[3 * std::size_t(b) + k]) - double(positions_[3 * std::size_t(a) + k]);
+            v[k] = double(positions_[3 * std::size_t(c) + k]) - double(positions_[3 * std::size_t(a) + k]);
+        }
+        const double x = u[1] * v[2] - u[2] * v[1], y = u[2] * v[0] - u[0] * v[2], z = u[0] * v[1] - u[1] * v[0];
+        return x * x + y * y + z * z;
+    }
+
+    // Probed measures: the floor of the relative form (kProbedRelativeFloor of the mean |t| over the
+    // input vertices) or the scale of the absolute one (the mean |t|), and the input's total area, so
+    // that a triangle's value is its share of the mean error.
+    void setUpProbes(const PrtMesh& input) {
+        probing_ = true;
+        const std::size_t w = std::size_t(width_);
+        double meanNorm = 0.0;
+        for (std::size_t v = 0; v < input.vertexCount(); ++v) {
+            double t2 = 0.0;
+            for (std::size_t i = 0; i < w; ++i) t2 += double(transfer_[w * v + i]) * transfer_[w * v + i];
+            meanNorm += std::sqrt(t2);
+        }
+        meanNorm /= double(std::max<std::size_t>(1, input.vertexCount()));
+        probeFloor_ = measure_ == TransferErrorMeasure::ProbedRelative ? kProbedRelativeFloor * meanNorm : meanNorm;
+        double total = 0.0;
+        for (std::size_t f = 0; f < input.faceCount(); ++f)
+            total += std::sqrt(squaredDoubleArea(input.faces[3 * f], input.faces[3 * f + 1], input.faces[3 * f + 2]));
+        inverseDoubleArea_ = total > 0.0 ? 1.0 / total : 1.0;
     }
 
     double squaredDistance(std::uint32_t a, std::uint32_t b) const {
@@ -405,6 +554,13 @@ private:
     std::uint32_t pidCount_ = 0;
     std::vector<Triangle> triangles_;
     std::vector<Edge> edges_;
+    std::vector<std::uint8_t> known_;   // per vertex: transfer set (input, or from a probe)
+    bool probing_ = false;
+    double probeFloor_ = 0.0;
+    double inverseDoubleArea_ = 1.0;
+    std::vector<float> probe_;          // width floats per edge side code (2 * edge + side)
+    std::vector<std::uint8_t> probed_;  // per edge side code
+    std::size_t probeCount_ = 0;        // oracle points spent on probes
 };
 
 void validateArguments(const char* who, const PrtMesh& input, std::size_t budget, TransferErrorMeasure measure,
@@ -450,8 +606,9 @@ SubdivisionResult subdivideAdaptively(const PrtMesh& input, const TransferOracle
 
     using Entry = std::pair<double, std::uint32_t>;  // (error, triangle): max error first
     std::priority_queue<Entry> queue;
+    refiner.probeEdges(0, input.faceCount(), oracle);
     for (std::uint32_t t = 0; t < input.faceCount(); ++t)
-        if (const double e = refiner.error(t); e > options.threshold) queue.push({e, t});
+        if (const double e = refiner.leafError(t); e > options.threshold) queue.push({e, t});
 
     SubdivisionResult result;
     std::vector<std::uint32_t> plan;
@@ -474,8 +631,9 @@ SubdivisionResult subdivideAdaptively(const PrtMesh& input, const TransferOracle
         const auto firstChild = static_cast<std::uint32_t>(refiner.triangleCount());
         for (const std::uint32_t t : plan) refiner.split(t);
         refiner.castTransfer(firstVertex, oracle);
+        refiner.probeEdges(firstChild, refiner.triangleCount(), oracle);
         for (auto child = firstChild; child < refiner.triangleCount(); ++child)
-            if (const double e = refiner.error(child); e > options.threshold) queue.push({e, child});
+            if (const double e = refiner.leafError(child); e > options.threshold) queue.push({e, child});
         result.regularSplits += plan.size();
         result.forcedSplits += plan.size() - 1;
         faces += std::size_t(cost);
@@ -483,6 +641,7 @@ SubdivisionResult subdivideAdaptively(const PrtMesh& input, const TransferOracle
     }
 
     result.newVertices = refiner.vertexCount() - input.vertexCount();
+    result.probes = refiner.probeCount();
     refiner.emit(result);
     return result;
 }
@@ -507,6 +666,9 @@ SubdivisionResult subdivideUniformly(const PrtMesh& input, const TransferOracle&
         levelStart = levelEnd;
     }
     refiner.castTransfer(input.vertexCount(), oracle);
+    // The face error shown for a probed measure needs the leaves' probes (one more oracle call).
+    refiner.probeEdges(levelStart, refiner.triangleCount(), oracle);
+    result.probes = refiner.probeCount();
     result.newVertices = refiner.vertexCount() - input.vertexCount();
     result.stop = SubdivisionStop::BudgetReached;
     refiner.emit(result);

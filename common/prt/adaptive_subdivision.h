@@ -58,7 +58,7 @@ struct PrtMesh {
 };
 
 struct AdaptiveSubdivisionOptions {
-    TransferErrorMeasure measure = TransferErrorMeasure::NormalDivergence;
+    TransferErrorMeasure measure = TransferErrorMeasure::ProbedRelative;  // the winner (README, PRT figures)
     double alpha = kDefaultNormalDivergenceAlpha;  // eq. 4 only
     // Triangles at or below it never enter the queue (a forced split, done to keep a finer neighbour
     // 1-irregular, may still split one).
@@ -79,6 +79,7 @@ struct SubdivisionResult {
     std::size_t forcedSplits = 0;              // of which done to keep neighbours 1-irregular
     std::size_t tVertexFixes = 0;              // triangles split by the Fig. 3b post-process
     std::size_t newVertices = 0;
+    std::size_t probes = 0;                    // probed measures: midpoints ray-cast to estimate errors
     SubdivisionStop stop = SubdivisionStop::QueueEmpty;
     double largestRemainingError = 0.0;        // top of the queue when stopped (0 if empty)
 };

@@ -431,7 +431,8 @@ struct ErrorProblem {
     // channels of l), stored coefficient-major v[k * lightingCount + l] so that the innermost loop
     // runs over lightings, contiguous and vectorisable without reordering a reduction.
     std::vector<double> luminanceLighting;
-    std::vector<double> floor;  // per lighting
+    std::vector<double> floor;  // per lighting (MeanLuminance: the mean luminance itself)
+    bool absolute = false;      // RelightingErrorNormalisation::MeanLuminance
 };
 
 // e(x, l) of samples [begin, end) for every lighting: errors[(s - begin) * L + l]. Both passes call
@@ -454,7 +455,10 @@ void errorsOfBlock(const ErrorProblem& p, std::size_t begin, std::size_t end, do
                 e[l] += d * v[l];
             }
         }
-        for (int l = 0; l < L; ++l) e[l] = std::fabs(e[l]) / std::max(luminance[l], p.floor[l]);
+        if (p.absolute)
+            for (int l = 0; l < L; ++l) e[l] = std::fabs(e[l]) / p.floor[l];
+        else
+            for (int l = 0; l < L; ++l) e[l] = std::fabs(e[l]) / std::max(luminance[l], p.floor[l]);
     }
 }
 
@@ -465,7 +469,7 @@ constexpr std::size_t kBlock = 256;
 RelightingErrorReport relightingErrorOverLightings(const RelightingSamples& samples,
                                                    const std::vector<float>& interpolated, int degree, int channels,
                                                    const std::vector<std::vector<double>>& lightings,
-                                                   int lightingDegree) {
+                                                   int lightingDegree, RelightingErrorNormalisation normalisation) {
     const char* who = "relightingError";
     if (degree < 0 || degree > kMaxHarmonicDegree || lightingDegree < 0 || lightingDegree > kMaxHarmonicDegree)
         refuse(who, "degrees must lie in [0, " + std::to_string(kMaxHarmonicDegree) + "]");
@@ -507,6 +511,7 @@ RelightingErrorReport relightingErrorOverLightings(const RelightingSamples& samp
 
     const int L = static_cast<int>(lightings.size());
     ErrorProblem problem;
+    problem.absolute = normalisation == RelightingErrorNormalisation::MeanLuminance;
     problem.samples = &samples;
     problem.interpolated = &interpolated;
     problem.width = width;
@@ -540,7 +545,7 @@ RelightingErrorReport relightingErrorOverLightings(const RelightingSamples& samp
     for (int l = 0; l < L; ++l) {
         double meanLuminance = 0.0;
         for (int k = 0; k < width; ++k) meanLuminance += meanTransfer[k] * problem.luminanceLighting[std::size_t(k) * L + l];
-        problem.floor[l] = kWeberFloorFraction * meanLuminance;
+        problem.floor[l] = (problem.absolute ? 1.0 : kWeberFloorFraction) * meanLuminance;
         if (!(problem.floor[l] > 0.0))
             refuse(who, "lighting " + std::to_string(l) + " gives a mean luminance of " + std::to_string(meanLuminance) +
                             " over the samples: the Weber-normalised error needs a positive adaptation level");

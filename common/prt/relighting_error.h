@@ -81,9 +81,15 @@ struct RelightingErrorReport {
     std::vector<RelightingErrorStats> perLighting;
     RelightingErrorStats overall;
 };
+// How |L - L_int| is normalised: Weber (the relative error above, the default) or by the lighting's
+// mean luminance over the samples (an absolute error on a common scale, where dark regions weigh
+// little; the fields named "RelativeError" then hold it).
+enum class RelightingErrorNormalisation { Weber, MeanLuminance };
 RelightingErrorReport relightingErrorOverLightings(const RelightingSamples& samples,
                                                    const std::vector<float>& interpolated, int degree, int channels,
                                                    const std::vector<std::vector<double>>& lightings,
-                                                   int lightingDegree);
+                                                   int lightingDegree,
+                                                   RelightingErrorNormalisation normalisation =
+                                                       RelightingErrorNormalisation::Weber);
 
 }  // namespace rad

@@ -3,6 +3,7 @@
 // eq. 4 (the eq. 3 sum divided by 1 + alpha * the angle between n1 and the mean normal).
 #include "prt/transfer_error_estimate.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace rad {
@@ -59,6 +60,8 @@ double triangleTransferError(TransferErrorMeasure measure, double alpha, const f
             return total;
         }
         case TransferErrorMeasure::Difference:
+        case TransferErrorMeasure::ProbedRelative:
+        case TransferErrorMeasure::ProbedAbsolute:
             return differenceNorm(t1, t2, width) + differenceNorm(t2, t3, width) + differenceNorm(t3, t1, width);
         case TransferErrorMeasure::NormalDivergence: {
             const double numerator =
@@ -67,6 +70,19 @@ double triangleTransferError(TransferErrorMeasure measure, double alpha, const f
         }
     }
     return 0.0;
+}
+
+double probedEdgeError(TransferErrorMeasure measure, const float* ta, const float* tb, const float* tm, int width,
+                       double floor) {
+    double d2 = 0.0, m2 = 0.0;
+    for (int i = 0; i < width; ++i) {
+        const double m = tm[i];
+        const double d = m - 0.5 * (double(ta[i]) + double(tb[i]));
+        d2 += d * d;
+        m2 += m * m;
+    }
+    const double denominator = measure == TransferErrorMeasure::ProbedRelative ? std::max(std::sqrt(m2), floor) : floor;
+    return denominator > 0.0 ? std::sqrt(d2) / denominator : 0.0;
 }
 
 }  // namespace rad

@@ -28,7 +28,7 @@ def transfer_parameters(**overrides):
 
 
 def adaptive_parameters(**overrides):
-    p = dict(budget=0, budgetfactor=4.0, measure=2, alpha=4.0, threshold=0.0)
+    p = dict(budget=0, budgetfactor=4.0, measure=3, alpha=4.0, threshold=0.0)
     p.update(overrides)
     return p
 

@@ -405,11 +405,87 @@ TEST(AdaptiveSubdivision, FaceErrorIsTheMeasureOnEachOutputFace) {
     }
 }
 
+TEST(AdaptiveSubdivision, ProbedMeasureAsksEachPointOnceAndItsProbesBecomeTheVertices) {
+    const Field field = stepField(0.3, 0.05);
+    const PrtMesh in = gridMesh(9, 2, field);
+    RecordingOracle oracle{field, 2};
+    rad::AdaptiveSubdivisionOptions options;
+    options.measure = rad::TransferErrorMeasure::ProbedRelative;
+    options.triangleBudget = 2000;
+    const SubdivisionResult r = rad::subdivideAdaptively(in, oracle.oracle(), options);
+    ASSERT_GT(r.newVertices, 0u);
+    expectValidRefinement(in, r);
+    // Every vertex holds the field at its own point: a probe reused as a vertex was cast there.
+    expectTransferIsTheField(r.mesh, field);
+    // No point asked twice (flat grid: one normal), every new vertex asked once, and the rest of the
+    // asked points are the probes of edges that were never split.
+    std::vector<std::array<float, 6>> asked = oracle.asked;
+    std::sort(asked.begin(), asked.end());
+    EXPECT_EQ(std::adjacent_find(asked.begin(), asked.end()), asked.end());
+    for (std::size_t v = in.vertexCount(); v < r.mesh.vertexCount(); ++v) {
+        const float* p = &r.mesh.positions[3 * v];
+        const float* n = &r.mesh.normals[3 * v];
+        const std::array<float, 6> key{p[0], p[1], p[2], n[0], n[1], n[2]};
+        EXPECT_TRUE(std::binary_search(asked.begin(), asked.end(), key)) << "vertex " << v << " never asked";
+    }
+    EXPECT_GT(r.probes, r.newVertices);  // the unsplit edges' midpoints were probed too
+    // Without reuse every new vertex would be asked again after its probe: strictly fewer points.
+    EXPECT_LT(asked.size(), r.probes + r.newVertices);
+    EXPECT_GE(asked.size(), r.probes);
+}
+
+TEST(AdaptiveSubdivision, ProbedMeasureSplitsNothingOnALinearField) {
+    // Linear interpolation is exact: every probe matches, no triangle enters the queue. Each edge of
+    // the 9 x 9 grid is probed once: 2 * 9 * 8 sides of cells and 8 * 8 diagonals.
+    const Field linear = [](const float* p, const float*, float* out) {
+        out[0] = 0.5f + 0.25f * p[0];
+        out[1] = 1.0f - 0.125f * p[1];
+    };
+    const PrtMesh in = gridMesh(9, 2, linear);
+    RecordingOracle oracle{linear, 2};
+    rad::AdaptiveSubdivisionOptions options;
+    options.measure = rad::TransferErrorMeasure::ProbedRelative;
+    options.triangleBudget = 2000;
+    options.threshold = 1e-6;
+    const SubdivisionResult r = rad::subdivideAdaptively(in, oracle.oracle(), options);
+    EXPECT_EQ(r.mesh.faceCount(), in.faceCount());
+    EXPECT_EQ(r.stop, rad::SubdivisionStop::QueueEmpty);
+    EXPECT_EQ(r.probes, 2u * 9u * 8u + 8u * 8u);
+    EXPECT_EQ(oracle.asked.size(), r.probes);
+}
+
+TEST(AdaptiveSubdivision, ProbedMeasureSeesVariationThatTheCornersHide) {
+    // A field that is zero at every grid vertex and +-1 halfway between them (x = (k + 1/2) h): the
+    // paper's estimates compare corners and see nothing; the probes see the whole error.
+    const int n = 9;
+    const double h = 2.0 / (n - 1);
+    const Field hidden = [h](const float* p, const float*, float* out) {
+        out[0] = static_cast<float>(std::sin(3.14159265358979323846 * (double(p[0]) + 1.0) / h));
+    };
+    const PrtMesh in = gridMesh(n, 1, hidden);
+    for (const rad::TransferErrorMeasure measure :
+         {rad::TransferErrorMeasure::Difference, rad::TransferErrorMeasure::NormalDivergence,
+          rad::TransferErrorMeasure::ProbedRelative, rad::TransferErrorMeasure::ProbedAbsolute}) {
+        RecordingOracle oracle{hidden, 1};
+        rad::AdaptiveSubdivisionOptions options;
+        options.measure = measure;
+        options.triangleBudget = 1000;
+        options.threshold = 1e-3;
+        const SubdivisionResult r = rad::subdivideAdaptively(in, oracle.oracle(), options);
+        if (rad::isProbed(measure)) {
+            EXPECT_GT(r.regularSplits, 8u);
+        } else {
+            EXPECT_EQ(r.regularSplits, 0u);
+            EXPECT_EQ(r.mesh.faceCount(), in.faceCount());
+        }
+    }
+}
+
 TEST(AdaptiveSubdivision, RefinementConcentratesAlongASteepStep) {
     const Field field = stepField(0.3, 0.02);
     const PrtMesh in = gridMesh(11, 2, field);  // 200 faces
     RecordingOracle oracle{field, 2};
-    rad::AdaptiveSubdivisionOptions options;  // default measure: eq. 4 (flat mesh: the same as eq. 3)
+    rad::AdaptiveSubdivisionOptions options;  // the default measure (probed, relative)
     options.triangleBudget = 6000;
     const SubdivisionResult r = rad::subdivideAdaptively(in, oracle.oracle(), options);
     expectValidRefinement(in, r);
@@ -432,7 +508,12 @@ TEST(AdaptiveSubdivision, RefinementConcentratesAlongASteepStep) {
     EXPECT_GT(nearCount, farCount);
 }
 
-TEST(AdaptiveSubdivision, SeamIsSplitOnBothSidesWithOneMidpointPerSide) {
+class SeamSplit : public ::testing::TestWithParam<rad::TransferErrorMeasure> {};
+INSTANTIATE_TEST_SUITE_P(AdaptiveSubdivision, SeamSplit,
+                         ::testing::Values(rad::TransferErrorMeasure::NormalDivergence,
+                                           rad::TransferErrorMeasure::ProbedRelative));
+
+TEST_P(SeamSplit, BothSidesWithOneMidpointPerSide) {
     // Transfer depends on the normal, so the two sides of the crease differ; the step crosses the
     // crease (along y) and a second one runs just beside it (along x), so the refinement reaches the
     // crease from one side and must be mirrored on the other.
@@ -443,11 +524,12 @@ TEST(AdaptiveSubdivision, SeamIsSplitOnBothSidesWithOneMidpointPerSide) {
     const PrtMesh in = roofMesh(5, 2, field);
     RecordingOracle oracle{field, 2};
     rad::AdaptiveSubdivisionOptions options;
+    options.measure = GetParam();  // probed: each side's probe is cast with that side's normal
     options.triangleBudget = 4000;
     const SubdivisionResult r = rad::subdivideAdaptively(in, oracle.oracle(), options);
     expectValidRefinement(in, r);
     expectTransferIsTheField(r.mesh, field);
-    EXPECT_EQ(oracle.asked.size(), r.newVertices);
+    if (!rad::isProbed(GetParam())) EXPECT_EQ(oracle.asked.size(), r.newVertices);
 
     // Every crease position carries exactly two vertices, one per side with that side's normal;
     // elsewhere one vertex per position.
@@ -614,6 +696,7 @@ TEST(AdaptiveSubdivision, RejectsInvalidArguments) {
     EXPECT_THROW(run(good, differenceOptions(100, -1.0)), std::invalid_argument);
     EXPECT_THROW(run(good, differenceOptions(100, std::nan(""))), std::invalid_argument);
     rad::AdaptiveSubdivisionOptions badAlpha;
+    badAlpha.measure = rad::TransferErrorMeasure::NormalDivergence;  // the measure alpha belongs to
     badAlpha.triangleBudget = 100;
     badAlpha.alpha = -2.0;
     EXPECT_THROW(run(good, badAlpha), std::invalid_argument);

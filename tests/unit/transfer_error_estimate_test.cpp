@@ -24,6 +24,18 @@ double divergence(double alpha, const float* t1, const float* t2, const float* t
     return rad::triangleTransferError(TransferErrorMeasure::NormalDivergence, alpha, t1, t2, t3, width, n1, n2, n3);
 }
 
+TEST(TransferErrorEstimate, ProbedEdgeErrorIsTheMidpointDeviationOverItsScale) {
+    // Ends 0 and 2 (interpolated midpoint 1), the probe says 3: deviation 2, probe magnitude 3.
+    const float a[1] = {0.0f}, b[1] = {2.0f}, m[1] = {3.0f};
+    EXPECT_DOUBLE_EQ(rad::probedEdgeError(TransferErrorMeasure::ProbedRelative, a, b, m, 1, 0.5), 2.0 / 3.0);
+    EXPECT_DOUBLE_EQ(rad::probedEdgeError(TransferErrorMeasure::ProbedRelative, a, b, m, 1, 10.0), 0.2);  // floor
+    EXPECT_DOUBLE_EQ(rad::probedEdgeError(TransferErrorMeasure::ProbedAbsolute, a, b, m, 1, 4.0), 0.5);
+    // Two channels: Euclidean over both; a midpoint on the segment deviates by nothing.
+    const float a2[2] = {1.0f, 0.0f}, b2[2] = {3.0f, 4.0f}, m2[2] = {5.0f, 6.0f}, on[2] = {2.0f, 2.0f};
+    EXPECT_DOUBLE_EQ(rad::probedEdgeError(TransferErrorMeasure::ProbedAbsolute, a2, b2, m2, 2, 1.0), 5.0);
+    EXPECT_DOUBLE_EQ(rad::probedEdgeError(TransferErrorMeasure::ProbedRelative, a2, b2, on, 2, 0.0), 0.0);
+}
+
 TEST(TransferErrorEstimate, ContrastIsTheSumOfEdgeContrasts) {
     const float t1[2] = {1, 0}, t2[2] = {0, 1}, t3[2] = {1, 1};
     // |t1 - t2| / |t1 + t2| = sqrt2 / sqrt2; |t2 - t3| / |t2 + t3| = 1 / sqrt5; |t3 - t1| / |t3 + t1| = 1 / sqrt5.
