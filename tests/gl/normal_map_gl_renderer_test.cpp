@@ -9,6 +9,7 @@
 #include "offscreen_gl.h"
 
 #include "bake/lean_maps.h"
+#include "lod/pop_level.h"
 #include "render/tone_mapping.h"
 
 #include <GL/glew.h>
@@ -309,6 +310,88 @@ TEST(NormalMapGl, UpCloseLeanEqualsTheNormalMap) {
     // The picture has bumps and highlights, so the comparison is not between two flat images.
     const auto [lo, hi] = std::minmax_element(normalMap.begin(), normalMap.end());
     EXPECT_GT(int(*hi) - int(*lo), 60);
+}
+
+// The POP-buffer mode (Limper et al. 2013; Weber & Stamminger Alg. 1 in the vertex shader) against
+// the level evaluated on the CPU (lod/pop_level.h, tested on its own) and drawn as a plain mesh by
+// the same renderer: a jittered, gently curved grid under a striped object-space normal map.
+TEST(NormalMapGl, PopLevelInTheVertexShaderEqualsTheCpuEvaluatedLevel) {
+    const int n = 25;
+    rad::TriangleMesh mesh;
+    std::vector<float> normals, uv;
+    std::mt19937 rng(4);
+    std::uniform_real_distribution<float> jitter(-0.3f, 0.3f);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const bool border = i == 0 || j == 0 || i == n - 1 || j == n - 1;
+            const float x = (i + (border ? 0 : jitter(rng))) / (n - 1) - 0.5f;
+            const float y = (j + (border ? 0 : jitter(rng))) / (n - 1) - 0.5f;
+            mesh.positions.insert(mesh.positions.end(), {x, y, 0.1f * x * x});
+            const Eigen::Vector3d nn = Eigen::Vector3d(-0.2 * x, 0, 1).normalized();
+            normals.insert(normals.end(), {float(nn.x()), float(nn.y()), float(nn.z())});
+        }
+    for (int j = 0; j + 1 < n; ++j)
+        for (int i = 0; i + 1 < n; ++i) {
+            const std::uint32_t a = j * n + i, b = a + 1, c = a + n + 1, d = a + n;
+            mesh.faces.insert(mesh.faces.end(), {a, b, c, a, c, d});
+        }
+    for (std::uint32_t v : mesh.faces) uv.insert(uv.end(), {mesh.positions[3 * v] + 0.5f, mesh.positions[3 * v + 1] + 0.5f});
+    const int size = 256;  // stripes of 32 texels along u, normals tilted by +-35 degrees about y
+    std::vector<float> map(std::size_t(size) * size * 3);
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            const double angle = ((x / 32) % 2 ? 35.0 : -35.0) * kPi / 180;
+            float* t = &map[(std::size_t(y) * size + x) * 3];
+            t[0] = float(std::sin(angle));
+            t[1] = 0;
+            t[2] = float(std::cos(angle));
+        }
+    const rad::PopBuffer pop = rad::buildPopBuffer(mesh);
+    const rad::TexCoordDerivatives derivatives = rad::computeTexCoordDerivatives(mesh, uv);
+    radgl::NormalMapGlRenderer gpu(capabilities()), reference(capabilities());
+    ASSERT_EQ(gpu.setPopMesh(mesh.positions.data(), normals.data(), mesh.vertexCount(), mesh.faces.data(),
+                             mesh.faceCount(), uv.data(), pop, &derivatives), "");
+    ASSERT_EQ(gpu.setNormalMap(rad::buildNormalPyramid(map.data(), size, size), false), "");
+    ASSERT_EQ(reference.setNormalMap(rad::buildNormalPyramid(map.data(), size, size), false), "");
+    Scene scene = closeScene();
+    scene.lighting.lightDirection = Eigen::Vector3d(0.8, 0.0, 0.6);
+    for (int level : {3, 4, 5}) {
+        std::vector<std::uint8_t> images[2];
+        for (int correct = 0; correct < 2; ++correct) {
+            ASSERT_EQ(gpu.setPopLevel(level, correct == 1), "");
+            EXPECT_EQ(gpu.drawnFaceCount(), pop.levelEnd[level]);
+            images[correct] = render(gpu, NormalMapShading::NormalMap, scene);
+
+            rad::PopLevelRequest request;
+            request.mesh = &mesh;
+            request.pop = &pop;
+            request.level = level;
+            request.wedgeUv = &uv;
+            request.correction = correct ? &derivatives : nullptr;
+            const rad::PopLevelMesh lod = rad::evaluatePopLevel(request);
+            std::vector<float> lodNormals;
+            for (std::uint32_t s : lod.sourceVertex) lodNormals.insert(lodNormals.end(), &normals[3 * s], &normals[3 * s + 3]);
+            ASSERT_EQ(reference.setMesh(lod.mesh.positions.data(), lodNormals.data(), lod.mesh.vertexCount(),
+                                        lod.mesh.faces.data(), lod.mesh.faceCount(), lod.wedgeUv.data()), "");
+            const std::vector<std::uint8_t> cpu = render(reference, NormalMapShading::NormalMap, scene);
+            int worst = 0;
+            const double error = rmse(images[correct], cpu, nullptr, &worst);
+            std::size_t differing = 0;
+            for (std::size_t i = 0; i < cpu.size(); ++i) differing += std::abs(int(cpu[i]) - int(images[correct][i])) > 8;
+            std::printf("POP level %d %s: GPU vs CPU-evaluated level RMSE %.3f (max %d), %zu values differ by > 8\n", level,
+                        correct ? "corrected" : "plain", error, worst, differing);
+            EXPECT_LT(error, 0.5) << "level " << level << (correct ? " corrected" : " plain") << ", max " << worst;
+            EXPECT_LT(double(differing) / cpu.size(), 0.002) << "level " << level;
+        }
+        // The correction changes the picture (the stripes stay where the full mesh has them).
+        const double effect = rmse(images[0], images[1]);
+        std::printf("POP level %d: plain vs corrected RMSE %.2f\n", level, effect);
+        EXPECT_GT(effect, 3.0) << "level " << level;
+    }
+    ASSERT_EQ(gpu.setPopLevel(0, false), "");
+    EXPECT_EQ(gpu.drawnFaceCount(), mesh.faceCount());
+    EXPECT_NE(gpu.setPopLevel(17, false), "");
+    EXPECT_NE(reference.setPopLevel(4, false), "");  // no POP buffer uploaded
 }
 
 TEST(NormalMapGl, RestoresTheGlStateAndRefusesWhatItCannotDraw) {
