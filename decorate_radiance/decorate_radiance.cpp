@@ -700,6 +700,14 @@ void DecorateRadiancePlugin::decorateNormalMap(MeshModel& m, const RichParameter
     }
     const std::string levelProblem = view.renderer->setPopLevel(level, par->getBool(kNormalLodCorrection));
     if (!levelProblem.empty()) reportOnce(GLLogStream::WARNING, levelProblem);
+    if (level > 0) {
+        // MeshLab has drawn the layer at full resolution: hide it under its background, or it would
+        // show through wherever the level's snapped surface lies behind it.
+        const vcg::Color4b top = gla->glas.backgroundTopColor, bottom = gla->glas.backgroundBotColor;
+        const std::string eraseProblem = view.renderer->eraseFullMesh(
+            Eigen::Vector3f(top[0], top[1], top[2]) / 255.0f, Eigen::Vector3f(bottom[0], bottom[1], bottom[2]) / 255.0f);
+        if (!eraseProblem.empty()) reportOnce(GLLogStream::WARNING, eraseProblem);
+    }
     const std::string problem = view.renderer->draw(mode, lighting, rad::ToneMapping(), eye.head<3>() / eye[3]);
     glPopMatrix();
     if (level != view.loggedLevel) {

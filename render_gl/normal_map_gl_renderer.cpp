@@ -59,6 +59,80 @@ void NormalMapGlRenderer::buildProgram() {
     u_.popCorrection = loc("uPopCorrection");
     u_.boxMin = loc("uBoxMin");
     u_.boxExtent = loc("uBoxExtent");
+
+    // The erase pass: MeshLab's background gradient (raw 8-bit colours, interpolated in window y) and
+    // optionally the far depth.
+    const char* eraseVertex = "#version 150 compatibility\nvoid main() { gl_Position = ftransform(); }\n";
+    const char* eraseFragment = "#version 150 compatibility\n"
+                                "uniform vec3 uTop; uniform vec3 uBottom; uniform float uHeight; uniform int uFarDepth;\n"
+                                "void main() {\n"
+                                "    gl_FragColor = vec4(mix(uBottom, uTop, clamp(gl_FragCoord.y / uHeight, 0.0, 1.0)), 1.0);\n"
+                                "    gl_FragDepth = uFarDepth == 1 ? 1.0 : gl_FragCoord.z;\n"
+                                "}\n";
+    std::string eraseLog;
+    eraseProgram_ = buildGlProgram(eraseVertex, eraseFragment, "normal-map erase", eraseLog);
+    if (eraseProgram_) {
+        eraseTop_ = glGetUniformLocation(eraseProgram_, "uTop");
+        eraseBottom_ = glGetUniformLocation(eraseProgram_, "uBottom");
+        eraseHeight_ = glGetUniformLocation(eraseProgram_, "uHeight");
+        eraseDepth_ = glGetUniformLocation(eraseProgram_, "uFarDepth");
+    }
+}
+
+std::string NormalMapGlRenderer::eraseFullMesh(const Eigen::Vector3f& top, const Eigen::Vector3f& bottom) {
+    if (!program_) return shaderProblem_;
+    if (!eraseProgram_) return "the erase shader did not build";
+    if (!cornerCount_) return "no mesh";
+    GLint previousProgram = 0, previousArray = 0, viewport[4] = {0, 0, 1, 1}, stencilBits = 0;
+    glGetIntegerv(GL_CURRENT_PROGRAM, &previousProgram);
+    glGetIntegerv(GL_ARRAY_BUFFER_BINDING, &previousArray);
+    glGetIntegerv(GL_VIEWPORT, viewport);
+    glGetIntegerv(GL_STENCIL_BITS, &stencilBits);
+    glPushAttrib(GL_ENABLE_BIT | GL_DEPTH_BUFFER_BIT | GL_POLYGON_BIT | GL_COLOR_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
+    glPushClientAttrib(GL_CLIENT_VERTEX_ARRAY_BIT);
+    glEnable(GL_DEPTH_TEST);
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(-1.0f, -1.0f);
+    glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    glUseProgram(eraseProgram_);
+    glUniform3f(eraseTop_, top.x(), top.y(), top.z());
+    glUniform3f(eraseBottom_, bottom.x(), bottom.y(), bottom.z());
+    glUniform1f(eraseHeight_, static_cast<float>(std::max(1, viewport[3])));
+    glBindBuffer(GL_ARRAY_BUFFER, vertexBuffer_);
+    glEnableClientState(GL_VERTEX_ARRAY);
+    glVertexPointer(3, GL_FLOAT, floatsPerCorner_ * sizeof(float), nullptr);
+    const GLsizei count = static_cast<GLsizei>(cornerCount_);
+    // Pass 1: the background colour where the mesh is the visible surface (no depth write, so the
+    // mesh does not hide itself), marking those pixels in the stencil.
+    if (stencilBits > 0) {
+        glEnable(GL_STENCIL_TEST);
+        glClearStencil(0);
+        glClear(GL_STENCIL_BUFFER_BIT);
+        glStencilFunc(GL_ALWAYS, 1, 0xff);
+        glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+    }
+    glDepthFunc(GL_LEQUAL);
+    glDepthMask(GL_FALSE);
+    glUniform1i(eraseDepth_, 0);
+    glDrawArrays(GL_TRIANGLES, 0, count);
+    // Pass 2: the far depth on the marked pixels (on the whole projection without a stencil).
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_ALWAYS);
+    if (stencilBits > 0) {
+        glStencilFunc(GL_EQUAL, 1, 0xff);
+        glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+    }
+    glUniform1i(eraseDepth_, 1);
+    glDrawArrays(GL_TRIANGLES, 0, count);
+    glUseProgram(static_cast<GLuint>(previousProgram));
+    glBindBuffer(GL_ARRAY_BUFFER, static_cast<GLuint>(previousArray));
+    glPopClientAttrib();
+    glPopAttrib();
+    checkGl("normal-map erase");
+    return {};
 }
 
 NormalMapGlRenderer::~NormalMapGlRenderer() {
@@ -66,6 +140,7 @@ NormalMapGlRenderer::~NormalMapGlRenderer() {
     deleteGlTexture(normalTexture_);
     deleteGlTexture(momentTexture_);
     if (program_) glDeleteProgram(program_);
+    if (eraseProgram_) glDeleteProgram(eraseProgram_);
     while (glGetError() != GL_NO_ERROR) {
     }
 }

@@ -97,6 +97,16 @@ public:
     std::string draw(NormalMapShading mode, const NormalMapLighting& lighting, const rad::ToneMapping& toneMapping,
                      const Eigen::Vector3d& eyeObject);
 
+    // Hides what is already drawn of this mesh at its full resolution (MeshLab's own rendering of
+    // the layer, under a decoration that draws a coarser level): where the uploaded mesh, unsnapped,
+    // is the visible surface (depth test GL_LEQUAL with the draw's polygon offset), the colour becomes
+    // the vertical gradient from `bottom` (row 0) to `top` (the last row) of the current viewport, as
+    // MeshLab paints its background, and the depth is reset to the far plane so that the level drawn
+    // next is not hidden by the surface it replaces. Those pixels are marked in the stencil buffer;
+    // without stencil bits the depth is reset over the whole projection of the mesh (other layers in
+    // front of it then lose their depth there). Restores every state it touches.
+    std::string eraseFullMesh(const Eigen::Vector3f& top, const Eigen::Vector3f& bottom);
+
     // GL errors seen since the last call, or empty.
     std::string takeGlErrors();
 
@@ -109,6 +119,8 @@ private:
     GlCapabilities caps_;
     std::string shaderProblem_, errors_;
     unsigned program_ = 0;
+    unsigned eraseProgram_ = 0;
+    int eraseTop_ = -1, eraseBottom_ = -1, eraseHeight_ = -1, eraseDepth_ = -1;
     struct Uniforms {
         int normalMap = -1, moments = -1, mode = -1, tangentSpace = -1, textureSize = -1, eye = -1, lightDirection = -1,
             lightColor = -1, albedo = -1, specular = -1, ambient = -1, shininess = -1, exposureScale = -1, toneCurve = -1,

@@ -394,6 +394,42 @@ TEST(NormalMapGl, PopLevelInTheVertexShaderEqualsTheCpuEvaluatedLevel) {
     EXPECT_NE(reference.setPopLevel(4, false), "");  // no POP buffer uploaded
 }
 
+// The erase pass under a coarser level: where the full mesh is visible its pixels take the
+// background gradient and the far depth, so the same mesh drawn again is not hidden by itself.
+TEST(NormalMapGl, EraseFullMeshPaintsTheBackgroundAndResetsTheDepth) {
+    const Quad q = makeQuad(Eigen::Vector3d(0, 0, 1), UvLayout::Plain);
+    radgl::NormalMapGlRenderer r(capabilities());
+    ASSERT_EQ(r.setMesh(q.positions.data(), q.normals.data(), 4, q.faces.data(), 2, q.wedgeUv.data()), "");
+    const Scene scene = closeScene();
+    const std::vector<char> inside = quadMask(scene.camera, 0.05);
+    gl().beginFrame(scene.camera, 0.05, 20.0);
+    const std::vector<std::uint8_t> background = gl().readRgb();
+    ASSERT_EQ(r.draw(NormalMapShading::VertexNormals, scene.lighting, {}, scene.camera.center), "");
+    const std::vector<std::uint8_t> drawn = gl().readRgb();
+    // Top and bottom green, so the gradient is a constant colour: (0, 255, 0).
+    ASSERT_EQ(r.eraseFullMesh(Eigen::Vector3f(0, 1, 0), Eigen::Vector3f(0, 1, 0)), "");
+    const std::vector<std::uint8_t> erased = gl().readRgb();
+    ASSERT_EQ(r.draw(NormalMapShading::VertexNormals, scene.lighting, {}, scene.camera.center), "");
+    const std::vector<std::uint8_t> again = gl().readRgb();
+    EXPECT_EQ(r.takeGlErrors(), "");
+    std::size_t insideCount = 0;
+    for (std::size_t p = 0; p < inside.size(); ++p) {
+        if (inside[p]) {
+            ++insideCount;
+            EXPECT_EQ(erased[3 * p], 0);
+            EXPECT_EQ(erased[3 * p + 1], 255);
+            EXPECT_EQ(erased[3 * p + 2], 0);
+            for (int c = 0; c < 3; ++c) EXPECT_EQ(again[3 * p + c], drawn[3 * p + c]);  // depth was reset
+        }
+    }
+    EXPECT_GT(insideCount, 1000u);
+    // Outside the quad (well away from its border) nothing changed.
+    const std::vector<char> near = quadMask(scene.camera, -0.05);
+    for (std::size_t p = 0; p < near.size(); ++p)
+        if (!near[p])
+            for (int c = 0; c < 3; ++c) ASSERT_EQ(erased[3 * p + c], background[3 * p + c]) << p;
+}
+
 TEST(NormalMapGl, RestoresTheGlStateAndRefusesWhatItCannotDraw) {
     const Quad q = makeQuad({0, 0, 1}, UvLayout::Plain);
     {
