@@ -1,8 +1,8 @@
 // Frame time of the POP-buffer level of detail (Limper et al. 2013) in the normal-map renderer of
 // the "Baked Normal Map" decoration (render_gl/normal_map_gl_renderer.h), per level against the whole
 // mesh, with the texture-coordinate correction of Weber & Stamminger (Alg. 1) in the vertex shader;
-// and the CPU cost of a draw call (uniforms and one glDrawArrays of a prefix: the scheme keeps no
-// state between frames). Offscreen compatibility context (under Xvfb: Mesa llvmpipe, like MeshLab's
+// and the wall time of the draw call (uniforms and one glDrawArrays of a prefix: the scheme keeps no
+// state between frames; on llvmpipe the call itself does the vertex work, on a GPU it only queues). Offscreen compatibility context (under Xvfb: Mesa llvmpipe, like MeshLab's
 // window here); `frames` frames orbiting the mesh, glFinish after each; median and mean.
 //
 // Usage: bench_pop_frames MESH.off [--subdivide L] [--frames N] [--size WxH]
@@ -80,7 +80,7 @@ int main(int argc, char** argv) {
                     "(17 floats per corner: %.0f MB)\n",
                     argv[1], mesh.vertexCount(), mesh.faceCount(), width, height, frames, upload,
                     3.0 * mesh.faceCount() * 17 * 4 / 1048576.0);
-        std::printf("%8s %10s %12s %12s %14s\n", "level", "triangles", "median ms", "mean ms", "draw() CPU us");
+        std::printf("%8s %10s %12s %12s %14s\n", "level", "triangles", "median ms", "mean ms", "draw() wall us");
         radgl::NormalMapLighting lighting;
         lighting.lightDirection = Eigen::Vector3d(0.4, 0.5, 1.0);
         for (int level : {0, 16, 12, 10, 9, 8, 7, 6}) {
