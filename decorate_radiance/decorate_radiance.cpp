@@ -205,7 +205,6 @@ struct DecorateRadiancePlugin::NormalMapView {
     std::set<std::string> reported;
     // POP buffer (Limper et al. 2013): its box, for the per-frame level, and the last level logged.
     rad::PopBuffer pop;
-    bool popReady = false;
     int loggedLevel = -1;
 };
 
@@ -604,7 +603,6 @@ bool DecorateRadiancePlugin::startNormalMap(MeshModel& m, const RichParameterLis
         const rad::TriangleMesh triangles{plain.positions, {}, plain.faces};
         view->pop = rad::buildPopBuffer(triangles);
         const rad::TexCoordDerivatives derivatives = rad::computeTexCoordDerivatives(triangles, wedgeUv);
-        view->popReady = true;
         std::string problem = view->renderer->setPopMesh(plain.positions.data(), plain.normals.data(),
                                                          plain.vertexCount(), plain.faces.data(), plain.faceCount(),
                                                          wedgeUv.data(), view->pop, &derivatives);

@@ -326,7 +326,7 @@ TEST(NormalMapGl, FarAwayLeanOnAPopLevelIsCloserToTheSupersampledTruth) {
     const Scene scene = bumpScene({0.0, -1.2, 4.0});
     std::vector<char> mask;
     const std::vector<std::uint8_t> truth = supersampledTruth(scene, mask);
-    // Snapping pulls the border in by up to half a cell (level 3: an eighth of the quad): compare
+    // Snapping pulls the border in by up to half a cell (level 3: a sixteenth of the quad): compare
     // inside what the level draws.
     for (int level : {3, 4, 6}) {
         ASSERT_EQ(r.setPopLevel(level, true), "");
