@@ -18,6 +18,8 @@
 //  (b) hood: a car-hood-like sheet z = 0.15 sin(3x) cos(2y) on a jittered 160 x 160 grid, one
 //      continuous chart uv = (x, y), a checker texture of 24 x 24 squares (1024^2): the case the
 //      correction is made for.
+//  (c) glossy hood: the same sheet with an object-space normal map of itself plus fine ripples
+//      (period 1/48), Blinn-Phong with exponent 80 (a car-paint-like highlight).
 // The CPU rasteriser samples the maps with trilinear mip-mapping (per-triangle footprint).
 //
 // Usage: bench_pop_lod [--mesh armadillo.off] [--tolerance PIXELS] [--map-size N] [--min-size PX]
@@ -95,7 +97,7 @@ struct MipTexture {
     }
 };
 
-enum class Shading { NormalMapLambert, Color };
+enum class Shading { NormalMapLambert, NormalMapGlossy, Color };
 
 struct View {
     Eigen::Vector3d right, up, forward, center;
@@ -152,6 +154,13 @@ void render(const rad::TriangleMesh& mesh, const std::vector<float>& uv, const M
                 if (shading == Shading::NormalMapLambert) {
                     const Eigen::Vector3d n = Eigen::Vector3d(value[0], value[1], value[2]).normalized();
                     gray = float(255.0 * (0.1 + 0.9 * std::max(0.0, n.dot(light))));
+                } else if (shading == Shading::NormalMapGlossy) {
+                    // Blinn-Phong, exponent 80: a car paint's sharp highlight (orthographic eye).
+                    const Eigen::Vector3d n = Eigen::Vector3d(value[0], value[1], value[2]).normalized();
+                    const Eigen::Vector3d h = (light - view.forward).normalized();
+                    const double ndl = n.dot(light);
+                    const double spec = ndl > 0 ? std::pow(std::max(0.0, n.dot(h)), 80.0) : 0.0;
+                    gray = float(255.0 * std::min(1.0, 0.05 + 0.35 * std::max(0.0, ndl) + 0.8 * spec));
                 } else {
                     gray = 255.0f * value[0];
                 }
@@ -296,6 +305,47 @@ int main(int argc, char** argv) {
             runScene("hood: continuous chart, checker texture", hood, uv, texture, Shading::Color,
                      viewOf(hood, Eigen::Vector3d(0.3, 0.5, -1.0), Eigen::Vector3d(0, 1, 0)), tolerance, minSize,
                      maxSize);
+        }
+        {   // (c) glossy hood: the same sheet, one chart, an object-space normal map of the sheet with
+            // fine ripples (period 1/48), Blinn-Phong: the highlight and the ripples should not slide.
+            const int n = 160;
+            rad::TriangleMesh hood;
+            std::vector<float> uvPerVertex;
+            unsigned state = 777u;
+            const auto jitter = [&]() {
+                state = state * 1664525u + 1013904223u;
+                return (double(state >> 8) / double(1u << 24) - 0.5) * 0.6;
+            };
+            for (int j = 0; j < n; ++j)
+                for (int i = 0; i < n; ++i) {
+                    const bool border = i == 0 || j == 0 || i == n - 1 || j == n - 1;
+                    const double x = (i + (border ? 0 : jitter())) / (n - 1), y = (j + (border ? 0 : jitter())) / (n - 1);
+                    hood.positions.insert(hood.positions.end(),
+                                          {float(x), float(y), float(0.15 * std::sin(3 * x) * std::cos(2 * y))});
+                    uvPerVertex.insert(uvPerVertex.end(), {float(x), float(y)});
+                }
+            for (int j = 0; j + 1 < n; ++j)
+                for (int i = 0; i + 1 < n; ++i) {
+                    const std::uint32_t a = j * n + i, b = a + 1, c = a + n + 1, d = a + n;
+                    hood.faces.insert(hood.faces.end(), {a, b, c, a, c, d});
+                }
+            std::vector<float> uv;
+            for (std::uint32_t v : hood.faces) uv.insert(uv.end(), {uvPerVertex[2 * v], uvPerVertex[2 * v + 1]});
+            const int texSize = 1024;
+            const double pi = 3.14159265358979323846, w = 2 * pi * 48, ripple = 0.004;
+            std::vector<float> normalMap(std::size_t(texSize) * texSize * 3);
+            for (int r = 0; r < texSize; ++r)
+                for (int c = 0; c < texSize; ++c) {
+                    const double x = (c + 0.5) / texSize, y = 1.0 - (r + 0.5) / texSize;  // uv = (x, y)
+                    const double dzdx = 0.45 * std::cos(3 * x) * std::cos(2 * y) + ripple * w * std::cos(w * x) * std::sin(w * y);
+                    const double dzdy = -0.3 * std::sin(3 * x) * std::sin(2 * y) + ripple * w * std::sin(w * x) * std::cos(w * y);
+                    const Eigen::Vector3d nn = Eigen::Vector3d(-dzdx, -dzdy, 1.0).normalized();
+                    for (int k = 0; k < 3; ++k) normalMap[(std::size_t(r) * texSize + c) * 3 + k] = float(nn[k]);
+                }
+            const MipTexture texture(normalMap, texSize, 3);
+            runScene("glossy hood: continuous chart, rippled object-space normal map, Blinn-Phong", hood, uv, texture,
+                     Shading::NormalMapGlossy, viewOf(hood, Eigen::Vector3d(0.3, 0.5, -1.0), Eigen::Vector3d(0, 1, 0)),
+                     tolerance, minSize, maxSize);
         }
         {   // (a) scan: per-triangle atlas, normal map baked from the scan itself.
             rad::TriangleMesh scan = rad::readOff(meshPath);
