@@ -10,6 +10,8 @@
 
 #include "bake/bake_description.h"
 #include "bake/lean_maps.h"
+#include "lod/pop_buffer.h"
+#include "lod/texcoord_correction.h"
 
 #include "image/rgb_image.h"
 #include "lighting/environment_map.h"
@@ -53,6 +55,11 @@ const char* const kNormalShininess = "MeshLab::Decoration::NormalMapShininess";
 const char* const kNormalLight = "MeshLab::Decoration::NormalMapLightDirection";
 const char* const kNormalSpecular = "MeshLab::Decoration::NormalMapSpecular";
 const char* const kNormalAlbedo = "MeshLab::Decoration::NormalMapAlbedo";
+const char* const kNormalLod = "MeshLab::Decoration::NormalMapLevelOfDetail";
+const char* const kNormalLodLevel = "MeshLab::Decoration::NormalMapLevelOfDetailLevel";
+const char* const kNormalLodTolerance = "MeshLab::Decoration::NormalMapLevelOfDetailTolerance";
+const char* const kNormalLodCorrection = "MeshLab::Decoration::NormalMapLevelOfDetailCorrection";
+enum { kLodOff = 0, kLodAutomatic = 1, kLodForced = 2 };
 
 enum ShadingChoice { kPerVertex = 0, kPerFragment = 1, kPrtRelighting = 2 };
 enum LightChoice { kDirectional = 0, kEnvironment = 1 };
@@ -196,6 +203,9 @@ struct DecorateRadiancePlugin::NormalMapView {
     Fingerprint fingerprint;
     rad::BakeDescription description;
     std::set<std::string> reported;
+    // POP buffer (Limper et al. 2013): its box, for the per-frame level, and the last level logged.
+    rad::PopBuffer pop;
+    int loggedLevel = -1;
 };
 
 DecorateRadiancePlugin::DecorateRadiancePlugin() {
@@ -299,6 +309,23 @@ void DecorateRadiancePlugin::initGlobalParameterSet(QAction* action, RichParamet
         par.addParam(RichPoint3f(kNormalLight, vcg::Point3f(0.4f, 0.5f, 1.0f), "Normal map light direction",
                                  "Direction toward the light in camera coordinates (x right, y up, z toward you): "
                                  "the light follows the camera."));
+        par.addParam(RichEnum(kNormalLod, kLodOff,
+                              QStringList() << "Off (the whole mesh)" << "Automatic (from the projected size)"
+                                            << "Forced level",
+                              "Level of detail (POP buffer)",
+                              "Draws the layer as a POP buffer (Limper et al. 2013): positions snapped in the vertex "
+                              "shader to a grid of 2^L cells per axis over the bounding box, only the triangles that "
+                              "stay non-degenerate drawn (a prefix of one buffer, no state between frames). "
+                              "Automatic: the coarsest level whose snapping moves no vertex by more than the "
+                              "tolerance, from the bounding box's size on screen; forced: the level below."));
+        par.addParam(RichInt(kNormalLodLevel, 8, "Level of detail: forced level",
+                             "The POP-buffer level drawn when the level is forced, 1 (2 cells per axis) to 16."));
+        par.addParam(RichFloat(kNormalLodTolerance, 1.0f, "Level of detail: tolerance (pixels)",
+                               "Automatic level: how far, in pixels, snapping may move a vertex on screen."));
+        par.addParam(RichBool(kNormalLodCorrection, true, "Level of detail: correct texture coordinates",
+                              "Shift the texture coordinates of snapped vertices by the inverse of their averaged "
+                              "tangent space times their move (Weber & Stamminger, Alg. 1), so the normal map stays "
+                              "in place instead of sliding."));
         return;
     }
     par.addParam(RichEnum(kShading, kPerFragment,
@@ -571,9 +598,14 @@ bool DecorateRadiancePlugin::startNormalMap(MeshModel& m, const RichParameterLis
         if (!radml::exportPlainMesh(m.cm, choice, plain, why)) return refuse(why);
         const std::vector<float> wedgeUv = radml::exportWedgeTexCoords(m.cm);
         view->renderer = std::make_unique<radgl::NormalMapGlRenderer>(caps);
-        std::string problem = view->renderer->setMesh(plain.positions.data(), plain.normals.data(),
-                                                      plain.vertexCount(), plain.faces.data(), plain.faceCount(),
-                                                      wedgeUv.data());
+        // The layer is uploaded as a POP buffer once; drawing the whole mesh (level 0) reads the same
+        // buffer, so switching the level of detail on or off needs no new upload.
+        const rad::TriangleMesh triangles{plain.positions, {}, plain.faces};
+        view->pop = rad::buildPopBuffer(triangles);
+        const rad::TexCoordDerivatives derivatives = rad::computeTexCoordDerivatives(triangles, wedgeUv);
+        std::string problem = view->renderer->setPopMesh(plain.positions.data(), plain.normals.data(),
+                                                         plain.vertexCount(), plain.faces.data(), plain.faceCount(),
+                                                         wedgeUv.data(), view->pop, &derivatives);
         if (problem.empty())
             problem = view->renderer->setNormalMap(rad::buildNormalPyramid(normals.data(), width, height),
                                                    view->description.space == rad::NormalSpace::Tangent);
@@ -637,8 +669,59 @@ void DecorateRadiancePlugin::decorateNormalMap(MeshModel& m, const RichParameter
     lighting.specular = Eigen::Vector3d::Constant(std::max(0.0f, par->getFloat(kNormalSpecular)));
     lighting.shininess = std::max(1.0f, par->getFloat(kNormalShininess));
     lighting.ambient = Eigen::Vector3d::Constant(0.05);
+    const int lod = par->getEnum(kNormalLod);
+    int level = 0;
+    if (lod == kLodForced) {
+        level = std::clamp(par->getInt(kNormalLodLevel), rad::kPopMinLevel, rad::kPopMaxLevel);
+    } else if (lod == kLodAutomatic) {
+        // The bounding box's size on screen: the largest distance between its projected corners.
+        GLdouble projection[16];
+        GLint viewport[4];
+        glGetDoublev(GL_PROJECTION_MATRIX, projection);
+        glGetIntegerv(GL_VIEWPORT, viewport);
+        const Eigen::Map<const Eigen::Matrix4d> pr(projection);
+        std::vector<Eigen::Vector2d> corners;
+        bool behind = false;
+        for (int c = 0; c < 8; ++c) {
+            Eigen::Vector4d p(1, 1, 1, 1);
+            for (int a = 0; a < 3; ++a) p[a] = view.pop.boxMin[a] + ((c >> a) & 1) * view.pop.boxExtent[a];
+            const Eigen::Vector4d clip = pr * (mv * p);
+            if (clip.w() <= 0) behind = true;
+            else corners.emplace_back((clip.x() / clip.w() + 1) * 0.5 * viewport[2], (clip.y() / clip.w() + 1) * 0.5 * viewport[3]);
+        }
+        double pixels = 0;
+        for (const auto& a : corners)
+            for (const auto& b : corners) pixels = std::max(pixels, (a - b).norm());
+        // A corner behind the eye: the object fills the view, draw the finest level.
+        level = behind ? rad::kPopMaxLevel
+                       : rad::popLevelForScreenSize(pixels, std::max(0.05, double(par->getFloat(kNormalLodTolerance))));
+    }
+    const std::string levelProblem = view.renderer->setPopLevel(level, par->getBool(kNormalLodCorrection));
+    if (!levelProblem.empty()) reportOnce(GLLogStream::WARNING, levelProblem);
+    if (level > 0) {
+        // MeshLab has drawn the layer at full resolution: hide it under its background, or it would
+        // show through wherever the level's snapped surface lies behind it.
+        const vcg::Color4b top = gla->glas.backgroundTopColor, bottom = gla->glas.backgroundBotColor;
+        const std::string eraseProblem = view.renderer->eraseFullMesh(
+            Eigen::Vector3f(top[0], top[1], top[2]) / 255.0f, Eigen::Vector3f(bottom[0], bottom[1], bottom[2]) / 255.0f);
+        if (!eraseProblem.empty()) reportOnce(GLLogStream::WARNING, eraseProblem);
+    }
     const std::string problem = view.renderer->draw(mode, lighting, rad::ToneMapping(), eye.head<3>() / eye[3]);
     glPopMatrix();
+    if (level != view.loggedLevel) {
+        // Logged when the level changes, not every frame.
+        view.loggedLevel = level;
+        if (level > 0)
+            log.Logf(GLLogStream::FILTER, "Baked Normal Map: POP level %d (%s%s): %zu of %zu triangles", level,
+                     lod == kLodForced ? "forced" : "automatic",
+                     par->getBool(kNormalLodCorrection) ? ", texture coordinates corrected" : "",
+                     view.renderer->drawnFaceCount(), view.pop.faceCount());
+        else
+            log.Logf(GLLogStream::FILTER, "Baked Normal Map: the whole mesh, %zu triangles", view.pop.faceCount());
+    }
+    if (level > 0)  // MeshLab's real-time info panel of the view, as its own decorations report
+        RealTimeLog("POP Level of Detail", m.label(), "level %d: %zu / %zu triangles", level,
+                    view.renderer->drawnFaceCount(), view.pop.faceCount());
     if (!problem.empty()) reportOnce(GLLogStream::WARNING, problem);
     const std::string errors = view.renderer->takeGlErrors();
     if (!errors.empty()) reportOnce(GLLogStream::WARNING, errors);

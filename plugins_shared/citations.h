@@ -20,4 +20,10 @@ inline constexpr const char* kCiteSloan2002Krivanek2004 =
     "subdivision: <i>J. Křivánek, S. Pattanaik, J. Žára</i>, <b>\"Adaptive Mesh Subdivision for "
     "Precomputed Radiance Transfer\"</b>, SCCG 2004.";
 
+inline constexpr const char* kCiteLimper2013WeberStamminger =
+    "<br><br>POP buffer: <i>J. Limper, Y. Jung, J. Behr, M. Alexa</i>, <b>\"The POP Buffer: Rapid Progressive "
+    "Clustering by Geometry Quantization\"</b>, Computer Graphics Forum 32(7) (Pacific Graphics 2013). "
+    "Texture-coordinate correction: <i>T. Weber, M. Stamminger</i>, <b>\"Stateless Level of Detail Lighting for "
+    "Automotive Visualization\"</b> (eq. 1-3, Alg. 1).";
+
 }  // namespace radml

@@ -55,6 +55,84 @@ void NormalMapGlRenderer::buildProgram() {
     u_.shininess = loc("uShininess");
     u_.exposureScale = loc("uExposureScale");
     u_.toneCurve = loc("uToneCurve");
+    u_.popLevel = loc("uPopLevel");
+    u_.popCorrection = loc("uPopCorrection");
+    u_.boxMin = loc("uBoxMin");
+    u_.boxExtent = loc("uBoxExtent");
+
+    // The erase pass: MeshLab's background gradient (raw 8-bit colours, interpolated in window y) and
+    // optionally the far depth.
+    const char* eraseVertex = "#version 150 compatibility\nvoid main() { gl_Position = ftransform(); }\n";
+    const char* eraseFragment = "#version 150 compatibility\n"
+                                "uniform vec3 uTop; uniform vec3 uBottom; uniform float uHeight; uniform int uFarDepth;\n"
+                                "void main() {\n"
+                                "    gl_FragColor = vec4(mix(uBottom, uTop, clamp(gl_FragCoord.y / uHeight, 0.0, 1.0)), 1.0);\n"
+                                "    gl_FragDepth = uFarDepth == 1 ? 1.0 : gl_FragCoord.z;\n"
+                                "}\n";
+    std::string eraseLog;
+    eraseProgram_ = buildGlProgram(eraseVertex, eraseFragment, "normal-map erase", eraseLog);
+    if (eraseProgram_) {
+        eraseTop_ = glGetUniformLocation(eraseProgram_, "uTop");
+        eraseBottom_ = glGetUniformLocation(eraseProgram_, "uBottom");
+        eraseHeight_ = glGetUniformLocation(eraseProgram_, "uHeight");
+        eraseDepth_ = glGetUniformLocation(eraseProgram_, "uFarDepth");
+    }
+}
+
+std::string NormalMapGlRenderer::eraseFullMesh(const Eigen::Vector3f& top, const Eigen::Vector3f& bottom) {
+    if (!program_) return shaderProblem_;
+    if (!eraseProgram_) return "the erase shader did not build";
+    if (!cornerCount_) return "no mesh";
+    GLint previousProgram = 0, previousArray = 0, viewport[4] = {0, 0, 1, 1}, stencilBits = 0;
+    glGetIntegerv(GL_CURRENT_PROGRAM, &previousProgram);
+    glGetIntegerv(GL_ARRAY_BUFFER_BINDING, &previousArray);
+    glGetIntegerv(GL_VIEWPORT, viewport);
+    glGetIntegerv(GL_STENCIL_BITS, &stencilBits);
+    glPushAttrib(GL_ENABLE_BIT | GL_DEPTH_BUFFER_BIT | GL_POLYGON_BIT | GL_COLOR_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
+    glPushClientAttrib(GL_CLIENT_VERTEX_ARRAY_BIT);
+    glEnable(GL_DEPTH_TEST);
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(-1.0f, -1.0f);
+    glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    glUseProgram(eraseProgram_);
+    glUniform3f(eraseTop_, top.x(), top.y(), top.z());
+    glUniform3f(eraseBottom_, bottom.x(), bottom.y(), bottom.z());
+    glUniform1f(eraseHeight_, static_cast<float>(std::max(1, viewport[3])));
+    glBindBuffer(GL_ARRAY_BUFFER, vertexBuffer_);
+    glEnableClientState(GL_VERTEX_ARRAY);
+    glVertexPointer(3, GL_FLOAT, floatsPerCorner_ * sizeof(float), nullptr);
+    const GLsizei count = static_cast<GLsizei>(cornerCount_);
+    // Pass 1: the background colour where the mesh is the visible surface (no depth write, so the
+    // mesh does not hide itself), marking those pixels in the stencil.
+    if (stencilBits > 0) {
+        glEnable(GL_STENCIL_TEST);
+        glClearStencil(0);
+        glClear(GL_STENCIL_BUFFER_BIT);
+        glStencilFunc(GL_ALWAYS, 1, 0xff);
+        glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+    }
+    glDepthFunc(GL_LEQUAL);
+    glDepthMask(GL_FALSE);
+    glUniform1i(eraseDepth_, 0);
+    glDrawArrays(GL_TRIANGLES, 0, count);
+    // Pass 2: the far depth on the marked pixels (on the whole projection without a stencil).
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_ALWAYS);
+    if (stencilBits > 0) {
+        glStencilFunc(GL_EQUAL, 1, 0xff);
+        glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+    }
+    glUniform1i(eraseDepth_, 1);
+    glDrawArrays(GL_TRIANGLES, 0, count);
+    glUseProgram(static_cast<GLuint>(previousProgram));
+    glBindBuffer(GL_ARRAY_BUFFER, static_cast<GLuint>(previousArray));
+    glPopClientAttrib();
+    glPopAttrib();
+    checkGl("normal-map erase");
+    return {};
 }
 
 NormalMapGlRenderer::~NormalMapGlRenderer() {
@@ -62,6 +140,7 @@ NormalMapGlRenderer::~NormalMapGlRenderer() {
     deleteGlTexture(normalTexture_);
     deleteGlTexture(momentTexture_);
     if (program_) glDeleteProgram(program_);
+    if (eraseProgram_) glDeleteProgram(eraseProgram_);
     while (glGetError() != GL_NO_ERROR) {
     }
 }
@@ -94,15 +173,85 @@ std::string NormalMapGlRenderer::setMesh(const float* positions, const float* no
             c[6] = wedgeUv[6 * f + 2 * k];
             c[7] = wedgeUv[6 * f + 2 * k + 1];
         }
+    popLevelEnd_.clear();
+    popDerivatives_ = false;
+    popLevel_ = 0;
+    popCorrect_ = false;
+    uploadCorners(corners, 8);
+    return {};
+}
+
+void NormalMapGlRenderer::uploadCorners(const std::vector<float>& corners, int floatsPerCorner) {
     GLint previousArray = 0;
     glGetIntegerv(GL_ARRAY_BUFFER_BINDING, &previousArray);
     if (!vertexBuffer_) glGenBuffers(1, &vertexBuffer_);
     glBindBuffer(GL_ARRAY_BUFFER, vertexBuffer_);
     glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(corners.size() * sizeof(float)), corners.data(), GL_STATIC_DRAW);
     glBindBuffer(GL_ARRAY_BUFFER, static_cast<GLuint>(previousArray));
-    cornerCount_ = 3 * faceCount;
+    cornerCount_ = corners.size() / floatsPerCorner;
+    floatsPerCorner_ = floatsPerCorner;
     checkGl("normal-map mesh upload");
+}
+
+std::string NormalMapGlRenderer::setPopMesh(const float* positions, const float* normals, std::size_t vertexCount,
+                                            const std::uint32_t* faces, std::size_t faceCount, const float* wedgeUv,
+                                            const rad::PopBuffer& pop, const rad::TexCoordDerivatives* correction) {
+    if (vertexCount == 0 || faceCount == 0) throw GlRendererError("the mesh has no vertices or no faces to draw");
+    if (!positions || !normals || !faces || !wedgeUv) throw GlRendererError("the mesh needs positions, normals, faces and wedge UVs");
+    if (pop.vertexCount() != vertexCount || pop.faceCount() != faceCount)
+        throw GlRendererError("the POP buffer was built from another mesh");
+    if (correction && correction->perCorner.size() != 18 * faceCount)
+        throw GlRendererError("the texture-coordinate derivatives were computed for another mesh");
+    for (std::size_t i = 0; i < 3 * faceCount; ++i)
+        if (faces[i] >= vertexCount) throw GlRendererError("a face refers to a vertex that does not exist");
+    if (!program_) return shaderProblem_;
+    // 17 floats per corner: position, normal, uv, level-16 cell (exact in float), d(u)/dxyz, d(v)/dxyz.
+    std::vector<float> corners(3 * faceCount * 17, 0.0f);
+    for (std::size_t i = 0; i < faceCount; ++i) {
+        const std::size_t f = pop.faceOrder[i];
+        for (int k = 0; k < 3; ++k) {
+            const std::size_t v = faces[3 * f + k];
+            float* c = corners.data() + (3 * i + k) * 17;
+            for (int a = 0; a < 3; ++a) {
+                c[a] = positions[3 * v + a];
+                c[3 + a] = normals[3 * v + a];
+                c[8 + a] = static_cast<float>(pop.cells[3 * v + a]);
+            }
+            c[6] = wedgeUv[6 * f + 2 * k];
+            c[7] = wedgeUv[6 * f + 2 * k + 1];
+            if (correction)
+                for (int a = 0; a < 6; ++a) c[11 + a] = correction->perCorner[6 * (3 * f + k) + a];
+        }
+    }
+    popLevelEnd_.assign(pop.levelEnd.begin(), pop.levelEnd.end());
+    for (int a = 0; a < 3; ++a) {
+        boxMin_[a] = static_cast<float>(pop.boxMin[a]);
+        boxExtent_[a] = static_cast<float>(pop.boxExtent[a]);
+    }
+    popDerivatives_ = correction != nullptr;
+    popLevel_ = 0;
+    popCorrect_ = false;
+    uploadCorners(corners, 17);
     return {};
+}
+
+std::string NormalMapGlRenderer::setPopLevel(int level, bool correct) {
+    if (level == 0) {
+        popLevel_ = 0;
+        popCorrect_ = false;
+        return {};
+    }
+    if (popLevelEnd_.empty()) return "no POP buffer uploaded (setPopMesh)";
+    if (level < rad::kPopMinLevel || level > rad::kPopMaxLevel)
+        return "POP-buffer levels are " + std::to_string(rad::kPopMinLevel) + " to " + std::to_string(rad::kPopMaxLevel);
+    if (correct && !popDerivatives_) return "no texture-coordinate derivatives uploaded: the correction needs them";
+    popLevel_ = level;
+    popCorrect_ = correct;
+    return {};
+}
+
+std::size_t NormalMapGlRenderer::drawnFaceCount() const {
+    return popLevel_ > 0 ? popLevelEnd_[popLevel_] : cornerCount_ / 3;
 }
 
 unsigned NormalMapGlRenderer::uploadPyramid(const std::vector<rad::MipImage>& levels) {
@@ -229,8 +378,12 @@ std::string NormalMapGlRenderer::draw(NormalMapShading mode, const NormalMapLigh
     glUniform1f(u_.shininess, static_cast<float>(std::max(lighting.shininess, 1e-6)));
     glUniform1f(u_.exposureScale, static_cast<float>(std::exp2(toneMapping.exposureStops)));
     glUniform1i(u_.toneCurve, toneMapping.curve == rad::ToneCurve::Reinhard ? 1 : 0);
+    glUniform1i(u_.popLevel, popLevel_);
+    glUniform1i(u_.popCorrection, popCorrect_ ? 1 : 0);
+    glUniform3f(u_.boxMin, boxMin_.x(), boxMin_.y(), boxMin_.z());
+    glUniform3f(u_.boxExtent, boxExtent_.x(), boxExtent_.y(), boxExtent_.z());
 
-    const GLsizei stride = 8 * sizeof(float);
+    const GLsizei stride = floatsPerCorner_ * sizeof(float);
     glBindBuffer(GL_ARRAY_BUFFER, vertexBuffer_);
     glEnableClientState(GL_VERTEX_ARRAY);
     glVertexPointer(3, GL_FLOAT, stride, nullptr);
@@ -239,9 +392,18 @@ std::string NormalMapGlRenderer::draw(NormalMapShading mode, const NormalMapLigh
     glClientActiveTexture(GL_TEXTURE0);
     glEnableClientState(GL_TEXTURE_COORD_ARRAY);
     glTexCoordPointer(2, GL_FLOAT, stride, reinterpret_cast<const void*>(6 * sizeof(float)));
+    if (floatsPerCorner_ == 17) {  // POP buffer: cell and derivatives as texture coordinates 1..3
+        for (int unit = 1; unit <= 3; ++unit) {
+            glClientActiveTexture(GL_TEXTURE0 + unit);
+            glEnableClientState(GL_TEXTURE_COORD_ARRAY);
+            glTexCoordPointer(3, GL_FLOAT, stride, reinterpret_cast<const void*>((8 + 3 * (unit - 1)) * sizeof(float)));
+        }
+        glClientActiveTexture(GL_TEXTURE0);
+    }
     glDisableClientState(GL_COLOR_ARRAY);
 
-    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(cornerCount_));
+    // A level is a prefix of the buffer: no per-frame work besides the uniforms.
+    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(3 * drawnFaceCount()));
 
     for (int unit = 1; unit >= 0; --unit) {
         glActiveTexture(GL_TEXTURE0 + unit);

@@ -20,6 +20,8 @@
 #include "radiance_gl_renderer.h"  // GlRendererError
 
 #include "bake/lean_maps.h"
+#include "lod/pop_buffer.h"
+#include "lod/texcoord_correction.h"
 #include "render/tone_mapping.h"
 
 #include <Eigen/Core>
@@ -60,6 +62,23 @@ public:
     // draw (no shaders), else empty.
     std::string setMesh(const float* positions, const float* normals, std::size_t vertexCount, const std::uint32_t* faces,
                         std::size_t faceCount, const float* wedgeUv);
+    // The same mesh as a POP buffer (Limper et al. 2013, lod/pop_buffer.h, built from these positions
+    // and faces): the corners are uploaded in the buffer's triangle order with each vertex's level-16
+    // cell and, when `correction` is given (computed from `wedgeUv`), its corner's d(uv)/d(xyz), so that
+    // the vertex shader snaps positions to the grid of a level and corrects the texture coordinates
+    // (Weber & Stamminger, Alg. 1) and a level is drawn as a prefix of the buffer. Throws
+    // GlRendererError when `pop` does not match the mesh.
+    std::string setPopMesh(const float* positions, const float* normals, std::size_t vertexCount,
+                           const std::uint32_t* faces, std::size_t faceCount, const float* wedgeUv,
+                           const rad::PopBuffer& pop, const rad::TexCoordDerivatives* correction);
+    // The level the next draw() shows: 0 = the mesh as uploaded (no snapping), 1..16 a POP level
+    // (needs setPopMesh); `correct` applies Alg. 1 (needs the derivatives). Returns the reason when it
+    // cannot be drawn, else empty.
+    std::string setPopLevel(int level, bool correct);
+    int popLevel() const { return popLevel_; }
+    // Triangles the next draw() issues.
+    std::size_t drawnFaceCount() const;
+    bool hasPopBuffer() const { return !popLevelEnd_.empty(); }
 
     // Levels 0..K of the map (buildNormalPyramid, or any chain w >> k x h >> k down to 1 x 1, 3
     // channels). Object-space unit normals, or tangent-space ones (normal_baker.h) when
@@ -78,23 +97,44 @@ public:
     std::string draw(NormalMapShading mode, const NormalMapLighting& lighting, const rad::ToneMapping& toneMapping,
                      const Eigen::Vector3d& eyeObject);
 
+    // Hides what is already drawn of this mesh at its full resolution (MeshLab's own rendering of
+    // the layer, under a decoration that draws a coarser level): where the uploaded mesh, unsnapped,
+    // is the visible surface (depth test GL_LEQUAL with the draw's polygon offset), the colour becomes
+    // the vertical gradient from `bottom` (row 0) to `top` (the last row) of the current viewport, as
+    // MeshLab paints its background, and the depth is reset to the far plane so that the level drawn
+    // next is not hidden by the surface it replaces. Those pixels are marked in the stencil buffer;
+    // without stencil bits the depth is reset over the whole projection of the mesh (other layers in
+    // front of it then lose their depth there). Restores every state it touches.
+    std::string eraseFullMesh(const Eigen::Vector3f& top, const Eigen::Vector3f& bottom);
+
     // GL errors seen since the last call, or empty.
     std::string takeGlErrors();
 
 private:
     void buildProgram();
     void checkGl(const char* where);
+    void uploadCorners(const std::vector<float>& corners, int floatsPerCorner);
     unsigned uploadPyramid(const std::vector<rad::MipImage>& levels);
 
     GlCapabilities caps_;
     std::string shaderProblem_, errors_;
     unsigned program_ = 0;
+    unsigned eraseProgram_ = 0;
+    int eraseTop_ = -1, eraseBottom_ = -1, eraseHeight_ = -1, eraseDepth_ = -1;
     struct Uniforms {
         int normalMap = -1, moments = -1, mode = -1, tangentSpace = -1, textureSize = -1, eye = -1, lightDirection = -1,
-            lightColor = -1, albedo = -1, specular = -1, ambient = -1, shininess = -1, exposureScale = -1, toneCurve = -1;
+            lightColor = -1, albedo = -1, specular = -1, ambient = -1, shininess = -1, exposureScale = -1, toneCurve = -1,
+            popLevel = -1, popCorrection = -1, boxMin = -1, boxExtent = -1;
     } u_;
     unsigned vertexBuffer_ = 0;
     std::size_t cornerCount_ = 0;
+    int floatsPerCorner_ = 8;
+    // POP buffer: triangles drawn per level (index = level), box, whether derivatives were uploaded.
+    std::vector<std::size_t> popLevelEnd_;
+    Eigen::Vector3f boxMin_ = Eigen::Vector3f::Zero(), boxExtent_ = Eigen::Vector3f::Zero();
+    bool popDerivatives_ = false;
+    int popLevel_ = 0;
+    bool popCorrect_ = false;
     unsigned normalTexture_ = 0, momentTexture_ = 0;
     int mapWidth_ = 0, mapHeight_ = 0, mapLevels_ = 0;
     bool tangentSpace_ = false;

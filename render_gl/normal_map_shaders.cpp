@@ -7,14 +7,36 @@ namespace {
 
 const char* const kVertex = R"GLSL(#version 150 compatibility
 invariant gl_Position;
+uniform int uPopLevel;       // 0: the mesh as uploaded; 1..16: POP-buffer level (Limper et al. 2013)
+uniform int uPopCorrection;  // 1: texture-coordinate correction (Weber & Stamminger, Alg. 1)
+uniform vec3 uBoxMin;
+uniform vec3 uBoxExtent;
 out vec3 vObject;
 out vec3 vNormal;
 out vec2 vUv;
 void main() {
-    gl_Position = ftransform();
-    vObject = gl_Vertex.xyz;
+    vec3 p = gl_Vertex.xyz;
+    vec2 uv = gl_MultiTexCoord0.xy;
+    if (uPopLevel > 0) {
+        // Level-16 cell (exact integers in float) >> (16 - L), then the cell's centre; a flat axis
+        // of the box is not snapped (lod/pop_buffer.h).
+        vec3 cell = floor(gl_MultiTexCoord1.xyz / exp2(float(16 - uPopLevel)));
+        vec3 q = uBoxMin + (cell + 0.5) * (uBoxExtent / exp2(float(uPopLevel)));
+        if (uBoxExtent.x <= 0.0) q.x = p.x;
+        if (uBoxExtent.y <= 0.0) q.y = p.y;
+        if (uBoxExtent.z <= 0.0) q.z = p.z;
+        if (uPopCorrection == 1) {
+            vec3 d = q - p;
+            uv += vec2(dot(gl_MultiTexCoord2.xyz, d), dot(gl_MultiTexCoord3.xyz, d));
+        }
+        p = q;
+        gl_Position = gl_ModelViewProjectionMatrix * vec4(p, 1.0);
+    } else {
+        gl_Position = ftransform();
+    }
+    vObject = p;
     vNormal = gl_Normal;
-    vUv = gl_MultiTexCoord0.xy;
+    vUv = uv;
 }
 )GLSL";
 

@@ -43,7 +43,8 @@ OffscreenGl::OffscreenGl(int width, int height) : state_(std::make_unique<State>
     if (glewInit() != GLEW_OK) throw std::runtime_error("GLEW initialisation failed");
     while (glGetError() != GL_NO_ERROR) {
     }
-    state_->fbo = std::make_unique<QOpenGLFramebufferObject>(width, height, QOpenGLFramebufferObject::Depth);
+    // Depth and stencil, as MeshLab's view has (the normal-map renderer's erase pass uses the stencil).
+    state_->fbo = std::make_unique<QOpenGLFramebufferObject>(width, height, QOpenGLFramebufferObject::CombinedDepthStencil);
     if (!state_->fbo->isValid()) throw std::runtime_error("cannot create the framebuffer");
     state_->fbo->bind();
 }

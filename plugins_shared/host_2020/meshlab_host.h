@@ -46,6 +46,9 @@ inline void setLayerTexture(MeshModel& m, const std::string& file) {
     m.cm.textures.push_back((here ? info.fileName() : info.absoluteFilePath()).toStdString());
 }
 
+// Gives layer `to` the textures of layer `from` (MeshLab 2020.09 keeps their file names only).
+inline void copyLayerTextures(const MeshModel& from, MeshModel& to) { to.cm.textures = from.cm.textures; }
+
 // A numeric parameter's value is finite (floats, percentages, dynamic floats, points); true for the
 // other kinds.
 inline bool parameterValueIsFinite(const RichParameter& p) {

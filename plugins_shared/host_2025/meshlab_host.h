@@ -49,6 +49,12 @@ inline void setLayerTexture(MeshModel& m, const std::string& file) {
     m.addTexture(QFileInfo(path).fileName().toStdString(), QImage(path));
 }
 
+// Gives layer `to` the textures of layer `from` (MeshLab 2025.07 keeps the images in the layer).
+inline void copyLayerTextures(const MeshModel& from, MeshModel& to) {
+    to.clearTextures();
+    for (const std::string& name : from.cm.textures) to.addTexture(name, from.getTexture(name));
+}
+
 // A numeric parameter's value is finite (floats, percentages, dynamic floats, points); true for the
 // other kinds.
 inline bool parameterValueIsFinite(const RichParameter& p) {

@@ -42,6 +42,7 @@ _FILTERS = (
     "radiance_uniform_prt_subdivision",
     "radiance_prt_relighting_as_vertex_color",
     "bake_normal_map",
+    "extract_level_of_detail_pop_buffer",
 )
 
 

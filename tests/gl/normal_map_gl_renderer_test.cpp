@@ -9,6 +9,7 @@
 #include "offscreen_gl.h"
 
 #include "bake/lean_maps.h"
+#include "lod/pop_level.h"
 #include "render/tone_mapping.h"
 
 #include <GL/glew.h>
@@ -291,6 +292,61 @@ TEST(NormalMapGl, FarAwayLeanIsCloserToTheSupersampledTruthThanTheMipMappedNorma
     EXPECT_GT(errorMap, 5.0);  // the mip-mapped map really loses the roughness here
 }
 
+// Aliasing on the level of detail: the far bumpy quad as a jittered 33 x 33 grid drawn at POP
+// levels (Limper et al. 2013) with the texture-coordinate correction (Weber & Stamminger, Alg. 1;
+// exact on this plane, so the level shows the same bumps): LEAN stays much closer to the
+// supersampled truth than the mip-mapped normal map, as on the full quad.
+TEST(NormalMapGl, FarAwayLeanOnAPopLevelIsCloserToTheSupersampledTruth) {
+    const rad::LeanMaps maps = bumpMaps();
+    const int n = 33;
+    rad::TriangleMesh grid;
+    std::vector<float> normals, uv;
+    std::mt19937 rng(8);
+    std::uniform_real_distribution<float> jitter(-0.3f, 0.3f);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const bool border = i == 0 || j == 0 || i == n - 1 || j == n - 1;
+            grid.positions.insert(grid.positions.end(), {(i + (border ? 0 : jitter(rng))) / (n - 1) - 0.5f,
+                                                         (j + (border ? 0 : jitter(rng))) / (n - 1) - 0.5f, 0.0f});
+            normals.insert(normals.end(), {0, 0, 1});
+        }
+    for (int j = 0; j + 1 < n; ++j)
+        for (int i = 0; i + 1 < n; ++i) {
+            const std::uint32_t a = j * n + i, b = a + 1, c = a + n + 1, d = a + n;
+            grid.faces.insert(grid.faces.end(), {a, b, c, a, c, d});
+        }
+    for (std::uint32_t v : grid.faces) uv.insert(uv.end(), {grid.positions[3 * v] + 0.5f, grid.positions[3 * v + 1] + 0.5f});
+    const rad::PopBuffer pop = rad::buildPopBuffer(grid);
+    const rad::TexCoordDerivatives derivatives = rad::computeTexCoordDerivatives(grid, uv);
+    radgl::NormalMapGlRenderer r(capabilities());
+    ASSERT_EQ(r.setPopMesh(grid.positions.data(), normals.data(), grid.vertexCount(), grid.faces.data(),
+                           grid.faceCount(), uv.data(), pop, &derivatives), "");
+    ASSERT_EQ(r.setNormalMap(maps.normals, false), "");
+    ASSERT_EQ(r.setLeanMoments(maps.moments), "");
+    const Scene scene = bumpScene({0.0, -1.2, 4.0});
+    std::vector<char> mask;
+    const std::vector<std::uint8_t> truth = supersampledTruth(scene, mask);
+    // Snapping pulls the border in by up to half a cell (level 3: a sixteenth of the quad): compare
+    // inside what the level draws.
+    for (int level : {3, 4, 6}) {
+        ASSERT_EQ(r.setPopLevel(level, true), "");
+        const std::vector<std::uint8_t> normalMap = render(r, NormalMapShading::NormalMap, scene);
+        const std::vector<std::uint8_t> lean = render(r, NormalMapShading::Lean, scene);
+        std::vector<char> drawn = mask;
+        for (std::size_t p = 0; p < drawn.size(); ++p) drawn[p] = drawn[p] && (lean[3 * p] || lean[3 * p + 1] || lean[3 * p + 2]);
+        const long pixels = std::count(drawn.begin(), drawn.end(), 1);
+        ASSERT_GT(pixels, 1000) << "level " << level;
+        int maxMap = 0, maxLean = 0;
+        const double errorMap = rmse(normalMap, truth, &drawn, &maxMap);
+        const double errorLean = rmse(lean, truth, &drawn, &maxLean);
+        std::printf("far bumpy grid, POP level %d (%zu of %zu triangles), %ld pixels: RMSE vs supersampled truth: normal "
+                    "map %.2f (max %d), LEAN %.2f (max %d) levels\n",
+                    level, r.drawnFaceCount(), grid.faceCount(), pixels, errorMap, maxMap, errorLean, maxLean);
+        EXPECT_LT(errorLean, 0.5 * errorMap) << "level " << level;
+        EXPECT_GT(errorMap, 5.0) << "level " << level;
+    }
+}
+
 TEST(NormalMapGl, UpCloseLeanEqualsTheNormalMap) {
     const rad::LeanMaps maps = bumpMaps();
     const Quad q = makeQuad({0, 0, 1}, UvLayout::Plain);
@@ -309,6 +365,124 @@ TEST(NormalMapGl, UpCloseLeanEqualsTheNormalMap) {
     // The picture has bumps and highlights, so the comparison is not between two flat images.
     const auto [lo, hi] = std::minmax_element(normalMap.begin(), normalMap.end());
     EXPECT_GT(int(*hi) - int(*lo), 60);
+}
+
+// The POP-buffer mode (Limper et al. 2013; Weber & Stamminger Alg. 1 in the vertex shader) against
+// the level evaluated on the CPU (lod/pop_level.h, tested on its own) and drawn as a plain mesh by
+// the same renderer: a jittered, gently curved grid under a striped object-space normal map.
+TEST(NormalMapGl, PopLevelInTheVertexShaderEqualsTheCpuEvaluatedLevel) {
+    const int n = 25;
+    rad::TriangleMesh mesh;
+    std::vector<float> normals, uv;
+    std::mt19937 rng(4);
+    std::uniform_real_distribution<float> jitter(-0.3f, 0.3f);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const bool border = i == 0 || j == 0 || i == n - 1 || j == n - 1;
+            const float x = (i + (border ? 0 : jitter(rng))) / (n - 1) - 0.5f;
+            const float y = (j + (border ? 0 : jitter(rng))) / (n - 1) - 0.5f;
+            mesh.positions.insert(mesh.positions.end(), {x, y, 0.1f * x * x});
+            const Eigen::Vector3d nn = Eigen::Vector3d(-0.2 * x, 0, 1).normalized();
+            normals.insert(normals.end(), {float(nn.x()), float(nn.y()), float(nn.z())});
+        }
+    for (int j = 0; j + 1 < n; ++j)
+        for (int i = 0; i + 1 < n; ++i) {
+            const std::uint32_t a = j * n + i, b = a + 1, c = a + n + 1, d = a + n;
+            mesh.faces.insert(mesh.faces.end(), {a, b, c, a, c, d});
+        }
+    for (std::uint32_t v : mesh.faces) uv.insert(uv.end(), {mesh.positions[3 * v] + 0.5f, mesh.positions[3 * v + 1] + 0.5f});
+    const int size = 256;  // stripes of 32 texels along u, normals tilted by +-35 degrees about y
+    std::vector<float> map(std::size_t(size) * size * 3);
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            const double angle = ((x / 32) % 2 ? 35.0 : -35.0) * kPi / 180;
+            float* t = &map[(std::size_t(y) * size + x) * 3];
+            t[0] = float(std::sin(angle));
+            t[1] = 0;
+            t[2] = float(std::cos(angle));
+        }
+    const rad::PopBuffer pop = rad::buildPopBuffer(mesh);
+    const rad::TexCoordDerivatives derivatives = rad::computeTexCoordDerivatives(mesh, uv);
+    radgl::NormalMapGlRenderer gpu(capabilities()), reference(capabilities());
+    ASSERT_EQ(gpu.setPopMesh(mesh.positions.data(), normals.data(), mesh.vertexCount(), mesh.faces.data(),
+                             mesh.faceCount(), uv.data(), pop, &derivatives), "");
+    ASSERT_EQ(gpu.setNormalMap(rad::buildNormalPyramid(map.data(), size, size), false), "");
+    ASSERT_EQ(reference.setNormalMap(rad::buildNormalPyramid(map.data(), size, size), false), "");
+    Scene scene = closeScene();
+    scene.lighting.lightDirection = Eigen::Vector3d(0.8, 0.0, 0.6);
+    for (int level : {3, 4, 5}) {
+        std::vector<std::uint8_t> images[2];
+        for (int correct = 0; correct < 2; ++correct) {
+            ASSERT_EQ(gpu.setPopLevel(level, correct == 1), "");
+            EXPECT_EQ(gpu.drawnFaceCount(), pop.levelEnd[level]);
+            images[correct] = render(gpu, NormalMapShading::NormalMap, scene);
+
+            rad::PopLevelRequest request;
+            request.mesh = &mesh;
+            request.pop = &pop;
+            request.level = level;
+            request.wedgeUv = &uv;
+            request.correction = correct ? &derivatives : nullptr;
+            const rad::PopLevelMesh lod = rad::evaluatePopLevel(request);
+            std::vector<float> lodNormals;
+            for (std::uint32_t s : lod.sourceVertex) lodNormals.insert(lodNormals.end(), &normals[3 * s], &normals[3 * s + 3]);
+            ASSERT_EQ(reference.setMesh(lod.mesh.positions.data(), lodNormals.data(), lod.mesh.vertexCount(),
+                                        lod.mesh.faces.data(), lod.mesh.faceCount(), lod.wedgeUv.data()), "");
+            const std::vector<std::uint8_t> cpu = render(reference, NormalMapShading::NormalMap, scene);
+            int worst = 0;
+            const double error = rmse(images[correct], cpu, nullptr, &worst);
+            std::size_t differing = 0;
+            for (std::size_t i = 0; i < cpu.size(); ++i) differing += std::abs(int(cpu[i]) - int(images[correct][i])) > 8;
+            std::printf("POP level %d %s: GPU vs CPU-evaluated level RMSE %.3f (max %d), %zu values differ by > 8\n", level,
+                        correct ? "corrected" : "plain", error, worst, differing);
+            EXPECT_LT(error, 0.5) << "level " << level << (correct ? " corrected" : " plain") << ", max " << worst;
+            EXPECT_LT(double(differing) / cpu.size(), 0.002) << "level " << level;
+        }
+        // The correction changes the picture (the stripes stay where the full mesh has them).
+        const double effect = rmse(images[0], images[1]);
+        std::printf("POP level %d: plain vs corrected RMSE %.2f\n", level, effect);
+        EXPECT_GT(effect, 3.0) << "level " << level;
+    }
+    ASSERT_EQ(gpu.setPopLevel(0, false), "");
+    EXPECT_EQ(gpu.drawnFaceCount(), mesh.faceCount());
+    EXPECT_NE(gpu.setPopLevel(17, false), "");
+    EXPECT_NE(reference.setPopLevel(4, false), "");  // no POP buffer uploaded
+}
+
+// The erase pass under a coarser level: where the full mesh is visible its pixels take the
+// background gradient and the far depth, so the same mesh drawn again is not hidden by itself.
+TEST(NormalMapGl, EraseFullMeshPaintsTheBackgroundAndResetsTheDepth) {
+    const Quad q = makeQuad(Eigen::Vector3d(0, 0, 1), UvLayout::Plain);
+    radgl::NormalMapGlRenderer r(capabilities());
+    ASSERT_EQ(r.setMesh(q.positions.data(), q.normals.data(), 4, q.faces.data(), 2, q.wedgeUv.data()), "");
+    const Scene scene = closeScene();
+    const std::vector<char> inside = quadMask(scene.camera, 0.05);
+    gl().beginFrame(scene.camera, 0.05, 20.0);
+    const std::vector<std::uint8_t> background = gl().readRgb();
+    ASSERT_EQ(r.draw(NormalMapShading::VertexNormals, scene.lighting, {}, scene.camera.center), "");
+    const std::vector<std::uint8_t> drawn = gl().readRgb();
+    // Top and bottom green, so the gradient is a constant colour: (0, 255, 0).
+    ASSERT_EQ(r.eraseFullMesh(Eigen::Vector3f(0, 1, 0), Eigen::Vector3f(0, 1, 0)), "");
+    const std::vector<std::uint8_t> erased = gl().readRgb();
+    ASSERT_EQ(r.draw(NormalMapShading::VertexNormals, scene.lighting, {}, scene.camera.center), "");
+    const std::vector<std::uint8_t> again = gl().readRgb();
+    EXPECT_EQ(r.takeGlErrors(), "");
+    std::size_t insideCount = 0;
+    for (std::size_t p = 0; p < inside.size(); ++p) {
+        if (inside[p]) {
+            ++insideCount;
+            EXPECT_EQ(erased[3 * p], 0);
+            EXPECT_EQ(erased[3 * p + 1], 255);
+            EXPECT_EQ(erased[3 * p + 2], 0);
+            for (int c = 0; c < 3; ++c) EXPECT_EQ(again[3 * p + c], drawn[3 * p + c]);  // depth was reset
+        }
+    }
+    EXPECT_GT(insideCount, 1000u);
+    // Outside the quad (well away from its border) nothing changed.
+    const std::vector<char> near = quadMask(scene.camera, -0.05);
+    for (std::size_t p = 0; p < near.size(); ++p)
+        if (!near[p])
+            for (int c = 0; c < 3; ++c) ASSERT_EQ(erased[3 * p + c], background[3 * p + c]) << p;
 }
 
 TEST(NormalMapGl, RestoresTheGlStateAndRefusesWhatItCannotDraw) {

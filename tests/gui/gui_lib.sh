@@ -22,9 +22,11 @@ gui_cleanup() {
 trap gui_cleanup EXIT
 
 # start_xvfb: a private X server (it picks a free display itself and writes its number once it
-# accepts clients: no race with parallel tests); exports DISPLAY.
+# accepts clients: no race with parallel tests); exports DISPLAY. -noreset: by default the server
+# resets when its last client leaves, and a meshlab started during the reset cannot connect
+# ("could not connect to display"), seen between the shots of the multi-shot tests.
 start_xvfb() {
-    Xvfb -displayfd 3 -screen 0 1280x1024x24 -nolisten tcp 3>"$WORK/display" >"$WORK/xvfb.log" 2>&1 &
+    Xvfb -displayfd 3 -screen 0 1280x1024x24 -nolisten tcp -noreset 3>"$WORK/display" >"$WORK/xvfb.log" 2>&1 &
     xvfb_pid=$!
     for _ in $(seq 1 100); do [ -s "$WORK/display" ] && break; sleep 0.1; done
     [ -s "$WORK/display" ] || { cat "$WORK/xvfb.log" >&2; fail "Xvfb did not start"; }

@@ -49,3 +49,8 @@ set_tests_properties(gui.fig6_highlight PROPERTIES ENVIRONMENT "${_integration_e
 add_test(NAME gui.normal_map_decoration COMMAND bash "${PROJECT_SOURCE_DIR}/tests/gui/gui_normal_map.sh")
 set_tests_properties(gui.normal_map_decoration PROPERTIES ENVIRONMENT "${_integration_env}" LABELS gui TIMEOUT 300
   RUN_SERIAL TRUE)
+# Its POP-buffer level of detail against the CPU-evaluated level (tests/gui/gui_pop_lod.sh): two
+# meshlabserver runs and four meshlab starts, about 75 s.
+add_test(NAME gui.pop_lod_decoration COMMAND bash "${PROJECT_SOURCE_DIR}/tests/gui/gui_pop_lod.sh")
+set_tests_properties(gui.pop_lod_decoration PROPERTIES ENVIRONMENT "${_integration_env}" LABELS gui TIMEOUT 300
+  RUN_SERIAL TRUE)

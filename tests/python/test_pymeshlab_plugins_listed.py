@@ -38,6 +38,7 @@ EXPECTED_PARAMETERS = {
     h.RELIGHT: ["lighting", "environmentMap", "rotation", "upAxis", "lightDirection", "lightIntensity", "exposure"],
     h.BAKE: ["sourceMesh", "textureSize", "space", "bits", "maxDistance", "gutter", "newAtlas", "diffuse", "lean",
              "assign", "outputFile"],
+    h.POP_LEVELS: ["levels", "correction"],
 }
 
 
@@ -78,6 +79,7 @@ def recorded_script(scenes, tmp_path_factory):
     ms.apply_filter(h.RELIGHT)
     ms.load_new_mesh(scenes("sphere", level=1))
     ms.apply_filter(h.BAKE, sourcemesh=0, texturesize=128, outputfile=str(work / "baked_normal.png"))
+    ms.apply_filter(h.POP_LEVELS, levels="4")  # on the baked layer's texture coordinates
     ms.save_filter_script(str(work / "filters.mlx"))
 
     h.run_tool("virtual_acquisition", scenes("sphere", level=2), "-o", work / "photos", "--views", 4,
