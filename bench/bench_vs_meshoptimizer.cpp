@@ -28,7 +28,7 @@
 //            attribute floats and positions only), image error too unless --armadillo-error 0.
 //
 //   bench_vs_meshoptimizer [--data DIR (data-cache)] [--only bunny,elephant,sphere,armadillo]
-//                          [--quick] [--weights 0.1,0.5,2,8] [--threads 2] [--views 16] [--size 512]
+//                          [--quick] [--weights 0.1,0.5,2,8,32] [--threads 2] [--views 16] [--size 512]
 //                          [--lazy 0|1] [--geometry-weight W] (experiments away from the defaults)
 #include "acquisition/camera_rig.h"
 #include "acquisition/scene_radiance_field.h"
@@ -66,7 +66,7 @@ using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 rad::ImageSpaceOptions imageOptions;
-std::vector<float> weights = {0.1f, 0.5f, 2.0f, 8.0f};
+std::vector<float> weights = {0.1f, 0.5f, 2.0f, 8.0f, 32.0f};
 int ourThreads = 2;
 // Experiments only: the figures of the README use the filter's defaults (no --lazy, no --geometry-weight).
 int lazyOverride = -1;
@@ -146,9 +146,9 @@ rad::RadianceMesh fittedBunny(const std::string& data) {
     fit.sampling.borderMarginPixels = 2.0;
     const rad::RadianceFromViewsResult r = rad::fitRadianceFromViews(scene.mesh(), views, fit);
     std::printf("  fitted bunny: %zu photographs %dx%d in %.1f s, PB4 fit of %zu vertices in %.1f s "
-                "(%zu fitted, %zu view-dependent, %zu filled)\n",
-                views.size(), rig.width, rig.height, photoSeconds, scene.mesh().vertexCount(), r.seconds, r.fitted,
-                r.viewDependent, r.unseenFilled);
+                "(%zu view-dependent, %zu constant, %zu filled from neighbours)\n",
+                views.size(), rig.width, rig.height, photoSeconds, scene.mesh().vertexCount(), r.seconds, r.viewDependent,
+                r.constantFallbacks, r.unseenFilled);
     rad::RadianceMesh out;
     out.positions = scene.mesh().positions;
     out.faces = scene.mesh().faces;
