@@ -35,6 +35,7 @@ APT_PACKAGES=(
   imagemagick xdotool          # GUI test: screenshots and key presses
   python3                      # small test helpers (image comparison, PLY checks)
   python3-opencv               # scripts/calibrate_chessboard.py: calibrates OpenCV's chessboard photographs
+  blender                      # tests/blender: Blender's MikkTSpace tangents and glTF import, headless
 )
 
 apt_missing() {
