@@ -23,6 +23,7 @@ namespace radml {
 namespace {
 
 enum SpaceChoice { kObjectSpace = 0, kTangentSpace = 1 };
+enum TangentFrameChoice { kMikkTSpace = 0, kPerFaceFrame = 1 };
 enum BitsChoice { kBits16 = 0, kBits8 = 1 };
 enum AssignChoice { kAssignNormal = 0, kAssignDiffuse = 1 };
 
@@ -108,7 +109,16 @@ public:
                              "Width and height of the maps in texels: a power of two from 16 to 16384."));
         par.addParam(RichEnum("space", kObjectSpace, QStringList() << "Object space" << "Tangent space", "Normal space",
                               "Object space: the normal in the mesh's coordinates (needed for LEAN maps). Tangent space: "
-                              "in the texel's (T, B, N) frame, T from the UV derivatives (dP/du), '+Y up'."));
+                              "in the texel's (T, B, N) frame (see 'Tangent frame'), '+Y up' as glTF 2.0 and Blender "
+                              "expect."));
+        par.addParam(RichEnum("tangentFrame", kMikkTSpace,
+                              QStringList() << "MikkTSpace (Blender, glTF, Unity, Unreal)" << "Per-face dP/du (old)",
+                              "Tangent frame",
+                              "Tangent-space maps only. MikkTSpace (Mikkelsen 2008): the per-vertex tangents and "
+                              "bitangent signs every common tool decodes with, interpolated across the triangle, so "
+                              "the map shows the scan's shading in Blender, glTF viewers, Unity and Unreal. Per-face "
+                              "dP/du: the frame this filter used before (T = dP/du of each face made orthogonal to the "
+                              "normal), for maps that must match earlier bakes."));
         par.addParam(RichEnum("bits", kBits16, QStringList() << "16 bit" << "8 bit", "Bits per channel",
                               "16-bit PNG keeps the quantisation error far below a tenth of a degree; 8 bit is about "
                               "0.2 degrees."));
@@ -198,6 +208,8 @@ private:
         request.sourceColors = sourceColors.empty() ? nullptr : &sourceColors;
         request.textureSize = par.getInt("textureSize");
         request.space = par.getEnum("space") == kTangentSpace ? rad::NormalSpace::Tangent : rad::NormalSpace::Object;
+        request.tangentFrame = par.getEnum("tangentFrame") == kPerFaceFrame ? rad::TangentFrame::PerFaceUvDerivative
+                                                                            : rad::TangentFrame::MikkTSpace;
         request.bits = par.getEnum("bits") == kBits8 ? 8 : 16;
         request.maxRayDistance = absoluteOrPercentParameter(par, "maxDistance");
         request.gutterTexels = par.getInt("gutter");
@@ -229,7 +241,10 @@ private:
         const double chart = std::max<double>(1.0, double(stats.chartTexels));
         ctx.log(formatLine("Bake Normal Map: %s %dx%d, %d bit, %s, from '%s' (%zu faces) onto '%s' (%zu faces) in %.2f s "
             "(bake %.2f, fill %.2f, LEAN %.2f, write %.2f)",
-            request.space == rad::NormalSpace::Object ? "object space" : "tangent space", request.textureSize,
+            request.space == rad::NormalSpace::Object ? "object space"
+            : request.tangentFrame == rad::TangentFrame::MikkTSpace ? "tangent space (MikkTSpace, Mikkelsen 2008, +Y up)"
+                                                                    : "tangent space (per-face dP/du frame, +Y up)",
+            request.textureSize,
             request.textureSize, request.bits,
             report.atlasGenerated ? qUtf8Printable(QString("per-triangle atlas (cells of %1 texels)").arg(report.atlasCellSize))
                                   : uvKind,
@@ -250,6 +265,10 @@ private:
             report.diffuseMapFile.empty() ? "" : (", " + report.diffuseMapFile).c_str(),
             report.leanFile.empty() ? "" : (", " + report.leanFile).c_str(),
             (", " + report.descriptionFile).c_str()));
+        if (request.space == rad::NormalSpace::Tangent && stats.madeUpTangentCorners > 0)
+            ctx.log(formatLine("Bake Normal Map: %zu triangle corners have no UV derivative around them (zero-area UV "
+                               "triangles); they got a tangent orthogonal to the normal, which other tools will not "
+                               "reproduce there.", stats.madeUpTangentCorners));
         if (par.getBool("diffuse") && !sourceHasColors)
             ctx.log(formatLine("Bake Normal Map: the source has no vertex colours, so no diffuse map was written."));
         if (par.getBool("lean") && request.space == rad::NormalSpace::Tangent)
@@ -268,8 +287,11 @@ QString BakeNormalMapFilter::description() const {
                "interpolated normal, forward and backward (Embree); the nearer hit on the scan gives the "
                "interpolated scan normal, and when no ray hits within the maximum distance, the closest point of "
                "the scan does. Object-space maps store the normal; tangent-space maps store it in the texel's "
-               "frame (N = interpolated target normal, T = dP/du of the face made orthogonal to N, B = N x T, "
-               "flipped for mirrored UVs: the OpenGL '+Y up' convention). Encoding (x + 1) / 2 in 8 or 16 bits. "
+               "frame: by default MikkTSpace (Mikkelsen 2008), the frame Blender, glTF 2.0, Unity and Unreal decode "
+               "with (per-vertex tangents and bitangent signs computed from the mesh's UVs, interpolated; "
+               "B = sign N x T, negative for mirrored UVs), stored as the exact inverse of n = normalize(x T + y B + z N); "
+               "or the older per-face frame (T = dP/du of the face made orthogonal to N). Both are '+Y up' (OpenGL, "
+               "glTF, Blender: green grows with v); the _bake.txt file says which frame was used. Encoding (x + 1) / 2 in 8 or 16 bits. "
                "Texels the bake could not fill are filled by pull-push diffusion, the gutters by dilation of the "
                "charts' border texels, and the rest of the texture too, so mip-mapping never mixes in an empty "
                "texel. Also written: the scan's vertex colours as a diffuse map, and LEAN second moments for MIP "
@@ -277,7 +299,7 @@ QString BakeNormalMapFilter::description() const {
                "_diffuse.png, _lean.exr, _bake.txt, beside the target mesh unless a file is given. The map is "
                "assigned as the layer's texture; the 'Radiance Field' decoration shows it with Blinn-Phong or LEAN "
                "shading.") +
-           kCiteGranier2007WeberStamminger;
+           kCiteGranier2007WeberStamminger + kCiteMikkelsen2008;
 }
 
 }  // namespace

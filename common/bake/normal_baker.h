@@ -9,12 +9,18 @@
 //
 // Normal spaces:
 //  - Object: the unit normal in the mesh's coordinates.
-//  - Tangent: (n . T, n . B, n . N) in the texel's frame: N = the target's interpolated normal
-//    (unit), T = the face's dP/du made orthogonal to N (Gram-Schmidt) and unit, B = s (N x T)
-//    with s = +1 when (dP/du, dP/dv, face normal) is right-handed and -1 otherwise (mirrored UVs).
-//    dP/du is constant per face (the UV derivatives of the face), which is also what a fragment
-//    shader gets from dFdx/dFdy of position and UV. "+Y up" (OpenGL) convention: B points to
-//    increasing v.
+//  - Tangent, TangentFrame::MikkTSpace (the default): the frame every common tool decodes with
+//    (Blender, glTF 2.0, Unity, Unreal, three.js; Mikkelsen 2008): per-corner tangents T_k and
+//    bitangent signs s from geometry/mikktspace_tangents.h (target positions, vertex normals,
+//    wedge UVs), interpolated per texel without renormalisation, T = sum b_k T_k and
+//    N = sum b_k N_k; B = s (N x T). A renderer reconstructs n = normalize(t.x T + t.y B + t.z N),
+//    so the bake stores the exact inverse: t = normalize([T B N]^-1 n), as Blender's baker does.
+//  - Tangent, TangentFrame::PerFaceUvDerivative (the old frame, for maps made before): N = the
+//    interpolated normal (unit), T = the face's dP/du made orthogonal to N (Gram-Schmidt) and
+//    unit, B = s (N x T) with s = +1 when (dP/du, dP/dv, face normal) is right-handed and -1
+//    otherwise (mirrored UVs). dP/du is constant per face, which is also what a fragment shader
+//    gets from dFdx/dFdy of position and UV.
+//  Both: "+Y up" (OpenGL, glTF, Blender): B points to increasing v.
 // Either way a unit vector is stored; encodeNormal8/16 map [-1, 1] to the code range.
 #pragma once
 #include "progress/progress_callback.h"
@@ -30,10 +36,12 @@
 namespace rad {
 
 enum class NormalSpace { Object, Tangent };
+enum class TangentFrame { MikkTSpace, PerFaceUvDerivative };
 
 struct NormalBakeOptions {
     int width = 1024, height = 1024;
     NormalSpace space = NormalSpace::Object;
+    TangentFrame tangentFrame = TangentFrame::MikkTSpace;  // for NormalSpace::Tangent
     float maxRayDistance = 0.0f;       // <= 0: automaticRayDistance(target, source)
     bool bakeColor = false;            // needs sourceColors
     // progress/progress_callback.h; may be called from several threads, never concurrently. A
@@ -50,6 +58,9 @@ struct NormalBakeResult {
     std::vector<std::uint8_t> valid;   // 1 where a value was baked (chart texels whose source normal was usable)
     float maxRayDistance = 0.0f;       // the distance used
     std::size_t chartTexels = 0, rayHits = 0, closestPointFallbacks = 0, invalidTexels = 0;
+    // MikkTSpace bakes: corners whose tangent had to be made up (no triangle around them has UV
+    // derivatives, or dP/du along the normal; mikktspace_tangents.h completeTangents).
+    std::size_t madeUpTangentCorners = 0;
     double seconds = 0.0;
     // Parts of `seconds` (wall clock): rasterising the layout, building the source's ray scene
     // (and the automatic ray distance), casting the rays and writing the texels.

@@ -200,6 +200,7 @@ NormalMapBakeReport bakeNormalMapFiles(const NormalMapBakeRequest& request) {
     NormalBakeOptions options;
     options.width = options.height = size;
     options.space = request.space;
+    options.tangentFrame = request.tangentFrame;
     options.maxRayDistance = request.maxRayDistance > 0.0f ? request.maxRayDistance : 0.0f;
     options.bakeColor = withColor;
     options.progress = progressRange(request.progress, 0.0, 0.75);
@@ -266,6 +267,21 @@ NormalMapBakeReport bakeNormalMapFiles(const NormalMapBakeRequest& request) {
             {"gutter_texels", std::to_string(request.gutterTexels)},
             {"max_ray_distance", preciseText(baked.maxRayDistance)},
             {"normal_map", fileName(report.normalMapFile)}};
+        if (request.space == NormalSpace::Tangent) {
+            if (request.tangentFrame == TangentFrame::MikkTSpace) {
+                lines.push_back({"tangent_frame", "mikktspace"});
+                lines.push_back({"tangent_frame_note",
+                                 "MikkTSpace (Mikkelsen 2008) per-corner tangents and signs, interpolated, not "
+                                 "renormalised; B = sign * cross(N, T); n = normalize(x T + y B + z N): as "
+                                 "Blender, glTF 2.0, Unity and Unreal decode"});
+            } else {
+                lines.push_back({"tangent_frame", "per-face-dpdu"});
+                lines.push_back({"tangent_frame_note",
+                                 "per face: T = dP/du orthogonalised against the interpolated unit normal N, "
+                                 "B = s * cross(N, T), s = -1 for mirrored UVs (not MikkTSpace)"});
+            }
+            lines.push_back({"green_channel", "+Y up (OpenGL, glTF 2.0, Blender): green grows towards increasing v"});
+        }
         if (withColor) lines.push_back({"diffuse_map", fileName(report.diffuseMapFile)});
         if (withLean) {
             lines.push_back({"lean_moments", fileName(report.leanFile)});

@@ -8,7 +8,8 @@
 //   B_normal.png   the normal map, RGB, 8 or 16 bit, code = (x + 1) / 2 * max (normal_baker.h)
 //   B_diffuse.png  the source's colour at the same points, 8-bit RGB (when requested)
 //   B_lean.exr     LEAN second moments, MIP levels 1..K (lean_maps.h; when requested)
-//   B_bake.txt     what was baked: key = value lines (space, size, bits, ray distance, files, counts)
+//   B_bake.txt     what was baked: key = value lines (space, tangent frame and convention, size,
+//                  bits, ray distance, files, counts)
 #pragma once
 #include "bake/normal_baker.h"
 #include "bake/texture_atlas.h"  // BakeInputError
@@ -27,6 +28,7 @@ struct NormalMapBakeRequest {
     const std::vector<float>* sourceColors = nullptr;   // 3 per source vertex in [0, 1], or nullptr
     int textureSize = 2048;
     NormalSpace space = NormalSpace::Object;
+    TangentFrame tangentFrame = TangentFrame::MikkTSpace;  // tangent space only (normal_baker.h)
     int bits = 16;                                 // 8 or 16
     float maxRayDistance = 0.0f;                   // 0: automatic; negative is refused
     int gutterTexels = 4;                          // empty texels between two charts of a generated atlas

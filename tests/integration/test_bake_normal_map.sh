@@ -43,6 +43,9 @@ run_meshlabserver "$WORK/tangent8.log" -i "$WORK/fine.ply" -i "$WORK/coarse_bake
     -o "$WORK/tangent/coarse_tangent.ply" -m wt vn || { cat "$WORK/tangent8.log" >&2; fail "tangent-space bake failed"; }
 grep -qF "the target's wedge texture coordinates" "$WORK/tangent8.log" || { cat "$WORK/tangent8.log" >&2; fail "existing UVs not used"; }
 grep -qx "space = tangent" "$WORK/tangent/sphere_bake.txt" || fail "description does not say tangent space"
+grep -qx "tangent_frame = mikktspace" "$WORK/tangent/sphere_bake.txt" || fail "description does not say MikkTSpace (the default frame)"
+grep -q "^green_channel = +Y up" "$WORK/tangent/sphere_bake.txt" || fail "description does not state the +Y up convention"
+grep -qF "MikkTSpace, Mikkelsen 2008" "$WORK/tangent8.log" || fail "the log does not name the tangent frame"
 [ -e "$WORK/tangent/sphere_lean.exr" ] && fail "a LEAN file for a tangent-space map"
 grep -qF "LEAN maps filter object-space normals" "$WORK/tangent8.log" || fail "no note about LEAN in tangent space"
 $CHECK complete "$WORK/tangent/sphere_normal.png" || fail "empty texels in the tangent-space map"

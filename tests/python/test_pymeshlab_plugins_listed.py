@@ -36,7 +36,7 @@ EXPECTED_PARAMETERS = {
     h.ADAPTIVE: ["budget", "budgetFactor", "measure", "alpha", "threshold"],
     h.UNIFORM: ["budget", "budgetFactor", "measure", "alpha"],
     h.RELIGHT: ["lighting", "environmentMap", "rotation", "upAxis", "lightDirection", "lightIntensity", "exposure"],
-    h.BAKE: ["sourceMesh", "textureSize", "space", "bits", "maxDistance", "gutter", "newAtlas", "diffuse", "lean",
+    h.BAKE: ["sourceMesh", "textureSize", "space", "tangentFrame", "bits", "maxDistance", "gutter", "newAtlas", "diffuse", "lean",
              "assign", "outputFile"],
 }
 
