@@ -137,6 +137,15 @@ public:
         par.addParam(RichBool("lean", true, "Write LEAN maps",
                               "Second moments of the normals about the averaged normal per MIP level 1..K (object-space "
                               "maps only)."));
+        par.addParam(RichBool("gltf", false, "Also write a glTF 2.0 file (.glb)",
+                              "Write <base>.glb beside the maps: the target with its texture coordinates, normals and "
+                              "MikkTSpace tangents (Mikkelsen 2008), the tangent-space normal map (baked in MikkTSpace "
+                              "whatever the space chosen above), the diffuse map, and with LEAN maps a metallic-roughness "
+                              "texture whose roughness grows with the spread of the scan's normals (Toksvig 2005, from "
+                              "the LEAN moments of Olano and Baker 2010). Opens in Blender, three.js, Unity, Unreal."));
+        par.addParam(RichFloat("gltfRoughness", 0.5f, "glTF base roughness",
+                               "glTF perceptual roughness of a surface whose normals do not vary (0 mirror, 1 matte); "
+                               "the LEAN spread adds to it."));
         par.addParam(RichEnum("assign", kAssignNormal, QStringList() << "Normal map" << "Diffuse map",
                               "Layer texture", "Which map becomes the layer's texture."));
         par.addParam(RichString("outputFile", "", "Output file (optional)",
@@ -215,6 +224,8 @@ private:
         request.gutterTexels = par.getInt("gutter");
         request.bakeDiffuse = par.getBool("diffuse");
         request.writeLean = par.getBool("lean");
+        request.writeGltf = par.getBool("gltf");
+        request.gltfBaseRoughness = float(par.getFloat("gltfRoughness"));
         request.outputBase = outputBase(par.getString("outputFile"), *target, *source).toStdString();
         ctx.progress.setPhase(0, 100, "Baking normal map");
         request.progress = ctx.progress.forCore();
@@ -265,6 +276,11 @@ private:
             report.diffuseMapFile.empty() ? "" : (", " + report.diffuseMapFile).c_str(),
             report.leanFile.empty() ? "" : (", " + report.leanFile).c_str(),
             (", " + report.descriptionFile).c_str()));
+        if (!report.gltfFile.empty())
+            ctx.log(formatLine("Bake Normal Map: wrote %s (glTF 2.0: %zu vertices after splitting at UV seams, MikkTSpace "
+                               "tangent-space normal map%s%s)", report.gltfFile.c_str(), report.gltfVertices,
+                               report.diffuseMapFile.empty() ? "" : ", diffuse map",
+                               report.leanFile.empty() ? "" : ", roughness from the LEAN moments (Toksvig 2005)"));
         if (request.space == rad::NormalSpace::Tangent && stats.madeUpTangentCorners > 0)
             ctx.log(formatLine("Bake Normal Map: %zu triangle corners have no UV derivative around them (zero-area UV "
                                "triangles); they got a tangent orthogonal to the normal, which other tools will not "
@@ -296,7 +312,8 @@ QString BakeNormalMapFilter::description() const {
                "charts' border texels, and the rest of the texture too, so mip-mapping never mixes in an empty "
                "texel. Also written: the scan's vertex colours as a diffuse map, and LEAN second moments for MIP "
                "levels 1 and up (object space only) in an OpenEXR file. Files: &lt;base&gt;_normal.png, "
-               "_diffuse.png, _lean.exr, _bake.txt, beside the target mesh unless a file is given. The map is "
+               "_diffuse.png, _lean.exr, _bake.txt (and &lt;base&gt;.glb on request: glTF 2.0 with the MikkTSpace "
+               "tangents and maps), beside the target mesh unless a file is given. The map is "
                "assigned as the layer's texture; the 'Radiance Field' decoration shows it with Blinn-Phong or LEAN "
                "shading.") +
            kCiteGranier2007WeberStamminger + kCiteMikkelsen2008;

@@ -179,8 +179,9 @@ NormalBakeResult bakeNormalMap(const TriangleMesh& target, const float* targetWe
     // MikkTSpace: per-corner tangent and sign (x, y, z, s), made unit and orthogonal where the
     // algorithm has none (so that the frame below is never singular for that reason).
     const bool mikkTSpace = options.space == NormalSpace::Tangent && options.tangentFrame == TangentFrame::MikkTSpace;
+    const bool alsoMikk = options.alsoMikkTSpace && !mikkTSpace;
     std::vector<float> cornerTangents;
-    if (mikkTSpace) {
+    if (mikkTSpace || alsoMikk) {
         TangentSpaceInput input;
         input.positions = target.positions.data();
         input.vertexCount = target.vertexCount();
@@ -202,6 +203,7 @@ NormalBakeResult bakeNormalMap(const TriangleMesh& target, const float* targetWe
     result.normals.assign(3 * texels, 0.0f);
     result.tangents.assign(3 * texels, 0.0f);
     if (options.bakeColor) result.colors.assign(3 * texels, 0.0f);
+    if (alsoMikk) result.mikkTSpaceNormals.assign(3 * texels, 0.0f);
     result.chart.assign(texels, 0);
     result.valid.assign(texels, 0);
 
@@ -329,7 +331,9 @@ NormalBakeResult bakeNormalMap(const TriangleMesh& target, const float* targetWe
                 float* outNormal = result.normals.data() + 3 * t;
                 Eigen::Vector3f T;
                 bool framed = false;
-                if (mikkTSpace) {
+                // The MikkTSpace tangent-space normal of the texel, into `out`; false when the
+                // frame is singular.
+                const auto mikkLocal = [&](float* out, Eigen::Vector3f& unitTangent) {
                     // Interpolated, not renormalised: the frame a MikkTSpace renderer rebuilds.
                     const float* corner = cornerTangents.data() + 12 * std::size_t(tile.face[i]);
                     const float* b = tile.barycentric[i];
@@ -345,19 +349,18 @@ NormalBakeResult bakeNormalMap(const TriangleMesh& target, const float* targetWe
                     frameMatrix << Tm, Bm, Nm;
                     const float det = frameMatrix.determinant();
                     const float scale = Tm.norm() * Bm.norm() * Nm.norm();
-                    if (std::isfinite(det) && std::fabs(det) > 1e-6f * scale && scale > 0.0f) {
-                        Eigen::Vector3f local = frameMatrix.inverse() * n;
-                        const float localLength = local.norm();
-                        if (localLength > 0.0f && std::isfinite(localLength)) {
-                            local /= localLength;
-                            outNormal[0] = local.x();
-                            outNormal[1] = local.y();
-                            outNormal[2] = local.z();
-                            T = (Tm - Tm.dot(N) * N).normalized();
-                            framed = true;
-                        }
-                    }
-                }
+                    if (!(std::isfinite(det) && std::fabs(det) > 1e-6f * scale && scale > 0.0f)) return false;
+                    Eigen::Vector3f local = frameMatrix.inverse() * n;
+                    const float localLength = local.norm();
+                    if (!(localLength > 0.0f && std::isfinite(localLength))) return false;
+                    local /= localLength;
+                    out[0] = local.x();
+                    out[1] = local.y();
+                    out[2] = local.z();
+                    unitTangent = (Tm - Tm.dot(N) * N).normalized();
+                    return true;
+                };
+                if (mikkTSpace) framed = mikkLocal(outNormal, T);
                 if (!framed) {
                     const float* frame = faceFrame.data() + 7 * std::size_t(tile.face[i]);
                     const Eigen::Vector3f dPdu(frame[3], frame[4], frame[5]);
@@ -373,6 +376,17 @@ NormalBakeResult bakeNormalMap(const TriangleMesh& target, const float* targetWe
                         outNormal[0] = n.x();
                         outNormal[1] = n.y();
                         outNormal[2] = n.z();
+                    }
+                }
+                if (alsoMikk) {
+                    float* outMikk = result.mikkTSpaceNormals.data() + 3 * t;
+                    Eigen::Vector3f unused;
+                    if (!mikkLocal(outMikk, unused)) {
+                        // Singular frame: the unit normal in the orthonormalised frame instead.
+                        const Eigen::Vector3f B = N.cross(T);
+                        outMikk[0] = n.dot(T);
+                        outMikk[1] = n.dot(B);
+                        outMikk[2] = n.dot(N);
                     }
                 }
                 float* outTangent = result.tangents.data() + 3 * t;
@@ -409,6 +423,7 @@ NormalBakeResult bakeNormalMap(const TriangleMesh& target, const float* targetWe
     if (failure) std::rethrow_exception(failure);
     if (cancelled) throw OperationCancelled();
     result.raySeconds = secondsSince(t0);
+    result.cornerTangents = std::move(cornerTangents);
     result.chartTexels = chartTexels;
     result.rayHits = hits;
     result.closestPointFallbacks = fallbacks;

@@ -44,6 +44,9 @@ struct NormalBakeOptions {
     TangentFrame tangentFrame = TangentFrame::MikkTSpace;  // for NormalSpace::Tangent
     float maxRayDistance = 0.0f;       // <= 0: automaticRayDistance(target, source)
     bool bakeColor = false;            // needs sourceColors
+    // Also fill `mikkTSpaceNormals` (a MikkTSpace tangent-space map next to the requested one: the
+    // glTF export of an object-space bake needs both).
+    bool alsoMikkTSpace = false;
     // progress/progress_callback.h; may be called from several threads, never concurrently. A
     // stop request makes the bake throw OperationCancelled.
     ProgressCallback progress;
@@ -54,6 +57,10 @@ struct NormalBakeResult {
     std::vector<float> normals;        // 3 per texel, unit, in the requested space; 0 where not valid
     std::vector<float> tangents;       // 3 per texel, object-space unit T of the frame above (LEAN needs it); 0 where not valid
     std::vector<float> colors;         // 3 per texel when bakeColor (source colour units), else empty
+    std::vector<float> mikkTSpaceNormals;  // 3 per texel when alsoMikkTSpace, else empty
+    // MikkTSpace bakes (and alsoMikkTSpace): the per-corner tangents used (4 per corner: x, y, z,
+    // sign; geometry/mikktspace_tangents.h, completed), which a renderer must be given with the map.
+    std::vector<float> cornerTangents;
     std::vector<std::uint8_t> chart;   // 1 where the coverage has a face (the texel belongs to a chart)
     std::vector<std::uint8_t> valid;   // 1 where a value was baked (chart texels whose source normal was usable)
     float maxRayDistance = 0.0f;       // the distance used

@@ -8,6 +8,10 @@
 //   B_normal.png   the normal map, RGB, 8 or 16 bit, code = (x + 1) / 2 * max (normal_baker.h)
 //   B_diffuse.png  the source's colour at the same points, 8-bit RGB (when requested)
 //   B_lean.exr     LEAN second moments, MIP levels 1..K (lean_maps.h; when requested)
+//   B.glb          glTF 2.0 binary (when requested): the target with its UVs, MikkTSpace tangents,
+//                  the tangent-space normal map (8 bit), the diffuse map, and where LEAN moments
+//                  are made, a metallic-roughness texture from them (io/gltf_writer.h,
+//                  bake/toksvig_roughness.h)
 //   B_bake.txt     what was baked: key = value lines (space, tangent frame and convention, size,
 //                  bits, ray distance, files, counts)
 #pragma once
@@ -34,6 +38,10 @@ struct NormalMapBakeRequest {
     int gutterTexels = 4;                          // empty texels between two charts of a generated atlas
     bool bakeDiffuse = true;                       // ignored without sourceColors
     bool writeLean = true;
+    // glTF 2.0 binary beside the maps. Its normal texture is always MikkTSpace tangent space (what
+    // glTF defines), baked alongside an object-space map when that is the requested space.
+    bool writeGltf = false;
+    float gltfBaseRoughness = 0.5f;                // glTF perceptual roughness of the flat surface
     std::string outputBase;                        // B above
     ProgressCallback progress;                     // progress/progress_callback.h (OperationCancelled)
     // Memory the bake may take; 0: what the machine has available now (memory/available_memory.h).
@@ -49,7 +57,8 @@ struct NormalMapBakeReport {
     std::vector<float> wedgeUv;                    // the layout baked into (generated or the input's)
     bool atlasGenerated = false;
     int atlasCellSize = 0;
-    std::string normalMapFile, diffuseMapFile, leanFile, descriptionFile;  // empty when not written
+    std::string normalMapFile, diffuseMapFile, leanFile, descriptionFile, gltfFile;  // empty when not written
+    std::size_t gltfVertices = 0;                  // after splitting at UV seams and tangent changes
     NormalBakeResult bake;                         // stats of the bake (maps released after writing)
     std::size_t holesFilled = 0, gutterTexelsDilated = 0, backgroundTexelsFilled = 0;
     int leanLevels = 0;

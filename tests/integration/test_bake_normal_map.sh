@@ -50,3 +50,36 @@ grep -qF "MikkTSpace, Mikkelsen 2008" "$WORK/tangent8.log" || fail "the log does
 grep -qF "LEAN maps filter object-space normals" "$WORK/tangent8.log" || fail "no note about LEAN in tangent space"
 $CHECK complete "$WORK/tangent/sphere_normal.png" || fail "empty texels in the tangent-space map"
 note "tangent space, 8 bit ok"
+
+# glTF 2.0 export from meshlabserver (MeshLab 2020.09): object space with LEAN, so the .glb holds a
+# MikkTSpace normal texture, the diffuse map and a roughness texture. The container and its JSON
+# are checked with Python's standard library (pygltflib and Blender check it in the pytest suite).
+mkdir -p "$WORK/gltf"
+bake_mlx "$WORK/gltf.mlx" 0 128 0 0 false "$WORK/gltf/scan_normal.png" 0 true
+run_meshlabserver "$WORK/gltf.log" -i "$WORK/fine.rply" -i "$WORK/coarse_baked.ply" -s "$WORK/gltf.mlx" \
+    || { cat "$WORK/gltf.log" >&2; fail "bake with glTF failed"; }
+[ -s "$WORK/gltf/scan.glb" ] || fail "no scan.glb written"
+grep -qF "wrote $WORK/gltf/scan.glb (glTF 2.0" "$WORK/gltf.log" || { cat "$WORK/gltf.log" >&2; fail "the log does not name the glb"; }
+python3 - "$WORK/gltf/scan.glb" <<'PY' || fail "the .glb is not a valid glTF 2.0 binary"
+import json, struct, sys
+data = open(sys.argv[1], "rb").read()
+magic, version, length = struct.unpack_from("<III", data, 0)
+assert magic == 0x46546C67 and version == 2 and length == len(data), (magic, version, length)
+json_length, json_type = struct.unpack_from("<II", data, 12)
+assert json_type == 0x4E4F534A and json_length % 4 == 0
+doc = json.loads(data[20:20 + json_length])
+bin_length, bin_type = struct.unpack_from("<II", data, 20 + json_length)
+assert bin_type == 0x004E4942 and 28 + json_length + bin_length == len(data)
+attributes = doc["meshes"][0]["primitives"][0]["attributes"]
+assert set(attributes) == {"POSITION", "NORMAL", "TEXCOORD_0", "TANGENT"}, attributes
+tangent = doc["accessors"][attributes["TANGENT"]]
+assert tangent["type"] == "VEC4" and tangent["componentType"] == 5126
+assert len(doc["images"]) == 3, doc["images"]
+material = doc["materials"][0]
+assert "normalTexture" in material and "metallicRoughnessTexture" in material["pbrMetallicRoughness"]
+view = doc["bufferViews"][tangent["bufferView"]]
+w = struct.unpack_from("<%df" % (4 * tangent["count"]), data, 28 + json_length + view["byteOffset"])[3::4]
+assert set(w) <= {1.0, -1.0}, set(w)
+print("glb: %d vertices, %d images, tangent signs %s" % (tangent["count"], len(doc["images"]), sorted(set(w))))
+PY
+note "glTF export ok"

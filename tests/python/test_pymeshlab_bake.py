@@ -48,7 +48,7 @@ def meshes(scenes, tmp_path_factory):
 def bake_parameters(**overrides):
     """Every parameter, as scripts/bake_normal_map_filter.sh lists them."""
     p = dict(sourcemesh=0, texturesize=256, space=0, tangentframe=0, bits=0, maxdistance=pymeshlab.PureValue(0.0), gutter=4,
-             newatlas=False, diffuse=True, lean=True, assign=0, outputfile="")
+             newatlas=False, diffuse=True, lean=True, gltf=False, gltfroughness=0.5, assign=0, outputfile="")
     p.update(overrides)
     return p
 

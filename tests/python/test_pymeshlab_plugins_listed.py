@@ -37,7 +37,7 @@ EXPECTED_PARAMETERS = {
     h.UNIFORM: ["budget", "budgetFactor", "measure", "alpha"],
     h.RELIGHT: ["lighting", "environmentMap", "rotation", "upAxis", "lightDirection", "lightIntensity", "exposure"],
     h.BAKE: ["sourceMesh", "textureSize", "space", "tangentFrame", "bits", "maxDistance", "gutter", "newAtlas", "diffuse", "lean",
-             "assign", "outputFile"],
+             "gltf", "gltfRoughness", "assign", "outputFile"],
 }
 
 
