@@ -2,11 +2,17 @@
 
 #include "gl_helpers.h"
 
+#include "geometry/mikktspace_tangents.h"
+
 #include <GL/glew.h>
 
 #include <cmath>
 
 namespace radgl {
+
+namespace {
+constexpr int kCornerFloats = 12;  // position, normal, uv, MikkTSpace tangent and sign
+}
 namespace {
 
 // Empty when levels form a mip chain w >> k x h >> k down to 1 x 1 with 3 channels.
@@ -45,6 +51,7 @@ void NormalMapGlRenderer::buildProgram() {
     u_.moments = loc("uMoments");
     u_.mode = loc("uMode");
     u_.tangentSpace = loc("uTangentSpace");
+    u_.mikkTSpace = loc("uMikkTSpace");
     u_.textureSize = loc("uTextureSize");
     u_.eye = loc("uEye");
     u_.lightDirection = loc("uLightDirection");
@@ -81,18 +88,30 @@ std::string NormalMapGlRenderer::setMesh(const float* positions, const float* no
     for (std::size_t i = 0; i < 3 * faceCount; ++i)
         if (faces[i] >= vertexCount) throw GlRendererError("a face refers to a vertex that does not exist");
     if (!program_) return shaderProblem_;
-    // 8 floats per corner: position, normal, uv.
-    std::vector<float> corners(3 * faceCount * 8);
+    // MikkTSpace tangents of the corners (for maps baked in MikkTSpace): the very ones the baker
+    // used, as both compute them from the same positions, normals and wedge UVs.
+    rad::TangentSpaceInput input;
+    input.positions = positions;
+    input.vertexCount = vertexCount;
+    input.faces = faces;
+    input.faceCount = faceCount;
+    input.normals = normals;
+    input.uv = wedgeUv;
+    rad::CornerTangents tangents = rad::computeMikkTSpaceTangents(input);
+    rad::completeTangents(tangents, input);
+    // 12 floats per corner: position, normal, uv, tangent (x, y, z, sign).
+    std::vector<float> corners(3 * faceCount * kCornerFloats);
     for (std::size_t f = 0; f < faceCount; ++f)
         for (int k = 0; k < 3; ++k) {
             const std::size_t v = faces[3 * f + k];
-            float* c = corners.data() + (3 * f + k) * 8;
+            float* c = corners.data() + (3 * f + k) * kCornerFloats;
             for (int a = 0; a < 3; ++a) {
                 c[a] = positions[3 * v + a];
                 c[3 + a] = normals[3 * v + a];
             }
             c[6] = wedgeUv[6 * f + 2 * k];
             c[7] = wedgeUv[6 * f + 2 * k + 1];
+            for (int a = 0; a < 4; ++a) c[8 + a] = tangents.tangents[4 * (3 * f + k) + a];
         }
     GLint previousArray = 0;
     glGetIntegerv(GL_ARRAY_BUFFER_BINDING, &previousArray);
@@ -141,7 +160,8 @@ unsigned NormalMapGlRenderer::uploadPyramid(const std::vector<rad::MipImage>& le
     return tex;
 }
 
-std::string NormalMapGlRenderer::setNormalMap(const std::vector<rad::MipImage>& pyramid, bool tangentSpace) {
+std::string NormalMapGlRenderer::setNormalMap(const std::vector<rad::MipImage>& pyramid, bool tangentSpace,
+                                              rad::TangentFrame frame) {
     if (!program_) return shaderProblem_;
     if (pyramid.empty()) return "the normal map has no levels";
     const std::string problem = chainProblem(pyramid, pyramid[0].width, pyramid[0].height, "normal map");
@@ -153,6 +173,7 @@ std::string NormalMapGlRenderer::setNormalMap(const std::vector<rad::MipImage>& 
     mapHeight_ = pyramid[0].height;
     mapLevels_ = static_cast<int>(pyramid.size());
     tangentSpace_ = tangentSpace;
+    mikkTSpace_ = tangentSpace && frame == rad::TangentFrame::MikkTSpace;
     checkGl("normal map upload");
     return {};
 }
@@ -215,6 +236,7 @@ std::string NormalMapGlRenderer::draw(NormalMapShading mode, const NormalMapLigh
     glUniform1i(u_.moments, 1);
     glUniform1i(u_.mode, static_cast<int>(mode));
     glUniform1i(u_.tangentSpace, tangentSpace_ ? 1 : 0);
+    glUniform1i(u_.mikkTSpace, mikkTSpace_ ? 1 : 0);
     glUniform2f(u_.textureSize, static_cast<float>(mapWidth_), static_cast<float>(mapHeight_));
     glUniform3f(u_.eye, static_cast<float>(eyeObject.x()), static_cast<float>(eyeObject.y()), static_cast<float>(eyeObject.z()));
     const Eigen::Vector3d l = lighting.lightDirection.norm() > 0 ? lighting.lightDirection.normalized() : Eigen::Vector3d(0, 0, 1);
@@ -230,7 +252,7 @@ std::string NormalMapGlRenderer::draw(NormalMapShading mode, const NormalMapLigh
     glUniform1f(u_.exposureScale, static_cast<float>(std::exp2(toneMapping.exposureStops)));
     glUniform1i(u_.toneCurve, toneMapping.curve == rad::ToneCurve::Reinhard ? 1 : 0);
 
-    const GLsizei stride = 8 * sizeof(float);
+    const GLsizei stride = kCornerFloats * sizeof(float);
     glBindBuffer(GL_ARRAY_BUFFER, vertexBuffer_);
     glEnableClientState(GL_VERTEX_ARRAY);
     glVertexPointer(3, GL_FLOAT, stride, nullptr);
@@ -239,6 +261,10 @@ std::string NormalMapGlRenderer::draw(NormalMapShading mode, const NormalMapLigh
     glClientActiveTexture(GL_TEXTURE0);
     glEnableClientState(GL_TEXTURE_COORD_ARRAY);
     glTexCoordPointer(2, GL_FLOAT, stride, reinterpret_cast<const void*>(6 * sizeof(float)));
+    glClientActiveTexture(GL_TEXTURE1);
+    glEnableClientState(GL_TEXTURE_COORD_ARRAY);
+    glTexCoordPointer(4, GL_FLOAT, stride, reinterpret_cast<const void*>(8 * sizeof(float)));
+    glClientActiveTexture(GL_TEXTURE0);
     glDisableClientState(GL_COLOR_ARRAY);
 
     glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(cornerCount_));

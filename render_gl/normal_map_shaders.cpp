@@ -10,11 +10,13 @@ invariant gl_Position;
 out vec3 vObject;
 out vec3 vNormal;
 out vec2 vUv;
+out vec4 vTangent;  // MikkTSpace tangent and bitangent sign of the corner
 void main() {
     gl_Position = ftransform();
     vObject = gl_Vertex.xyz;
     vNormal = gl_Normal;
     vUv = gl_MultiTexCoord0.xy;
+    vTangent = gl_MultiTexCoord1;
 }
 )GLSL";
 
@@ -26,6 +28,7 @@ uniform sampler2D uNormalMap;
 uniform sampler2D uMoments;
 uniform int uMode;           // 0 vertex normals, 1 normal map, 2 LEAN
 uniform int uTangentSpace;   // 1: the map holds tangent-space normals
+uniform int uMikkTSpace;     // 1: ... in MikkTSpace (Mikkelsen 2008), else in the per-face dP/du frame
 uniform vec2 uTextureSize;   // level 0 of the normal map, texels
 uniform vec3 uEye;           // object space
 uniform vec3 uLightDirection;  // toward the light, unit, object space
@@ -37,6 +40,7 @@ uniform float uShininess;
 in vec3 vObject;
 in vec3 vNormal;
 in vec2 vUv;
+in vec4 vTangent;
 
 vec3 anyPerpendicular(vec3 n) {
     vec3 h = abs(n.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
@@ -66,7 +70,12 @@ void main() {
     vec3 n = nv;
     if (uMode != 0) {
         vec3 t = textureLod(uNormalMap, vUv, lambda).xyz;
-        if (uTangentSpace == 1) {  // normal_baker.h frame
+        if (uTangentSpace == 1 && uMikkTSpace == 1) {
+            // MikkTSpace decoding: interpolated T and N, not renormalised (normal_baker.h).
+            vec3 T = vTangent.xyz;
+            vec3 B = (vTangent.w < 0.0 ? -1.0 : 1.0) * cross(vNormal, T);
+            t = t.x * T + t.y * B + t.z * vNormal;
+        } else if (uTangentSpace == 1) {  // normal_baker.h per-face frame
             vec3 T = orthogonalTangent(nv, dPdu);
             float s = dot(cross(dPdu, dPdv), nv) < 0.0 ? -1.0 : 1.0;
             vec3 B = s * cross(nv, T);
