@@ -608,7 +608,8 @@ bool DecorateRadiancePlugin::startNormalMap(MeshModel& m, const RichParameterLis
                                                          wedgeUv.data(), view->pop, &derivatives);
         if (problem.empty())
             problem = view->renderer->setNormalMap(rad::buildNormalPyramid(normals.data(), width, height),
-                                                   view->description.space == rad::NormalSpace::Tangent);
+                                                   view->description.space == rad::NormalSpace::Tangent,
+                                                   view->description.tangentFrame);
         if (!problem.empty()) return refuse(problem);
         if (!view->description.leanMoments.empty()) {
             const std::string leanProblem =
@@ -623,7 +624,10 @@ bool DecorateRadiancePlugin::startNormalMap(MeshModel& m, const RichParameterLis
     }
     view->fingerprint = fingerprintOf(m.cm);
     Log("Baked Normal Map: layer '%s', %s-space %dx%d map%s, LEAN %s, set up in %.2f s; %s", qUtf8Printable(m.label()),
-        view->description.space == rad::NormalSpace::Object ? "object" : "tangent", view->description.size,
+        view->description.space == rad::NormalSpace::Object ? "object"
+        : view->description.tangentFrame == rad::TangentFrame::MikkTSpace ? "tangent (MikkTSpace, Mikkelsen 2008)"
+                                                                          : "tangent (per-face dP/du)",
+        view->description.size,
         view->description.size, leanNote.c_str(), view->renderer->hasLeanMoments() ? "on" : "off",
         timer.elapsed() / 1000.0, caps.describe().c_str());
     const std::string errors = view->renderer->takeGlErrors();

@@ -23,6 +23,7 @@ namespace radml {
 namespace {
 
 enum SpaceChoice { kObjectSpace = 0, kTangentSpace = 1 };
+enum TangentFrameChoice { kMikkTSpace = 0, kPerFaceFrame = 1 };
 enum BitsChoice { kBits16 = 0, kBits8 = 1 };
 enum AssignChoice { kAssignNormal = 0, kAssignDiffuse = 1 };
 
@@ -108,7 +109,16 @@ public:
                              "Width and height of the maps in texels: a power of two from 16 to 16384."));
         par.addParam(RichEnum("space", kObjectSpace, QStringList() << "Object space" << "Tangent space", "Normal space",
                               "Object space: the normal in the mesh's coordinates (needed for LEAN maps). Tangent space: "
-                              "in the texel's (T, B, N) frame, T from the UV derivatives (dP/du), '+Y up'."));
+                              "in the texel's (T, B, N) frame (see 'Tangent frame'), '+Y up' as glTF 2.0 and Blender "
+                              "expect."));
+        par.addParam(RichEnum("tangentFrame", kMikkTSpace,
+                              QStringList() << "MikkTSpace (Blender, glTF, Unity, Unreal)" << "Per-face dP/du (old)",
+                              "Tangent frame",
+                              "Tangent-space maps only. MikkTSpace (Mikkelsen 2008): the per-vertex tangents and "
+                              "bitangent signs every common tool decodes with, interpolated across the triangle, so "
+                              "the map shows the scan's shading in Blender, glTF viewers, Unity and Unreal. Per-face "
+                              "dP/du: the frame this filter used before (T = dP/du of each face made orthogonal to the "
+                              "normal), for maps that must match earlier bakes."));
         par.addParam(RichEnum("bits", kBits16, QStringList() << "16 bit" << "8 bit", "Bits per channel",
                               "16-bit PNG keeps the quantisation error far below a tenth of a degree; 8 bit is about "
                               "0.2 degrees."));
@@ -127,6 +137,15 @@ public:
         par.addParam(RichBool("lean", true, "Write LEAN maps",
                               "Second moments of the normals about the averaged normal per MIP level 1..K (object-space "
                               "maps only)."));
+        par.addParam(RichBool("gltf", false, "Also write a glTF 2.0 file (.glb)",
+                              "Write <base>.glb beside the maps: the target with its texture coordinates, normals and "
+                              "MikkTSpace tangents (Mikkelsen 2008), the tangent-space normal map (baked in MikkTSpace "
+                              "whatever the space chosen above), the diffuse map, and with LEAN maps a metallic-roughness "
+                              "texture whose roughness grows with the spread of the scan's normals (Toksvig 2005, from "
+                              "the LEAN moments of Olano and Baker 2010). Opens in Blender, three.js, Unity, Unreal."));
+        par.addParam(RichFloat("gltfRoughness", 0.5f, "glTF base roughness",
+                               "glTF perceptual roughness of a surface whose normals do not vary (0 mirror, 1 matte); "
+                               "the LEAN spread adds to it."));
         par.addParam(RichEnum("assign", kAssignNormal, QStringList() << "Normal map" << "Diffuse map",
                               "Layer texture", "Which map becomes the layer's texture."));
         par.addParam(RichString("outputFile", "", "Output file (optional)",
@@ -198,11 +217,15 @@ private:
         request.sourceColors = sourceColors.empty() ? nullptr : &sourceColors;
         request.textureSize = par.getInt("textureSize");
         request.space = par.getEnum("space") == kTangentSpace ? rad::NormalSpace::Tangent : rad::NormalSpace::Object;
+        request.tangentFrame = par.getEnum("tangentFrame") == kPerFaceFrame ? rad::TangentFrame::PerFaceUvDerivative
+                                                                            : rad::TangentFrame::MikkTSpace;
         request.bits = par.getEnum("bits") == kBits8 ? 8 : 16;
         request.maxRayDistance = absoluteOrPercentParameter(par, "maxDistance");
         request.gutterTexels = par.getInt("gutter");
         request.bakeDiffuse = par.getBool("diffuse");
         request.writeLean = par.getBool("lean");
+        request.writeGltf = par.getBool("gltf");
+        request.gltfBaseRoughness = float(par.getFloat("gltfRoughness"));
         request.outputBase = outputBase(par.getString("outputFile"), *target, *source).toStdString();
         ctx.progress.setPhase(0, 100, "Baking normal map");
         request.progress = ctx.progress.forCore();
@@ -229,7 +252,10 @@ private:
         const double chart = std::max<double>(1.0, double(stats.chartTexels));
         ctx.log(formatLine("Bake Normal Map: %s %dx%d, %d bit, %s, from '%s' (%zu faces) onto '%s' (%zu faces) in %.2f s "
             "(bake %.2f, fill %.2f, LEAN %.2f, write %.2f)",
-            request.space == rad::NormalSpace::Object ? "object space" : "tangent space", request.textureSize,
+            request.space == rad::NormalSpace::Object ? "object space"
+            : request.tangentFrame == rad::TangentFrame::MikkTSpace ? "tangent space (MikkTSpace, Mikkelsen 2008, +Y up)"
+                                                                    : "tangent space (per-face dP/du frame, +Y up)",
+            request.textureSize,
             request.textureSize, request.bits,
             report.atlasGenerated ? qUtf8Printable(QString("per-triangle atlas (cells of %1 texels)").arg(report.atlasCellSize))
                                   : uvKind,
@@ -250,6 +276,15 @@ private:
             report.diffuseMapFile.empty() ? "" : (", " + report.diffuseMapFile).c_str(),
             report.leanFile.empty() ? "" : (", " + report.leanFile).c_str(),
             (", " + report.descriptionFile).c_str()));
+        if (!report.gltfFile.empty())
+            ctx.log(formatLine("Bake Normal Map: wrote %s (glTF 2.0: %zu vertices after splitting at UV seams, MikkTSpace "
+                               "tangent-space normal map%s%s)", report.gltfFile.c_str(), report.gltfVertices,
+                               report.diffuseMapFile.empty() ? "" : ", diffuse map",
+                               report.leanFile.empty() ? "" : ", roughness from the LEAN moments (Toksvig 2005)"));
+        if (request.space == rad::NormalSpace::Tangent && stats.madeUpTangentCorners > 0)
+            ctx.log(formatLine("Bake Normal Map: %zu triangle corners have no UV derivative around them (zero-area UV "
+                               "triangles); they got a tangent orthogonal to the normal, which other tools will not "
+                               "reproduce there.", stats.madeUpTangentCorners));
         if (par.getBool("diffuse") && !sourceHasColors)
             ctx.log(formatLine("Bake Normal Map: the source has no vertex colours, so no diffuse map was written."));
         if (par.getBool("lean") && request.space == rad::NormalSpace::Tangent)
@@ -268,16 +303,20 @@ QString BakeNormalMapFilter::description() const {
                "interpolated normal, forward and backward (Embree); the nearer hit on the scan gives the "
                "interpolated scan normal, and when no ray hits within the maximum distance, the closest point of "
                "the scan does. Object-space maps store the normal; tangent-space maps store it in the texel's "
-               "frame (N = interpolated target normal, T = dP/du of the face made orthogonal to N, B = N x T, "
-               "flipped for mirrored UVs: the OpenGL '+Y up' convention). Encoding (x + 1) / 2 in 8 or 16 bits. "
+               "frame: by default MikkTSpace (Mikkelsen 2008), the frame Blender, glTF 2.0, Unity and Unreal decode "
+               "with (per-vertex tangents and bitangent signs computed from the mesh's UVs, interpolated; "
+               "B = sign N x T, negative for mirrored UVs), stored as the exact inverse of n = normalize(x T + y B + z N); "
+               "or the older per-face frame (T = dP/du of the face made orthogonal to N). Both are '+Y up' (OpenGL, "
+               "glTF, Blender: green grows with v); the _bake.txt file says which frame was used. Encoding (x + 1) / 2 in 8 or 16 bits. "
                "Texels the bake could not fill are filled by pull-push diffusion, the gutters by dilation of the "
                "charts' border texels, and the rest of the texture too, so mip-mapping never mixes in an empty "
                "texel. Also written: the scan's vertex colours as a diffuse map, and LEAN second moments for MIP "
                "levels 1 and up (object space only) in an OpenEXR file. Files: &lt;base&gt;_normal.png, "
-               "_diffuse.png, _lean.exr, _bake.txt, beside the target mesh unless a file is given. The map is "
+               "_diffuse.png, _lean.exr, _bake.txt (and &lt;base&gt;.glb on request: glTF 2.0 with the MikkTSpace "
+               "tangents and maps), beside the target mesh unless a file is given. The map is "
                "assigned as the layer's texture; the 'Radiance Field' decoration shows it with Blinn-Phong or LEAN "
                "shading.") +
-           kCiteGranier2007WeberStamminger;
+           kCiteGranier2007WeberStamminger + kCiteMikkelsen2008;
 }
 
 }  // namespace

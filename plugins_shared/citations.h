@@ -14,6 +14,10 @@ inline constexpr const char* kCiteGranier2007WeberStamminger =
     "M. Stamminger</i>, <b>\"Stateless Level of Detail Lighting for Automotive Visualization\"</b> (Alg. 2-4, "
     "sec. 3.5), after <i>M. Olano, D. Baker</i>, \"LEAN Mapping\", I3D 2010.";
 
+inline constexpr const char* kCiteMikkelsen2008 =
+    "<br><br>Tangent space: <i>M. S. Mikkelsen</i>, <b>\"Simulation of wrinkled surfaces revisited\"</b>, "
+    "MSc thesis, University of Copenhagen (2008) (MikkTSpace).";
+
 inline constexpr const char* kCiteSloan2002Krivanek2004 =
     "<br><br>Transfer vectors: <i>P.-P. Sloan, J. Kautz, J. Snyder</i>, <b>\"Precomputed radiance transfer for "
     "real-time rendering in dynamic, low-frequency lighting environments\"</b>, SIGGRAPH 2002. Adaptive "

@@ -2,11 +2,36 @@
 
 #include "gl_helpers.h"
 
+#include "geometry/mikktspace_tangents.h"
+
 #include <GL/glew.h>
 
 #include <cmath>
 
 namespace radgl {
+
+namespace {
+constexpr int kCornerFloats = 12;  // position, normal, uv, MikkTSpace tangent and sign
+// POP buffer: position, normal, uv, level-16 cell, d(u)/dxyz, d(v)/dxyz, then the tangent and sign.
+constexpr int kPopCornerFloats = 21;
+int tangentOffset(int floatsPerCorner) { return floatsPerCorner == kPopCornerFloats ? 17 : 8; }
+
+// The MikkTSpace tangents of a mesh's corners (for maps baked in MikkTSpace): the very ones the baker
+// used, as both compute them from the same positions, normals and wedge UVs.
+rad::CornerTangents cornerTangents(const float* positions, const float* normals, std::size_t vertexCount,
+                                   const std::uint32_t* faces, std::size_t faceCount, const float* wedgeUv) {
+    rad::TangentSpaceInput input;
+    input.positions = positions;
+    input.vertexCount = vertexCount;
+    input.faces = faces;
+    input.faceCount = faceCount;
+    input.normals = normals;
+    input.uv = wedgeUv;
+    rad::CornerTangents tangents = rad::computeMikkTSpaceTangents(input);
+    rad::completeTangents(tangents, input);
+    return tangents;
+}
+}
 namespace {
 
 // Empty when levels form a mip chain w >> k x h >> k down to 1 x 1 with 3 channels.
@@ -45,6 +70,7 @@ void NormalMapGlRenderer::buildProgram() {
     u_.moments = loc("uMoments");
     u_.mode = loc("uMode");
     u_.tangentSpace = loc("uTangentSpace");
+    u_.mikkTSpace = loc("uMikkTSpace");
     u_.textureSize = loc("uTextureSize");
     u_.eye = loc("uEye");
     u_.lightDirection = loc("uLightDirection");
@@ -160,24 +186,26 @@ std::string NormalMapGlRenderer::setMesh(const float* positions, const float* no
     for (std::size_t i = 0; i < 3 * faceCount; ++i)
         if (faces[i] >= vertexCount) throw GlRendererError("a face refers to a vertex that does not exist");
     if (!program_) return shaderProblem_;
-    // 8 floats per corner: position, normal, uv.
-    std::vector<float> corners(3 * faceCount * 8);
+    const rad::CornerTangents tangents = cornerTangents(positions, normals, vertexCount, faces, faceCount, wedgeUv);
+    // 12 floats per corner: position, normal, uv, tangent (x, y, z, sign).
+    std::vector<float> corners(3 * faceCount * kCornerFloats);
     for (std::size_t f = 0; f < faceCount; ++f)
         for (int k = 0; k < 3; ++k) {
             const std::size_t v = faces[3 * f + k];
-            float* c = corners.data() + (3 * f + k) * 8;
+            float* c = corners.data() + (3 * f + k) * kCornerFloats;
             for (int a = 0; a < 3; ++a) {
                 c[a] = positions[3 * v + a];
                 c[3 + a] = normals[3 * v + a];
             }
             c[6] = wedgeUv[6 * f + 2 * k];
             c[7] = wedgeUv[6 * f + 2 * k + 1];
+            for (int a = 0; a < 4; ++a) c[8 + a] = tangents.tangents[4 * (3 * f + k) + a];
         }
     popLevelEnd_.clear();
     popDerivatives_ = false;
     popLevel_ = 0;
     popCorrect_ = false;
-    uploadCorners(corners, 8);
+    uploadCorners(corners, kCornerFloats);
     return {};
 }
 
@@ -205,13 +233,15 @@ std::string NormalMapGlRenderer::setPopMesh(const float* positions, const float*
     for (std::size_t i = 0; i < 3 * faceCount; ++i)
         if (faces[i] >= vertexCount) throw GlRendererError("a face refers to a vertex that does not exist");
     if (!program_) return shaderProblem_;
-    // 17 floats per corner: position, normal, uv, level-16 cell (exact in float), d(u)/dxyz, d(v)/dxyz.
-    std::vector<float> corners(3 * faceCount * 17, 0.0f);
+    const rad::CornerTangents tangents = cornerTangents(positions, normals, vertexCount, faces, faceCount, wedgeUv);
+    // 21 floats per corner: position, normal, uv, level-16 cell (exact in float), d(u)/dxyz, d(v)/dxyz,
+    // MikkTSpace tangent and sign.
+    std::vector<float> corners(3 * faceCount * kPopCornerFloats, 0.0f);
     for (std::size_t i = 0; i < faceCount; ++i) {
         const std::size_t f = pop.faceOrder[i];
         for (int k = 0; k < 3; ++k) {
             const std::size_t v = faces[3 * f + k];
-            float* c = corners.data() + (3 * i + k) * 17;
+            float* c = corners.data() + (3 * i + k) * kPopCornerFloats;
             for (int a = 0; a < 3; ++a) {
                 c[a] = positions[3 * v + a];
                 c[3 + a] = normals[3 * v + a];
@@ -221,6 +251,7 @@ std::string NormalMapGlRenderer::setPopMesh(const float* positions, const float*
             c[7] = wedgeUv[6 * f + 2 * k + 1];
             if (correction)
                 for (int a = 0; a < 6; ++a) c[11 + a] = correction->perCorner[6 * (3 * f + k) + a];
+            for (int a = 0; a < 4; ++a) c[17 + a] = tangents.tangents[4 * (3 * f + k) + a];
         }
     }
     popLevelEnd_.assign(pop.levelEnd.begin(), pop.levelEnd.end());
@@ -231,7 +262,7 @@ std::string NormalMapGlRenderer::setPopMesh(const float* positions, const float*
     popDerivatives_ = correction != nullptr;
     popLevel_ = 0;
     popCorrect_ = false;
-    uploadCorners(corners, 17);
+    uploadCorners(corners, kPopCornerFloats);
     return {};
 }
 
@@ -290,7 +321,8 @@ unsigned NormalMapGlRenderer::uploadPyramid(const std::vector<rad::MipImage>& le
     return tex;
 }
 
-std::string NormalMapGlRenderer::setNormalMap(const std::vector<rad::MipImage>& pyramid, bool tangentSpace) {
+std::string NormalMapGlRenderer::setNormalMap(const std::vector<rad::MipImage>& pyramid, bool tangentSpace,
+                                              rad::TangentFrame frame) {
     if (!program_) return shaderProblem_;
     if (pyramid.empty()) return "the normal map has no levels";
     const std::string problem = chainProblem(pyramid, pyramid[0].width, pyramid[0].height, "normal map");
@@ -302,6 +334,7 @@ std::string NormalMapGlRenderer::setNormalMap(const std::vector<rad::MipImage>& 
     mapHeight_ = pyramid[0].height;
     mapLevels_ = static_cast<int>(pyramid.size());
     tangentSpace_ = tangentSpace;
+    mikkTSpace_ = tangentSpace && frame == rad::TangentFrame::MikkTSpace;
     checkGl("normal map upload");
     return {};
 }
@@ -364,6 +397,7 @@ std::string NormalMapGlRenderer::draw(NormalMapShading mode, const NormalMapLigh
     glUniform1i(u_.moments, 1);
     glUniform1i(u_.mode, static_cast<int>(mode));
     glUniform1i(u_.tangentSpace, tangentSpace_ ? 1 : 0);
+    glUniform1i(u_.mikkTSpace, mikkTSpace_ ? 1 : 0);
     glUniform2f(u_.textureSize, static_cast<float>(mapWidth_), static_cast<float>(mapHeight_));
     glUniform3f(u_.eye, static_cast<float>(eyeObject.x()), static_cast<float>(eyeObject.y()), static_cast<float>(eyeObject.z()));
     const Eigen::Vector3d l = lighting.lightDirection.norm() > 0 ? lighting.lightDirection.normalized() : Eigen::Vector3d(0, 0, 1);
@@ -392,14 +426,18 @@ std::string NormalMapGlRenderer::draw(NormalMapShading mode, const NormalMapLigh
     glClientActiveTexture(GL_TEXTURE0);
     glEnableClientState(GL_TEXTURE_COORD_ARRAY);
     glTexCoordPointer(2, GL_FLOAT, stride, reinterpret_cast<const void*>(6 * sizeof(float)));
-    if (floatsPerCorner_ == 17) {  // POP buffer: cell and derivatives as texture coordinates 1..3
+    if (floatsPerCorner_ == kPopCornerFloats) {  // POP buffer: cell and derivatives as texture coordinates 1..3
         for (int unit = 1; unit <= 3; ++unit) {
             glClientActiveTexture(GL_TEXTURE0 + unit);
             glEnableClientState(GL_TEXTURE_COORD_ARRAY);
             glTexCoordPointer(3, GL_FLOAT, stride, reinterpret_cast<const void*>((8 + 3 * (unit - 1)) * sizeof(float)));
         }
-        glClientActiveTexture(GL_TEXTURE0);
     }
+    // The corner's MikkTSpace tangent and sign as texture coordinate 4 (after the POP buffer's).
+    glClientActiveTexture(GL_TEXTURE4);
+    glEnableClientState(GL_TEXTURE_COORD_ARRAY);
+    glTexCoordPointer(4, GL_FLOAT, stride, reinterpret_cast<const void*>(tangentOffset(floatsPerCorner_) * sizeof(float)));
+    glClientActiveTexture(GL_TEXTURE0);
     glDisableClientState(GL_COLOR_ARRAY);
 
     // A level is a prefix of the buffer: no per-frame work besides the uniforms.

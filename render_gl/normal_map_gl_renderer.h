@@ -20,6 +20,7 @@
 #include "radiance_gl_renderer.h"  // GlRendererError
 
 #include "bake/lean_maps.h"
+#include "bake/normal_baker.h"  // TangentFrame
 #include "lod/pop_buffer.h"
 #include "lod/texcoord_correction.h"
 #include "render/tone_mapping.h"
@@ -82,8 +83,12 @@ public:
 
     // Levels 0..K of the map (buildNormalPyramid, or any chain w >> k x h >> k down to 1 x 1, 3
     // channels). Object-space unit normals, or tangent-space ones (normal_baker.h) when
-    // tangentSpace. Drops previously set LEAN moments. Returns the reason on refusal, else empty.
-    std::string setNormalMap(const std::vector<rad::MipImage>& pyramid, bool tangentSpace);
+    // tangentSpace, decoded in `frame`: MikkTSpace (Mikkelsen 2008: the mesh's per-corner tangents,
+    // computed by setMesh, interpolated, B = sign N x T, n = normalize(x T + y B + z N)) or the
+    // per-face dP/du frame (maps baked before MikkTSpace; bake descriptions without a
+    // tangent_frame line). Drops previously set LEAN moments. Returns the reason on refusal, else empty.
+    std::string setNormalMap(const std::vector<rad::MipImage>& pyramid, bool tangentSpace,
+                             rad::TangentFrame frame = rad::TangentFrame::PerFaceUvDerivative);
     // LEAN moments, MIP levels 1..K of the current normal map (LeanMaps::moments or
     // readLeanMoments). Refused (reason returned) for a tangent-space map: LEAN filters
     // object-space normals (Weber and Stamminger sec. 3.2-3.3), or when the sizes do not match the map.
@@ -122,13 +127,13 @@ private:
     unsigned eraseProgram_ = 0;
     int eraseTop_ = -1, eraseBottom_ = -1, eraseHeight_ = -1, eraseDepth_ = -1;
     struct Uniforms {
-        int normalMap = -1, moments = -1, mode = -1, tangentSpace = -1, textureSize = -1, eye = -1, lightDirection = -1,
-            lightColor = -1, albedo = -1, specular = -1, ambient = -1, shininess = -1, exposureScale = -1, toneCurve = -1,
-            popLevel = -1, popCorrection = -1, boxMin = -1, boxExtent = -1;
+        int normalMap = -1, moments = -1, mode = -1, tangentSpace = -1, mikkTSpace = -1, textureSize = -1, eye = -1,
+            lightDirection = -1, lightColor = -1, albedo = -1, specular = -1, ambient = -1, shininess = -1,
+            exposureScale = -1, toneCurve = -1, popLevel = -1, popCorrection = -1, boxMin = -1, boxExtent = -1;
     } u_;
     unsigned vertexBuffer_ = 0;
     std::size_t cornerCount_ = 0;
-    int floatsPerCorner_ = 8;
+    int floatsPerCorner_ = 12;  // set by uploadCorners
     // POP buffer: triangles drawn per level (index = level), box, whether derivatives were uploaded.
     std::vector<std::size_t> popLevelEnd_;
     Eigen::Vector3f boxMin_ = Eigen::Vector3f::Zero(), boxExtent_ = Eigen::Vector3f::Zero();
@@ -138,6 +143,7 @@ private:
     unsigned normalTexture_ = 0, momentTexture_ = 0;
     int mapWidth_ = 0, mapHeight_ = 0, mapLevels_ = 0;
     bool tangentSpace_ = false;
+    bool mikkTSpace_ = false;
 };
 
 }  // namespace radgl

@@ -14,6 +14,7 @@ uniform vec3 uBoxExtent;
 out vec3 vObject;
 out vec3 vNormal;
 out vec2 vUv;
+out vec4 vTangent;  // MikkTSpace tangent and bitangent sign of the corner
 void main() {
     vec3 p = gl_Vertex.xyz;
     vec2 uv = gl_MultiTexCoord0.xy;
@@ -37,6 +38,7 @@ void main() {
     vObject = p;
     vNormal = gl_Normal;
     vUv = uv;
+    vTangent = gl_MultiTexCoord4;  // MikkTSpace tangent and sign (texture coordinates 1-3: the POP buffer's)
 }
 )GLSL";
 
@@ -48,6 +50,7 @@ uniform sampler2D uNormalMap;
 uniform sampler2D uMoments;
 uniform int uMode;           // 0 vertex normals, 1 normal map, 2 LEAN
 uniform int uTangentSpace;   // 1: the map holds tangent-space normals
+uniform int uMikkTSpace;     // 1: ... in MikkTSpace (Mikkelsen 2008), else in the per-face dP/du frame
 uniform vec2 uTextureSize;   // level 0 of the normal map, texels
 uniform vec3 uEye;           // object space
 uniform vec3 uLightDirection;  // toward the light, unit, object space
@@ -59,6 +62,7 @@ uniform float uShininess;
 in vec3 vObject;
 in vec3 vNormal;
 in vec2 vUv;
+in vec4 vTangent;
 
 vec3 anyPerpendicular(vec3 n) {
     vec3 h = abs(n.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
@@ -88,7 +92,12 @@ void main() {
     vec3 n = nv;
     if (uMode != 0) {
         vec3 t = textureLod(uNormalMap, vUv, lambda).xyz;
-        if (uTangentSpace == 1) {  // normal_baker.h frame
+        if (uTangentSpace == 1 && uMikkTSpace == 1) {
+            // MikkTSpace decoding: interpolated T and N, not renormalised (normal_baker.h).
+            vec3 T = vTangent.xyz;
+            vec3 B = (vTangent.w < 0.0 ? -1.0 : 1.0) * cross(vNormal, T);
+            t = t.x * T + t.y * B + t.z * vNormal;
+        } else if (uTangentSpace == 1) {  // normal_baker.h per-face frame
             vec3 T = orthogonalTangent(nv, dPdu);
             float s = dot(cross(dPdu, dPdv), nv) < 0.0 ? -1.0 : 1.0;
             vec3 B = s * cross(nv, T);

@@ -5,9 +5,11 @@
 // One program, the mode chosen by a uniform (NormalMapShading):
 //  - VertexNormals: Blinn-Phong with the interpolated vertex normal;
 //  - NormalMap: Blinn-Phong with the normal map, trilinear (textureLod at lambda, below), renormalised;
-//    a tangent-space map is decoded as n = t.x T + t.y B + t.z N in the frame of normal_baker.h
-//    (N the interpolated vertex normal, T = dP/du made orthogonal to N, B = s N x T, s = the sign
-//    of (dP/du x dP/dv) . N);
+//    a tangent-space map is decoded as n = t.x T + t.y B + t.z N in the frame of normal_baker.h:
+//    MikkTSpace (Mikkelsen 2008: T and the sign s are per-corner attributes, gl_MultiTexCoord1,
+//    interpolated with N, B = s N x T, none renormalised) or the per-face frame (N the
+//    interpolated vertex normal, T = dP/du made orthogonal to N, B = s N x T, s = the sign of
+//    (dP/du x dP/dv) . N);
 //  - Lean: Weber and Stamminger Alg. 3-4 (common/bake/lean_maps.h): N = the trilinear averaged normal,
 //    mu2 = textureLod(moments, uv, max(lambda - 1, 0)), times clamp(lambda, 0, 1) below
 //    lambda = 1; frame T = dP/du orthogonalised against N, B = N x T; the 2D Gaussian of leanSpecular.

@@ -35,6 +35,7 @@ APT_PACKAGES=(
   imagemagick xdotool          # GUI test: screenshots and key presses
   python3                      # small test helpers (image comparison, PLY checks)
   python3-opencv               # scripts/calibrate_chessboard.py: calibrates OpenCV's chessboard photographs
+  blender                      # tests/blender: Blender's MikkTSpace tangents and glTF import, headless
 )
 
 apt_missing() {
@@ -157,14 +158,15 @@ fi
 log "MeshLab 2025.07 source tree: $MESHLAB2025_DIR ($(cat "$MESHLAB2025_DIR/ML_VERSION"))"
 
 # The Python side: a virtual environment in the build tree with pymeshlab (MeshLab 2025.07), numpy,
-# pytest and the package builder; our package is installed into it by scripts/test.sh and the main job.
+# pytest, pygltflib (a glTF reader: tests/python/test_pymeshlab_gltf.py parses our .glb files with it)
+# and the package builder; our package is installed into it by scripts/test.sh and the main job.
 VENV="$BUILD_DIR/python-venv"
 if [ ! -x "$VENV/bin/python" ]; then
   log "python virtual environment $VENV"
   mkdir -p "$BUILD_DIR"
   python3 -m venv "$VENV"
 fi
-"$VENV/bin/python" -m pip install -q --disable-pip-version-check 'pymeshlab==2025.7.post1' 'numpy>=1.21' pytest \
+"$VENV/bin/python" -m pip install -q --disable-pip-version-check 'pymeshlab==2025.7.post1' 'numpy>=1.21' pytest pygltflib \
   'scikit-build-core>=0.8' 2>&1 | grep -v "is ignored" || true
 "$VENV/bin/python" -c "import pymeshlab" || { echo "[setup] pymeshlab does not import in $VENV" >&2; exit 1; }
 

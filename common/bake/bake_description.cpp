@@ -50,6 +50,10 @@ BakeDescription readBakeDescription(const std::string& path) {
     if (space != "object" && space != "tangent")
         throw std::runtime_error(path + ": 'space' must be object or tangent (is it a bake description?)");
     d.space = space == "object" ? NormalSpace::Object : NormalSpace::Tangent;
+    const std::string frame = value("tangent_frame");
+    if (frame == "mikktspace") d.tangentFrame = TangentFrame::MikkTSpace;
+    else if (frame.empty() || frame == "per-face-dpdu") d.tangentFrame = TangentFrame::PerFaceUvDerivative;
+    else throw std::runtime_error(path + ": 'tangent_frame' must be mikktspace or per-face-dpdu, not '" + frame + "'");
     d.normalMap = value("normal_map");
     if (d.normalMap.empty()) throw std::runtime_error(path + ": no normal_map line");
     d.diffuseMap = value("diffuse_map");

@@ -13,6 +13,9 @@ namespace rad {
 
 struct BakeDescription {
     NormalSpace space = NormalSpace::Object;
+    // Tangent-space maps: the frame they were baked in ("tangent_frame"); files without the key
+    // predate MikkTSpace and used the per-face frame.
+    TangentFrame tangentFrame = TangentFrame::PerFaceUvDerivative;
     int size = 0, bits = 16;
     std::string normalMap, diffuseMap, leanMoments;  // file names, relative to the description's folder
     std::map<std::string, std::string> values;       // every key = value line, as read

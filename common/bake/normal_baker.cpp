@@ -4,8 +4,9 @@
 // Granier et al. 2007, sec. "simplification": the normals of the full scan are stored in a
 // texture of the simplified mesh. The ray set-up is the usual cage-less baker's (as in xNormal or
 // Blender): from the target point along +/- its interpolated normal, nearer hit first. The tangent
-// frame is the per-face one of Lengyel ("Computing tangent space basis vectors for an arbitrary
-// mesh", 2001): dP/du from the face's UV derivatives, Gram-Schmidt against the interpolated normal.
+// frame is MikkTSpace's (Mikkelsen 2008; geometry/mikktspace_tangents.h), or on request the
+// per-face one of Lengyel 2001: dP/du from the face's UV derivatives, Gram-Schmidt against the
+// interpolated normal.
 //
 // The texture is walked in 4 x 4 texel tiles (OpenMP, dynamic schedule over rows of tiles); a
 // tile's rays are cast as Embree packets of 16 (RayScene::intersect16), coherent because the
@@ -15,6 +16,7 @@
 #include "bake/texel_coverage.h"
 #include "bake/texture_atlas.h"
 #include "geometry/mesh_normals.h"
+#include "geometry/mikktspace_tangents.h"
 #include "raycast/ray_scene.h"
 
 #include <omp.h>
@@ -88,6 +90,8 @@ struct TileTexels {
     std::size_t texel[16];
     std::uint32_t face[16];
     Eigen::Vector3f point[16], normal[16];
+    float normalLength[16];   // of the interpolated vertex normal before normalisation
+    float barycentric[16][3];
 };
 
 }  // namespace
@@ -172,6 +176,25 @@ NormalBakeResult bakeNormalMap(const TriangleMesh& target, const float* targetWe
         }
         out[6] = handedness;
     }
+    // MikkTSpace: per-corner tangent and sign (x, y, z, s), made unit and orthogonal where the
+    // algorithm has none (so that the frame below is never singular for that reason).
+    const bool mikkTSpace = options.space == NormalSpace::Tangent && options.tangentFrame == TangentFrame::MikkTSpace;
+    const bool alsoMikk = options.alsoMikkTSpace && !mikkTSpace;
+    std::vector<float> cornerTangents;
+    if (mikkTSpace || alsoMikk) {
+        TangentSpaceInput input;
+        input.positions = target.positions.data();
+        input.vertexCount = target.vertexCount();
+        input.faces = target.faces.data();
+        input.faceCount = targetFaces;
+        input.normals = target.normals.data();
+        input.normalRate = AttributeRate::PerVertex;
+        input.uv = targetWedgeUv;
+        input.uvRate = AttributeRate::PerCorner;
+        CornerTangents tangents = computeMikkTSpaceTangents(input);
+        result.madeUpTangentCorners = completeTangents(tangents, input);
+        cornerTangents = std::move(tangents.tangents);
+    }
     result.sceneSeconds = secondsSince(t0);
 
     // Rays.
@@ -180,6 +203,7 @@ NormalBakeResult bakeNormalMap(const TriangleMesh& target, const float* targetWe
     result.normals.assign(3 * texels, 0.0f);
     result.tangents.assign(3 * texels, 0.0f);
     if (options.bakeColor) result.colors.assign(3 * texels, 0.0f);
+    if (alsoMikk) result.mikkTSpaceNormals.assign(3 * texels, 0.0f);
     result.chart.assign(texels, 0);
     result.valid.assign(texels, 0);
 
@@ -217,6 +241,7 @@ NormalBakeResult bakeNormalMap(const TriangleMesh& target, const float* targetWe
                     Eigen::Vector3f n = b0 * vertexOf(target.normals, tri[0]) + b1 * vertexOf(target.normals, tri[1]) +
                                         b2 * vertexOf(target.normals, tri[2]);
                     const float length = n.norm();
+                    float keptLength = length;
                     if (length > 1e-6f) {
                         n /= length;
                     } else {
@@ -225,8 +250,13 @@ NormalBakeResult bakeNormalMap(const TriangleMesh& target, const float* targetWe
                             ++invalid;
                             continue;
                         }
+                        keptLength = 1.0f;
                     }
                     const int i = tile.count++;
+                    tile.normalLength[i] = keptLength;
+                    tile.barycentric[i][0] = b0;
+                    tile.barycentric[i][1] = b1;
+                    tile.barycentric[i][2] = b2;
                     tile.texel[i] = t;
                     tile.face[i] = std::uint32_t(f);
                     tile.point[i] = p;
@@ -297,22 +327,67 @@ NormalBakeResult bakeNormalMap(const TriangleMesh& target, const float* targetWe
 
                 // Tangent frame of the texel (normal_baker.h).
                 const Eigen::Vector3f& N = tile.normal[i];
-                const float* frame = faceFrame.data() + 7 * std::size_t(tile.face[i]);
-                const Eigen::Vector3f dPdu(frame[3], frame[4], frame[5]);
-                Eigen::Vector3f T = dPdu - dPdu.dot(N) * N;
-                const float tLength = T.norm();
-                T = tLength > 1e-12f * std::max(1.0f, dPdu.norm()) ? Eigen::Vector3f(T / tLength) : anyOrthogonal(N);
                 const std::size_t t = tile.texel[i];
                 float* outNormal = result.normals.data() + 3 * t;
-                if (tangentSpace) {
-                    const Eigen::Vector3f B = frame[6] * N.cross(T);
-                    outNormal[0] = n.dot(T);
-                    outNormal[1] = n.dot(B);
-                    outNormal[2] = n.dot(N);
-                } else {
-                    outNormal[0] = n.x();
-                    outNormal[1] = n.y();
-                    outNormal[2] = n.z();
+                Eigen::Vector3f T;
+                bool framed = false;
+                // The MikkTSpace tangent-space normal of the texel, into `out`; false when the
+                // frame is singular.
+                const auto mikkLocal = [&](float* out, Eigen::Vector3f& unitTangent) {
+                    // Interpolated, not renormalised: the frame a MikkTSpace renderer rebuilds.
+                    const float* corner = cornerTangents.data() + 12 * std::size_t(tile.face[i]);
+                    const float* b = tile.barycentric[i];
+                    const Eigen::Vector3f Tm = b[0] * Eigen::Vector3f(corner[0], corner[1], corner[2]) +
+                                               b[1] * Eigen::Vector3f(corner[4], corner[5], corner[6]) +
+                                               b[2] * Eigen::Vector3f(corner[8], corner[9], corner[10]);
+                    // The three corners of a triangle share its orientation; a made-up corner
+                    // may not, and the majority decides then.
+                    const float sign = corner[3] + corner[7] + corner[11] < 0.0f ? -1.0f : 1.0f;
+                    const Eigen::Vector3f Nm = tile.normalLength[i] * N;
+                    const Eigen::Vector3f Bm = sign * Nm.cross(Tm);
+                    Eigen::Matrix3f frameMatrix;
+                    frameMatrix << Tm, Bm, Nm;
+                    const float det = frameMatrix.determinant();
+                    const float scale = Tm.norm() * Bm.norm() * Nm.norm();
+                    if (!(std::isfinite(det) && std::fabs(det) > 1e-6f * scale && scale > 0.0f)) return false;
+                    Eigen::Vector3f local = frameMatrix.inverse() * n;
+                    const float localLength = local.norm();
+                    if (!(localLength > 0.0f && std::isfinite(localLength))) return false;
+                    local /= localLength;
+                    out[0] = local.x();
+                    out[1] = local.y();
+                    out[2] = local.z();
+                    unitTangent = (Tm - Tm.dot(N) * N).normalized();
+                    return true;
+                };
+                if (mikkTSpace) framed = mikkLocal(outNormal, T);
+                if (!framed) {
+                    const float* frame = faceFrame.data() + 7 * std::size_t(tile.face[i]);
+                    const Eigen::Vector3f dPdu(frame[3], frame[4], frame[5]);
+                    T = dPdu - dPdu.dot(N) * N;
+                    const float tLength = T.norm();
+                    T = tLength > 1e-12f * std::max(1.0f, dPdu.norm()) ? Eigen::Vector3f(T / tLength) : anyOrthogonal(N);
+                    if (tangentSpace) {
+                        const Eigen::Vector3f B = frame[6] * N.cross(T);
+                        outNormal[0] = n.dot(T);
+                        outNormal[1] = n.dot(B);
+                        outNormal[2] = n.dot(N);
+                    } else {
+                        outNormal[0] = n.x();
+                        outNormal[1] = n.y();
+                        outNormal[2] = n.z();
+                    }
+                }
+                if (alsoMikk) {
+                    float* outMikk = result.mikkTSpaceNormals.data() + 3 * t;
+                    Eigen::Vector3f unused;
+                    if (!mikkLocal(outMikk, unused)) {
+                        // Singular frame: the unit normal in the orthonormalised frame instead.
+                        const Eigen::Vector3f B = N.cross(T);
+                        outMikk[0] = n.dot(T);
+                        outMikk[1] = n.dot(B);
+                        outMikk[2] = n.dot(N);
+                    }
                 }
                 float* outTangent = result.tangents.data() + 3 * t;
                 outTangent[0] = T.x();
@@ -348,6 +423,7 @@ NormalBakeResult bakeNormalMap(const TriangleMesh& target, const float* targetWe
     if (failure) std::rethrow_exception(failure);
     if (cancelled) throw OperationCancelled();
     result.raySeconds = secondsSince(t0);
+    result.cornerTangents = std::move(cornerTangents);
     result.chartTexels = chartTexels;
     result.rayHits = hits;
     result.closestPointFallbacks = fallbacks;

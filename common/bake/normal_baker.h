@@ -9,12 +9,18 @@
 //
 // Normal spaces:
 //  - Object: the unit normal in the mesh's coordinates.
-//  - Tangent: (n . T, n . B, n . N) in the texel's frame: N = the target's interpolated normal
-//    (unit), T = the face's dP/du made orthogonal to N (Gram-Schmidt) and unit, B = s (N x T)
-//    with s = +1 when (dP/du, dP/dv, face normal) is right-handed and -1 otherwise (mirrored UVs).
-//    dP/du is constant per face (the UV derivatives of the face), which is also what a fragment
-//    shader gets from dFdx/dFdy of position and UV. "+Y up" (OpenGL) convention: B points to
-//    increasing v.
+//  - Tangent, TangentFrame::MikkTSpace (the default): the frame every common tool decodes with
+//    (Blender, glTF 2.0, Unity, Unreal, three.js; Mikkelsen 2008): per-corner tangents T_k and
+//    bitangent signs s from geometry/mikktspace_tangents.h (target positions, vertex normals,
+//    wedge UVs), interpolated per texel without renormalisation, T = sum b_k T_k and
+//    N = sum b_k N_k; B = s (N x T). A renderer reconstructs n = normalize(t.x T + t.y B + t.z N),
+//    so the bake stores the exact inverse: t = normalize([T B N]^-1 n), as Blender's baker does.
+//  - Tangent, TangentFrame::PerFaceUvDerivative (the old frame, for maps made before): N = the
+//    interpolated normal (unit), T = the face's dP/du made orthogonal to N (Gram-Schmidt) and
+//    unit, B = s (N x T) with s = +1 when (dP/du, dP/dv, face normal) is right-handed and -1
+//    otherwise (mirrored UVs). dP/du is constant per face, which is also what a fragment shader
+//    gets from dFdx/dFdy of position and UV.
+//  Both: "+Y up" (OpenGL, glTF, Blender): B points to increasing v.
 // Either way a unit vector is stored; encodeNormal8/16 map [-1, 1] to the code range.
 #pragma once
 #include "progress/progress_callback.h"
@@ -30,12 +36,17 @@
 namespace rad {
 
 enum class NormalSpace { Object, Tangent };
+enum class TangentFrame { MikkTSpace, PerFaceUvDerivative };
 
 struct NormalBakeOptions {
     int width = 1024, height = 1024;
     NormalSpace space = NormalSpace::Object;
+    TangentFrame tangentFrame = TangentFrame::MikkTSpace;  // for NormalSpace::Tangent
     float maxRayDistance = 0.0f;       // <= 0: automaticRayDistance(target, source)
     bool bakeColor = false;            // needs sourceColors
+    // Also fill `mikkTSpaceNormals` (a MikkTSpace tangent-space map next to the requested one: the
+    // glTF export of an object-space bake needs both).
+    bool alsoMikkTSpace = false;
     // progress/progress_callback.h; may be called from several threads, never concurrently. A
     // stop request makes the bake throw OperationCancelled.
     ProgressCallback progress;
@@ -46,10 +57,17 @@ struct NormalBakeResult {
     std::vector<float> normals;        // 3 per texel, unit, in the requested space; 0 where not valid
     std::vector<float> tangents;       // 3 per texel, object-space unit T of the frame above (LEAN needs it); 0 where not valid
     std::vector<float> colors;         // 3 per texel when bakeColor (source colour units), else empty
+    std::vector<float> mikkTSpaceNormals;  // 3 per texel when alsoMikkTSpace, else empty
+    // MikkTSpace bakes (and alsoMikkTSpace): the per-corner tangents used (4 per corner: x, y, z,
+    // sign; geometry/mikktspace_tangents.h, completed), which a renderer must be given with the map.
+    std::vector<float> cornerTangents;
     std::vector<std::uint8_t> chart;   // 1 where the coverage has a face (the texel belongs to a chart)
     std::vector<std::uint8_t> valid;   // 1 where a value was baked (chart texels whose source normal was usable)
     float maxRayDistance = 0.0f;       // the distance used
     std::size_t chartTexels = 0, rayHits = 0, closestPointFallbacks = 0, invalidTexels = 0;
+    // MikkTSpace bakes: corners whose tangent had to be made up (no triangle around them has UV
+    // derivatives, or dP/du along the normal; mikktspace_tangents.h completeTangents).
+    std::size_t madeUpTangentCorners = 0;
     double seconds = 0.0;
     // Parts of `seconds` (wall clock): rasterising the layout, building the source's ray scene
     // (and the automatic ray distance), casting the rays and writing the texels.

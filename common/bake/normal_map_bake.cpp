@@ -4,7 +4,9 @@
 #include "bake/lean_maps.h"
 #include "bake/map_filling.h"
 #include "bake/texture_atlas.h"
+#include "bake/toksvig_roughness.h"
 #include "image/image_io.h"
+#include "io/gltf_writer.h"
 #include "memory/available_memory.h"
 
 #include <algorithm>
@@ -110,7 +112,11 @@ std::string fileName(const std::string& path) { return std::filesystem::path(pat
 std::size_t estimatedBakeBytes(const NormalMapBakeRequest& request) {
     const bool withColor = request.bakeDiffuse && request.sourceColors != nullptr;
     const bool withLean = request.writeLean && request.space == NormalSpace::Object;
-    const double perTexel = 39.0 + (withColor ? 12.0 : 0.0) + (withLean ? 20.0 : 0.0);
+    const bool gltfNeedsSecondMap = request.writeGltf && !(request.space == NormalSpace::Tangent &&
+                                                           request.tangentFrame == TangentFrame::MikkTSpace);
+    // glTF: a second normal map (12 bytes per texel) and the PNGs in memory (a few bytes).
+    const double perTexel = 39.0 + (withColor ? 12.0 : 0.0) + (withLean ? 20.0 : 0.0) +
+                            (request.writeGltf ? 6.0 : 0.0) + (gltfNeedsSecondMap ? 12.0 : 0.0);
     const double texels = double(std::max(request.textureSize, 0)) * double(std::max(request.textureSize, 0));
     return static_cast<std::size_t>(1.1 * perTexel * texels);
 }
@@ -156,6 +162,9 @@ void checkNormalMapBakeRequest(const NormalMapBakeRequest& request) {
     if (request.bits != 8 && request.bits != 16)
         throw BakeInputError("The normal map is written with 8 or 16 bits per channel, not " +
                              std::to_string(request.bits) + ".");
+    if (request.writeGltf && !(request.gltfBaseRoughness >= 0.0f && request.gltfBaseRoughness <= 1.0f))
+        throw BakeInputError("The glTF base roughness must lie in [0, 1] (glTF's perceptual roughness); it is " +
+                             preciseText(request.gltfBaseRoughness) + ".");
     if (request.gutterTexels < 1 || request.gutterTexels > 64)
         throw BakeInputError("The gutter must be 1 to 64 texels wide (4 keeps two MIP levels clean).");
     if (!std::isfinite(request.maxRayDistance) || request.maxRayDistance < 0.0f)
@@ -200,8 +209,12 @@ NormalMapBakeReport bakeNormalMapFiles(const NormalMapBakeRequest& request) {
     NormalBakeOptions options;
     options.width = options.height = size;
     options.space = request.space;
+    options.tangentFrame = request.tangentFrame;
     options.maxRayDistance = request.maxRayDistance > 0.0f ? request.maxRayDistance : 0.0f;
     options.bakeColor = withColor;
+    const bool gltfFromSecondMap = request.writeGltf && !(request.space == NormalSpace::Tangent &&
+                                                          request.tangentFrame == TangentFrame::MikkTSpace);
+    options.alsoMikkTSpace = gltfFromSecondMap;
     options.progress = progressRange(request.progress, 0.0, 0.75);
     Clock::time_point phase = Clock::now();
     NormalBakeResult baked = bakeNormalMap(*request.target, report.wedgeUv.data(), *request.source,
@@ -227,6 +240,10 @@ NormalMapBakeReport bakeNormalMapFiles(const NormalMapBakeRequest& request) {
         normalizeTexelVectors(baked.tangents.data(), baked.tangents.size() / 3);
     }
     if (withColor) fillWholeMap(baked.colors, size, size, baked.valid, baked.chart, request.gutterTexels);
+    if (gltfFromSecondMap) {
+        fillWholeMap(baked.mikkTSpaceNormals, size, size, baked.valid, baked.chart, request.gutterTexels);
+        normalizeTexelVectors(baked.mikkTSpaceNormals.data(), baked.mikkTSpaceNormals.size() / 3);
+    }
     report.fillSeconds = secondsSince(phase);
     reportProgress(request.progress, 0.80, "building the LEAN moment pyramid");
 
@@ -254,6 +271,46 @@ NormalMapBakeReport bakeNormalMapFiles(const NormalMapBakeRequest& request) {
         report.diffuseMapFile = request.outputBase + "_diffuse.png";
         writeColorPng(files.add(report.diffuseMapFile), baked.colors, size, size);
     }
+    if (request.writeGltf) {
+        report.gltfFile = request.outputBase + ".glb";
+        const std::vector<float>& tangentMap = gltfFromSecondMap ? baked.mikkTSpaceNormals : baked.normals;
+        Image8 normalImage(size, size);
+        for (std::size_t i = 0; i < normalImage.rgb.size(); ++i) normalImage.rgb[i] = encodeNormal8(tangentMap[i]);
+        GltfMesh mesh;
+        mesh.positions = request.target->positions.data();
+        mesh.normals = request.target->normals.data();
+        mesh.vertexCount = request.target->vertexCount();
+        mesh.faces = request.target->faces.data();
+        mesh.faceCount = request.target->faceCount();
+        mesh.wedgeUv = report.wedgeUv.data();
+        mesh.cornerTangents = baked.cornerTangents.data();
+        mesh.normalTexturePng = encodePng(normalImage);
+        if (withColor) {
+            Image8 color(size, size);
+            for (std::size_t i = 0; i < color.rgb.size(); ++i) {
+                const float c = std::isfinite(baked.colors[i]) ? std::clamp(baked.colors[i], 0.0f, 1.0f) : 0.0f;
+                color.rgb[i] = static_cast<std::uint8_t>(std::lround(c * 255.0f));
+            }
+            mesh.baseColorTexturePng = encodePng(color);
+        }
+        // Roughness from the finest LEAN level (MIP level 1, half the map's size): Toksvig 2005.
+        if (withLean && !lean.moments.empty()) {
+            mesh.metallicRoughnessTexturePng = encodePng(metallicRoughnessFromLean(lean.moments[0], request.gltfBaseRoughness, 0.0f));
+            mesh.roughnessFactor = 1.0f;
+        } else {
+            mesh.roughnessFactor = request.gltfBaseRoughness;
+        }
+        mesh.metallicFactor = 0.0f;
+        mesh.name = std::filesystem::path(request.outputBase).filename().string();
+        mesh.generator = "radiance-tools Bake Normal Map (MikkTSpace, Mikkelsen 2008)";
+        const std::vector<unsigned char> glb = buildGlb(mesh);
+        report.gltfVertices = gltfVertexCount(mesh);
+        const std::string gltfPath = files.add(report.gltfFile);
+        std::ofstream out(gltfPath, std::ios::binary);
+        out.write(reinterpret_cast<const char*>(glb.data()), std::streamsize(glb.size()));
+        out.close();
+        if (!out) throw std::runtime_error("cannot write " + gltfPath);
+    }
     if (leanWritten.valid()) leanWritten.get();  // rethrows a write error
     report.descriptionFile = request.outputBase + "_bake.txt";
     {
@@ -266,7 +323,28 @@ NormalMapBakeReport bakeNormalMapFiles(const NormalMapBakeRequest& request) {
             {"gutter_texels", std::to_string(request.gutterTexels)},
             {"max_ray_distance", preciseText(baked.maxRayDistance)},
             {"normal_map", fileName(report.normalMapFile)}};
+        if (request.space == NormalSpace::Tangent) {
+            if (request.tangentFrame == TangentFrame::MikkTSpace) {
+                lines.push_back({"tangent_frame", "mikktspace"});
+                lines.push_back({"tangent_frame_note",
+                                 "MikkTSpace (Mikkelsen 2008) per-corner tangents and signs, interpolated, not "
+                                 "renormalised; B = sign * cross(N, T); n = normalize(x T + y B + z N): as "
+                                 "Blender, glTF 2.0, Unity and Unreal decode"});
+            } else {
+                lines.push_back({"tangent_frame", "per-face-dpdu"});
+                lines.push_back({"tangent_frame_note",
+                                 "per face: T = dP/du orthogonalised against the interpolated unit normal N, "
+                                 "B = s * cross(N, T), s = -1 for mirrored UVs (not MikkTSpace)"});
+            }
+            lines.push_back({"green_channel", "+Y up (OpenGL, glTF 2.0, Blender): green grows towards increasing v"});
+        }
         if (withColor) lines.push_back({"diffuse_map", fileName(report.diffuseMapFile)});
+        if (request.writeGltf) {
+            lines.push_back({"gltf", fileName(report.gltfFile)});
+            lines.push_back({"gltf_note", "glTF 2.0 binary: normalTexture in MikkTSpace tangent space (8 bit, +Y up), "
+                                          "TANGENT per vertex" + std::string(withLean ? ", metallicRoughnessTexture from "
+                                          "the LEAN moments of MIP level 1 (Toksvig 2005 style)" : "")});
+        }
         if (withLean) {
             lines.push_back({"lean_moments", fileName(report.leanFile)});
             lines.push_back({"lean_levels", std::to_string(report.leanLevels)});
@@ -287,6 +365,8 @@ NormalMapBakeReport bakeNormalMapFiles(const NormalMapBakeRequest& request) {
     baked.tangents.shrink_to_fit();
     baked.colors.clear();
     baked.colors.shrink_to_fit();
+    baked.mikkTSpaceNormals.clear();
+    baked.mikkTSpaceNormals.shrink_to_fit();
     report.bake = std::move(baked);
     report.totalSeconds = secondsSince(start);
     if (request.progress) request.progress(1.0, "done");

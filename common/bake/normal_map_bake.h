@@ -8,7 +8,12 @@
 //   B_normal.png   the normal map, RGB, 8 or 16 bit, code = (x + 1) / 2 * max (normal_baker.h)
 //   B_diffuse.png  the source's colour at the same points, 8-bit RGB (when requested)
 //   B_lean.exr     LEAN second moments, MIP levels 1..K (lean_maps.h; when requested)
-//   B_bake.txt     what was baked: key = value lines (space, size, bits, ray distance, files, counts)
+//   B.glb          glTF 2.0 binary (when requested): the target with its UVs, MikkTSpace tangents,
+//                  the tangent-space normal map (8 bit), the diffuse map, and where LEAN moments
+//                  are made, a metallic-roughness texture from them (io/gltf_writer.h,
+//                  bake/toksvig_roughness.h)
+//   B_bake.txt     what was baked: key = value lines (space, tangent frame and convention, size,
+//                  bits, ray distance, files, counts)
 #pragma once
 #include "bake/normal_baker.h"
 #include "bake/texture_atlas.h"  // BakeInputError
@@ -27,11 +32,16 @@ struct NormalMapBakeRequest {
     const std::vector<float>* sourceColors = nullptr;   // 3 per source vertex in [0, 1], or nullptr
     int textureSize = 2048;
     NormalSpace space = NormalSpace::Object;
+    TangentFrame tangentFrame = TangentFrame::MikkTSpace;  // tangent space only (normal_baker.h)
     int bits = 16;                                 // 8 or 16
     float maxRayDistance = 0.0f;                   // 0: automatic; negative is refused
     int gutterTexels = 4;                          // empty texels between two charts of a generated atlas
     bool bakeDiffuse = true;                       // ignored without sourceColors
     bool writeLean = true;
+    // glTF 2.0 binary beside the maps. Its normal texture is always MikkTSpace tangent space (what
+    // glTF defines), baked alongside an object-space map when that is the requested space.
+    bool writeGltf = false;
+    float gltfBaseRoughness = 0.5f;                // glTF perceptual roughness of the flat surface
     std::string outputBase;                        // B above
     ProgressCallback progress;                     // progress/progress_callback.h (OperationCancelled)
     // Memory the bake may take; 0: what the machine has available now (memory/available_memory.h).
@@ -47,7 +57,8 @@ struct NormalMapBakeReport {
     std::vector<float> wedgeUv;                    // the layout baked into (generated or the input's)
     bool atlasGenerated = false;
     int atlasCellSize = 0;
-    std::string normalMapFile, diffuseMapFile, leanFile, descriptionFile;  // empty when not written
+    std::string normalMapFile, diffuseMapFile, leanFile, descriptionFile, gltfFile;  // empty when not written
+    std::size_t gltfVertices = 0;                  // after splitting at UV seams and tangent changes
     NormalBakeResult bake;                         // stats of the bake (maps released after writing)
     std::size_t holesFilled = 0, gutterTexelsDilated = 0, backgroundTexelsFilled = 0;
     int leanLevels = 0;

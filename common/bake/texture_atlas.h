@@ -41,7 +41,7 @@ PerTriangleAtlas makePerTriangleAtlas(std::size_t faceCount, int textureSize, in
 struct UvLayoutReport {
     std::size_t faceCount = 0;
     std::size_t nonFiniteFaces = 0;      // a coordinate is NaN or infinite
-    std::size_t outOfRangeFaces = 0;     // a coordinate outside [0, 1]
+    std::size_t outOfRangeFaces = 0;     // a coordinate outside [0, 1] by more than 1e-5 (rounding)
     std::size_t degenerateFaces = 0;     // UV area below a hundredth of a texel
     std::size_t overlappingTexels = 0;   // texel centres strictly inside two or more faces
     // Empty when the layout can be baked into; otherwise one sentence naming the first problem

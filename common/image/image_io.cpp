@@ -40,6 +40,20 @@ void writePng(const std::string& path, const Image8& image) {
         throw ImageFileError("cannot write PNG image '" + path + "'");
 }
 
+std::vector<unsigned char> encodePng(const Image8& image) {
+    if (image.width <= 0 || image.height <= 0 || image.rgb.size() != std::size_t(image.width) * image.height * 3)
+        throw ImageFileError("cannot encode a PNG image of " + std::to_string(image.width) + " x " +
+                             std::to_string(image.height) + " texels from " + std::to_string(image.rgb.size()) + " bytes");
+    std::vector<unsigned char> bytes;
+    const auto append = [](void* context, void* data, int size) {
+        auto* out = static_cast<std::vector<unsigned char>*>(context);
+        out->insert(out->end(), static_cast<unsigned char*>(data), static_cast<unsigned char*>(data) + size);
+    };
+    if (!stbi_write_png_to_func(append, &bytes, image.width, image.height, 3, image.rgb.data(), image.width * 3))
+        throw ImageFileError("cannot encode a PNG image in memory");
+    return bytes;
+}
+
 namespace {
 
 // libpng reports errors by longjmp; this keeps the message for the exception thrown afterwards.

@@ -25,6 +25,10 @@ Image8 readImage8(const std::string& path);
 // Throws ImageFileError when the file cannot be written.
 void writePng(const std::string& path, const Image8& image);
 
+// An 8-bit RGB image encoded as PNG in memory (for files that embed images, e.g. glTF's .glb).
+// Throws ImageFileError for a size that does not match.
+std::vector<unsigned char> encodePng(const Image8& image);
+
 // Writes a 16-bit PNG: `samples` holds width * height * channels values, row-major, rows top to
 // bottom, channels interleaved (1 grey, 2 grey + alpha, 3 RGB, 4 RGBA), in native byte order.
 // Throws ImageFileError (naming the file) for bad sizes or channel counts and any write failure.

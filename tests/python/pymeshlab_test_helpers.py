@@ -359,9 +359,10 @@ def read_png(path):
     return array / (65535.0 if png.depth == 16 else 255.0), png.depth
 
 
-def texels_inside_faces(positions, faces, wedge_uv, normals, width, height):
+def texels_inside_faces(positions, faces, wedge_uv, normals, width, height, with_weights=False):
     """For every texel centre inside a face's UV triangle (v up, row 0 at the top): the face index,
-    column, row, the surface point and the interpolated (unnormalised) vertex normal."""
+    column, row, the surface point and the interpolated (unnormalised) vertex normal (and, with
+    with_weights, the barycentric weights of the corners, one row per texel)."""
     out = []
     for f, face in enumerate(faces):
         p = positions[face]
@@ -384,7 +385,7 @@ def texels_inside_faces(positions, faces, wedge_uv, normals, width, height):
         if not inside.any():
             continue
         b = np.stack([b0, b1, b2], axis=1)[inside]
-        out.append((f, c[inside], r[inside], b @ p, b @ n))
+        out.append((f, c[inside], r[inside], b @ p, b @ n) + ((b,) if with_weights else ()))
     return out
 
 

@@ -36,8 +36,8 @@ EXPECTED_PARAMETERS = {
     h.ADAPTIVE: ["budget", "budgetFactor", "measure", "alpha", "threshold"],
     h.UNIFORM: ["budget", "budgetFactor", "measure", "alpha"],
     h.RELIGHT: ["lighting", "environmentMap", "rotation", "upAxis", "lightDirection", "lightIntensity", "exposure"],
-    h.BAKE: ["sourceMesh", "textureSize", "space", "bits", "maxDistance", "gutter", "newAtlas", "diffuse", "lean",
-             "assign", "outputFile"],
+    h.BAKE: ["sourceMesh", "textureSize", "space", "tangentFrame", "bits", "maxDistance", "gutter", "newAtlas", "diffuse", "lean",
+             "gltf", "gltfRoughness", "assign", "outputFile"],
     h.POP_LEVELS: ["levels", "correction"],
 }
 

@@ -11,6 +11,7 @@
 
 #include <stb/stb_image_write.h>  // declarations only: the implementation lives in image/image_io.cpp
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -85,6 +86,23 @@ TEST(ImageIo, PngRoundTripIsBitExactAtOddSizes) {
         ASSERT_EQ(back.height, image.height);
         EXPECT_EQ(back.rgb, image.rgb);
     }
+}
+
+TEST(ImageIo, PngEncodedInMemoryIsAFileTheReaderDecodesExactly) {
+    const rad::Image8 image = randomImage(13, 7, 42);
+    const std::vector<unsigned char> bytes = rad::encodePng(image);
+    ASSERT_GT(bytes.size(), 8u);
+    const unsigned char signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    EXPECT_TRUE(std::equal(signature, signature + 8, bytes.begin()));
+    const std::string path = tmpPath("encoded.png");
+    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+    const rad::Image8 back = rad::readImage8(path);
+    ASSERT_EQ(back.width, 13);
+    ASSERT_EQ(back.height, 7);
+    EXPECT_EQ(back.rgb, image.rgb);
+    rad::Image8 wrong(4, 4);
+    wrong.rgb.resize(5);
+    EXPECT_THROW(rad::encodePng(wrong), rad::ImageFileError);
 }
 
 TEST(ImageIo, GreyAndRgbaPngsAreReadAsRgb) {

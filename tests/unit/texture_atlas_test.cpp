@@ -246,6 +246,13 @@ TEST(TextureAtlas, OutOfRangeNonFiniteAndDegenerateCoordinatesAreReported) {
     uv[8] = 0.9f;
     r = rad::checkUvLayout(uv.data(), 3, size);
     EXPECT_EQ(r.outOfRangeFaces, 1u);
+    // Rounding of another tool's unwrap (Blender's torus has u = -4.4e-16 and 1 + 1e-7) is not out of range.
+    uv[9] = -4.4e-16f;
+    uv[8] = 1.0f + 1e-7f;
+    EXPECT_EQ(rad::checkUvLayout(uv.data(), 3, size).outOfRangeFaces, 0u);
+    uv[9] = -1e-4f;
+    EXPECT_EQ(rad::checkUvLayout(uv.data(), 3, size).outOfRangeFaces, 1u);
+    uv[8] = 0.9f;
     uv[9] = std::numeric_limits<float>::quiet_NaN();
     r = rad::checkUvLayout(uv.data(), 3, size);
     EXPECT_EQ(r.nonFiniteFaces, 1u);

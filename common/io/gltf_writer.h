@@ -1,0 +1,55 @@
+// A triangle mesh with its baked maps as one glTF 2.0 binary file (.glb): the standard container
+// Blender, three.js, Unity and Unreal import, so that a bake made in MeshLab is used elsewhere
+// as it is. Written by us (a JSON chunk and a binary chunk, Khronos glTF 2.0 specification,
+// sec. 4.4 "GLB File Format Specification"): the JSON is a fixed structure of numbers and our own
+// names, so no JSON library is needed.
+//
+// Content: one node, one mesh, one triangle primitive with POSITION (with the min / max the
+// specification requires), NORMAL (unit), TEXCOORD_0 and, when a normal texture is given,
+// TANGENT (VEC4: unit xyz and the bitangent sign w, MikkTSpace, Mikkelsen 2008, which is what
+// glTF's normalTexture assumes), 32-bit indices; one metallic-roughness material with the given
+// textures (PNG, embedded in the binary chunk).
+//
+// Conventions: glTF's texture coordinates have v downwards (origin at the image's top-left), ours
+// (MeshLab's) upwards: v is written as 1 - v, so the same PNG (rows top to bottom) maps the same
+// way. Tangents computed with v upwards give the bitangent B = w N x T pointing to the image's
+// top, which is glTF's "+Y up" normal-texture convention: they are written unchanged.
+// Vertices are split where a corner's UV or tangent differs from another corner's of the same
+// vertex (seams, mirrored UVs).
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace rad {
+
+struct GltfMesh {
+    const float* positions = nullptr;      // 3 per vertex
+    const float* normals = nullptr;        // 3 per vertex (normalised when written)
+    std::size_t vertexCount = 0;
+    const std::uint32_t* faces = nullptr;  // 3 per triangle
+    std::size_t faceCount = 0;
+    const float* wedgeUv = nullptr;        // 6 per face, v upwards (MeshLab)
+    const float* cornerTangents = nullptr;  // 4 per corner (x, y, z, sign); required with a normal texture
+    std::vector<unsigned char> normalTexturePng;             // tangent space, +Y up; empty: none
+    std::vector<unsigned char> baseColorTexturePng;          // sRGB colour; empty: none
+    std::vector<unsigned char> metallicRoughnessTexturePng;  // G = roughness, B = metallic; empty: none
+    float metallicFactor = 0.0f, roughnessFactor = 1.0f;     // multiply the texture (glTF 2.0 sec. 3.9.2)
+    std::string name = "mesh";
+    std::string generator = "radiance-tools";
+};
+
+struct GltfInputError : std::invalid_argument {
+    using std::invalid_argument::invalid_argument;
+};
+
+// The whole .glb file. Throws GltfInputError for missing arrays, an index out of range, a
+// non-finite value, a normal texture without tangents, or a file beyond glTF's 4 GiB limit.
+std::vector<unsigned char> buildGlb(const GltfMesh& mesh);
+
+// How many vertices the .glb holds after splitting (for logs and tests).
+std::size_t gltfVertexCount(const GltfMesh& mesh);
+
+}  // namespace rad
