@@ -47,7 +47,8 @@ public:
         addAbsoluteOrPercentParameter(par, "depthTolerance", diagonal * 1e-3f, 0.0f, diagonal, "Depth tolerance",
                                  "Occluders closer to the vertex than this along the ray toward the camera are "
                                  "ignored (absolute, or a percentage of the bounding-box diagonal). Raise it for "
-                                 "noisy scans whose surface self-intersects slightly.");
+                                 "noisy scans whose surface self-intersects slightly. A negative value (scripts) "
+                                 "means automatic: 1e-4 of the bounding-box diagonal.");
         par.addParam(RichFloat("grazingAngle", float(samplingDefaults.grazingAngleDegrees), "Grazing-angle cut-off",
                                "A photograph is used for a vertex only if the angle between the vertex normal and "
                                "the direction to the camera is below this (degrees, 0..90): grazing views are "
