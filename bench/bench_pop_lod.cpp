@@ -249,6 +249,31 @@ void runScene(const char* name, const rad::TriangleMesh& mesh, const std::vector
     }
 }
 
+// A curved sheet z = 0.15 sin(3x) cos(2y) over the unit square, 160 x 160 vertices jittered inside
+// (deterministic for `seed`), with one continuous chart: uv = (x, y), as wedge coordinates.
+void makeHood(unsigned seed, rad::TriangleMesh& hood, std::vector<float>& uv) {
+    const int n = 160;
+    std::vector<float> uvPerVertex;
+    unsigned state = seed;
+    const auto jitter = [&]() {
+        state = state * 1664525u + 1013904223u;
+        return (double(state >> 8) / double(1u << 24) - 0.5) * 0.6;
+    };
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const bool border = i == 0 || j == 0 || i == n - 1 || j == n - 1;
+            const double x = (i + (border ? 0 : jitter())) / (n - 1), y = (j + (border ? 0 : jitter())) / (n - 1);
+            hood.positions.insert(hood.positions.end(), {float(x), float(y), float(0.15 * std::sin(3 * x) * std::cos(2 * y))});
+            uvPerVertex.insert(uvPerVertex.end(), {float(x), float(y)});
+        }
+    for (int j = 0; j + 1 < n; ++j)
+        for (int i = 0; i + 1 < n; ++i) {
+            const std::uint32_t a = j * n + i, b = a + 1, c = a + n + 1, d = a + n;
+            hood.faces.insert(hood.faces.end(), {a, b, c, a, c, d});
+        }
+    for (std::uint32_t v : hood.faces) uv.insert(uv.end(), {uvPerVertex[2 * v], uvPerVertex[2 * v + 1]});
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -273,29 +298,9 @@ int main(int argc, char** argv) {
         std::printf("bench_pop_lod: POP-buffer popping at the level switches, without / with the texture-coordinate "
                     "correction (RMSE in 8-bit levels)\n");
         {   // (b) hood: one continuous chart and a checker texture.
-            const int n = 160;
             rad::TriangleMesh hood;
-            std::vector<float> uvPerVertex;
-            unsigned state = 12345u;
-            const auto jitter = [&]() {
-                state = state * 1664525u + 1013904223u;
-                return (double(state >> 8) / double(1u << 24) - 0.5) * 0.6;
-            };
-            for (int j = 0; j < n; ++j)
-                for (int i = 0; i < n; ++i) {
-                    const bool border = i == 0 || j == 0 || i == n - 1 || j == n - 1;
-                    const double x = (i + (border ? 0 : jitter())) / (n - 1), y = (j + (border ? 0 : jitter())) / (n - 1);
-                    hood.positions.insert(hood.positions.end(),
-                                          {float(x), float(y), float(0.15 * std::sin(3 * x) * std::cos(2 * y))});
-                    uvPerVertex.insert(uvPerVertex.end(), {float(x), float(y)});
-                }
-            for (int j = 0; j + 1 < n; ++j)
-                for (int i = 0; i + 1 < n; ++i) {
-                    const std::uint32_t a = j * n + i, b = a + 1, c = a + n + 1, d = a + n;
-                    hood.faces.insert(hood.faces.end(), {a, b, c, a, c, d});
-                }
             std::vector<float> uv;
-            for (std::uint32_t v : hood.faces) uv.insert(uv.end(), {uvPerVertex[2 * v], uvPerVertex[2 * v + 1]});
+            makeHood(12345u, hood, uv);
             const int texSize = 1024;
             std::vector<float> checker(std::size_t(texSize) * texSize);
             for (int y = 0; y < texSize; ++y)
@@ -308,29 +313,9 @@ int main(int argc, char** argv) {
         }
         {   // (c) glossy hood: the same sheet, one chart, an object-space normal map of the sheet with
             // fine ripples (period 1/48), Blinn-Phong: the highlight and the ripples should not slide.
-            const int n = 160;
             rad::TriangleMesh hood;
-            std::vector<float> uvPerVertex;
-            unsigned state = 777u;
-            const auto jitter = [&]() {
-                state = state * 1664525u + 1013904223u;
-                return (double(state >> 8) / double(1u << 24) - 0.5) * 0.6;
-            };
-            for (int j = 0; j < n; ++j)
-                for (int i = 0; i < n; ++i) {
-                    const bool border = i == 0 || j == 0 || i == n - 1 || j == n - 1;
-                    const double x = (i + (border ? 0 : jitter())) / (n - 1), y = (j + (border ? 0 : jitter())) / (n - 1);
-                    hood.positions.insert(hood.positions.end(),
-                                          {float(x), float(y), float(0.15 * std::sin(3 * x) * std::cos(2 * y))});
-                    uvPerVertex.insert(uvPerVertex.end(), {float(x), float(y)});
-                }
-            for (int j = 0; j + 1 < n; ++j)
-                for (int i = 0; i + 1 < n; ++i) {
-                    const std::uint32_t a = j * n + i, b = a + 1, c = a + n + 1, d = a + n;
-                    hood.faces.insert(hood.faces.end(), {a, b, c, a, c, d});
-                }
             std::vector<float> uv;
-            for (std::uint32_t v : hood.faces) uv.insert(uv.end(), {uvPerVertex[2 * v], uvPerVertex[2 * v + 1]});
+            makeHood(777u, hood, uv);
             const int texSize = 1024;
             const double pi = 3.14159265358979323846, w = 2 * pi * 48, ripple = 0.004;
             std::vector<float> normalMap(std::size_t(texSize) * texSize * 3);
