@@ -104,9 +104,10 @@ std::string plural(std::size_t n, const char* word) {
     return std::to_string(n) + " " + word + (n == 1 ? "" : "s");
 }
 
-}  // namespace
-
-std::string checkSimplificationInput(const RadianceMesh& mesh, SimplificationMetric metric, CollapseKind kind) {
+// checkSimplificationInput, also giving the faces simplifyRadianceMesh drops (found once: a sort of
+// every face) when the mesh is valid enough to look at them.
+std::string inputProblem(const RadianceMesh& mesh, SimplificationMetric metric, CollapseKind kind,
+                         UnusableFaces& unusable) {
     if (mesh.faceCount() == 0)
         return "the mesh has no faces: edge-collapse simplification needs a triangle mesh (reconstruct a surface "
                "from a point cloud first, e.g. 'Surface Reconstruction: Screened Poisson')";
@@ -127,7 +128,7 @@ std::string checkSimplificationInput(const RadianceMesh& mesh, SimplificationMet
     // faces are collapsed like any other (they are the cheapest collapses there are): none of them is
     // a reason to refuse. What is left must be a 2-manifold.
     const std::size_t nf = mesh.faceCount();
-    const UnusableFaces unusable = findUnusableFaces(mesh);
+    unusable = findUnusableFaces(mesh);
     std::vector<std::uint64_t> edges;
     edges.reserve(3 * nf);
     for (std::size_t f = 0; f < nf; ++f) {
@@ -142,12 +143,19 @@ std::string checkSimplificationInput(const RadianceMesh& mesh, SimplificationMet
     return {};
 }
 
+}  // namespace
+
+std::string checkSimplificationInput(const RadianceMesh& mesh, SimplificationMetric metric, CollapseKind kind) {
+    UnusableFaces unusable;
+    return inputProblem(mesh, metric, kind, unusable);
+}
+
 RadianceSimplificationResult simplifyRadianceMesh(RadianceMesh mesh, const RadianceSimplificationOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     if (const std::string problem = options.collapse.validate(); !problem.empty()) throw SimplificationError(problem);
-    if (const std::string problem = checkSimplificationInput(mesh, options.metric, options.collapse.kind); !problem.empty())
+    UnusableFaces unusable;
+    if (const std::string problem = inputProblem(mesh, options.metric, options.collapse.kind, unusable); !problem.empty())
         throw SimplificationError(problem);
-    const UnusableFaces unusable = findUnusableFaces(mesh);
     removeFaces(mesh, unusable.drop);
     if (mesh.faceCount() == 0)
         throw SimplificationError("every face of the mesh repeats a vertex (no area): there is no surface to simplify");
