@@ -393,10 +393,12 @@ int run(int argc, char** argv) {
     const rad::SubdivisionResult original = identitySubdivision(input);
     const std::vector<std::pair<const char*, const rad::SubdivisionResult*>> meshes = {
         {"input", &original}, {"uniform", &uniform}, {"adaptive", &adaptive}};
+    // Each mesh's transfer interpolated at the samples, once for every table below.
+    std::vector<std::vector<float>> interpolations;
     std::vector<rad::RelightingErrorReport> reports;
     for (const auto& [name, result] : meshes) {
-        const std::vector<float> interpolated = rad::interpolateAtSamples(samples, input, *result);
-        reports.push_back(rad::relightingErrorOverLightings(samples, interpolated, degree, 1, sh, degree));
+        interpolations.push_back(rad::interpolateAtSamples(samples, input, *result));
+        reports.push_back(rad::relightingErrorOverLightings(samples, interpolations.back(), degree, 1, sh, degree));
     }
 
     std::printf("scene: %s, %zu vertices, %zu faces; SH order %d, %d rays; estimate %s, alpha %.3g\n",
@@ -425,7 +427,7 @@ int run(int argc, char** argv) {
     std::printf("%-10s %19s %19s   (all lightings, samples split by surface)\n", "mesh", "ground mean/p95",
                 "object mean/p95");
     for (std::size_t m = 0; m < meshes.size(); ++m) {
-        const std::vector<float> interpolated = rad::interpolateAtSamples(samples, input, *meshes[m].second);
+        const std::vector<float>& interpolated = interpolations[m];
         std::printf("%-10s", meshes[m].first);
         for (int part = 1; part >= 0; --part) {
             rad::RelightingSamples subset;
@@ -457,11 +459,9 @@ int run(int argc, char** argv) {
     // The same comparison with |L - L_int| divided by the lighting's mean luminance (absolute: the
     // dark regions that dominate the relative error weigh little here).
     std::vector<rad::RelightingErrorReport> absolute;
-    for (const auto& [name, result] : meshes) {
-        const std::vector<float> interpolated = rad::interpolateAtSamples(samples, input, *result);
+    for (const std::vector<float>& interpolated : interpolations)
         absolute.push_back(rad::relightingErrorOverLightings(samples, interpolated, degree, 1, sh, degree,
                                                              rad::RelightingErrorNormalisation::MeanLuminance));
-    }
     std::printf("absolute error (|L - L_int| / mean L), mean/p95: input %.5f %.5f, uniform %.5f %.5f, adaptive %.5f "
                 "%.5f; adaptive / uniform mean %.3f, p95 %.3f\n",
                 absolute[0].overall.meanRelativeError, absolute[0].overall.p95RelativeError,
