@@ -6,6 +6,7 @@
 #include "bake/texture_atlas.h"
 #include "bake/toksvig_roughness.h"
 #include "image/image_io.h"
+#include "io/atomic_file.h"
 #include "io/gltf_writer.h"
 #include "memory/available_memory.h"
 
@@ -39,7 +40,8 @@ class PendingFiles {
 public:
     std::string add(const std::string& finalPath) {
         finals_.push_back(finalPath);
-        temporaries_.push_back(finalPath + ".part");
+        removeStaleTemporaries(finalPath);
+        temporaries_.push_back(uniqueTemporaryPath(finalPath));
         return temporaries_.back();
     }
     void commit() {

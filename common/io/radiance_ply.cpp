@@ -1,9 +1,9 @@
 #include "io/radiance_ply.h"
 
+#include "io/atomic_file.h"
+
 #include <algorithm>
-#include <atomic>
 #include <cerrno>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -15,16 +15,6 @@
 #include <sstream>
 #include <unordered_map>
 #include <unordered_set>
-
-#ifdef _WIN32
-#include <io.h>
-#include <process.h>
-#include <windows.h>
-#else
-#include <csignal>
-#include <sys/types.h>
-#include <unistd.h>
-#endif
 
 // The file is little endian and values are copied bytewise.
 #if defined(__BYTE_ORDER__) && defined(__ORDER_LITTLE_ENDIAN__)
@@ -1075,60 +1065,6 @@ std::string makeHeader(const RadianceMesh& mesh) {
     return h;
 }
 
-std::string temporaryPath(const std::string& path) {
-    static std::atomic<unsigned> counter{0};
-#ifdef _WIN32
-    const long pid = static_cast<long>(_getpid());
-#else
-    const long pid = static_cast<long>(getpid());
-#endif
-    const auto ticks = std::chrono::steady_clock::now().time_since_epoch().count();
-    return cat(path, ".part-", pid, "-", counter++, "-", ticks % 1000000);
-}
-
-// Removes the temporary files `<path>.part-<pid>-<n>-<t>` that a writer killed mid-save left behind
-// (they can be hundreds of MB and nothing else removes them). Only files whose writer process no
-// longer exists are removed: a live writer's file (another process saving to the same path right now)
-// is never touched. The pid is checked on this machine, so a writer in another PID namespace or on
-// another host sharing the folder is out of sight; on Windows nothing is removed.
-void removeStaleTemporaries(const std::string& path) {
-#ifndef _WIN32
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    const fs::path target(path);
-    const std::string prefix = target.filename().string() + ".part-";
-    const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
-    fs::directory_iterator it(folder, ec), end;
-    for (; !ec && it != end; it.increment(ec)) {
-        const std::string name = it->path().filename().string();
-        if (name.size() <= prefix.size() || name.compare(0, prefix.size(), prefix) != 0) continue;
-        // Exactly <pid>-<n>-<t>, decimal: anything else is not ours.
-        const std::string rest = name.substr(prefix.size());
-        const std::size_t d1 = rest.find('-');
-        const std::size_t d2 = d1 == std::string::npos ? d1 : rest.find('-', d1 + 1);
-        if (d2 == std::string::npos || !allDigits(rest.substr(0, d1)) || !allDigits(rest.substr(d1 + 1, d2 - d1 - 1)) ||
-            !allDigits(rest.substr(d2 + 1)))
-            continue;
-        const auto pid = parseUnsigned(rest.substr(0, d1));
-        if (!pid || *pid == 0 || *pid > static_cast<std::uint64_t>(std::numeric_limits<pid_t>::max())) continue;
-        if (kill(static_cast<pid_t>(*pid), 0) == 0 || errno != ESRCH) continue;  // alive (or not ours to judge)
-        std::error_code removeError;
-        std::error_code statusError;
-        if (fs::is_regular_file(it->symlink_status(statusError)) && !statusError) fs::remove(it->path(), removeError);
-    }
-#else
-    (void)path;
-#endif
-}
-
-bool replaceFile(const std::string& from, const std::string& to) {
-#ifdef _WIN32
-    return MoveFileExA(from.c_str(), to.c_str(), MOVEFILE_REPLACE_EXISTING | MOVEFILE_WRITE_THROUGH) != 0;
-#else
-    return std::rename(from.c_str(), to.c_str()) == 0;
-#endif
-}
-
 }  // namespace
 
 std::string validateRadianceMesh(const RadianceMesh& mesh) {
@@ -1243,49 +1179,12 @@ void writeRadiancePly(const std::string& path, const RadianceMesh& mesh) {
     }
 
     // Temporary file, then rename.
-    removeStaleTemporaries(path);
-    std::string temp;
-    FilePtr file;
-    for (int attempt = 0; attempt < 16 && !file; ++attempt) {
-        temp = temporaryPath(path);
-        file.reset(std::fopen(temp.c_str(), "wbx"));
-        if (!file && errno != EEXIST) break;
-    }
-    if (!file)
-        throw RadianceFileError(cat("cannot save '", path, "': cannot create the temporary file '", temp, "': ",
-                                    std::strerror(errno), "; check that the folder exists and is writable"));
-    const auto abandon = [&](const std::string& why) {
-        const int err = errno;
-        file.reset();
-        std::remove(temp.c_str());
-        throw RadianceFileError(cat("cannot save '", path, "': ", why, ": ", std::strerror(err),
-                                    " (the disk may be full); nothing was written"));
-    };
-    const std::size_t vertexBytes = n * rec;
-    const std::size_t faceBytes = mesh.faceCount() * 13;
-    if (std::fwrite(header.data(), 1, header.size(), file.get()) != header.size()) abandon("write error");
-    if (vertexBytes && std::fwrite(vertexData.get(), 1, vertexBytes, file.get()) != vertexBytes) abandon("write error");
-    vertexData.reset();
-    if (faceBytes && std::fwrite(faceData.get(), 1, faceBytes, file.get()) != faceBytes) abandon("write error");
-    faceData.reset();
-    if (std::fflush(file.get()) != 0) abandon("write error");
-#ifdef _WIN32
-    if (_commit(_fileno(file.get())) != 0) abandon("cannot flush the file to disk");
-#else
-    if (fsync(fileno(file.get())) != 0) abandon("cannot flush the file to disk");
-#endif
-    {
-        std::FILE* raw = file.release();
-        if (std::fclose(raw) != 0) {
-            const int err = errno;
-            std::remove(temp.c_str());
-            throw RadianceFileError(cat("cannot save '", path, "': write error: ", std::strerror(err), "; nothing was written"));
-        }
-    }
-    if (!replaceFile(temp, path)) {
-        const int err = errno;
-        std::remove(temp.c_str());
-        throw RadianceFileError(cat("cannot save '", path, "': cannot replace the file: ", std::strerror(err)));
+    try {
+        writeFileAtomically(path, {{header.data(), header.size()},
+                                   {vertexData.get(), n * rec},
+                                   {faceData.get(), mesh.faceCount() * 13}});
+    } catch (const AtomicFileError& error) {
+        throw RadianceFileError(error.what());
     }
 }
 

@@ -1,5 +1,7 @@
 #include "simplify/progressive_mesh.h"
 
+#include "io/atomic_file.h"
+
 #include "io/radiance_ply.h"
 #include "radiance/radiance_evaluation.h"
 #include "radiance/radiance_frame.h"
@@ -195,16 +197,10 @@ void writeProgressiveMesh(const std::string& path, const std::string& basePath, 
         put(data, s.cost);
         for (int k = 0; k < row; ++k) put(data, mesh.survivorRows[i * row + k]);
     }
-    const std::string temporary = path + ".part";
-    {
-        std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
-        if (!file) throw ProgressiveMeshError("cannot create '" + temporary + "': check the folder exists and is writable");
-        file.write(data.data(), static_cast<std::streamsize>(data.size()));
-        if (!file) throw ProgressiveMeshError("cannot write '" + temporary + "' (disk full?)");
-    }
-    if (std::rename(temporary.c_str(), path.c_str()) != 0) {
-        std::remove(temporary.c_str());
-        throw ProgressiveMeshError("cannot rename '" + temporary + "' to '" + path + "'");
+    try {
+        writeFileAtomically(path, {{data.data(), data.size()}});
+    } catch (const AtomicFileError& error) {
+        throw ProgressiveMeshError(error.what());
     }
 }
 

@@ -24,7 +24,7 @@ grep -qF "per-triangle atlas" "$WORK/object16.log" || { cat "$WORK/object16.log"
 for f in coarse_normal.png coarse_diffuse.png coarse_lean.exr coarse_bake.txt; do
     [ -s "$WORK/$f" ] || fail "missing $f beside the target mesh"
 done
-ls "$WORK"/*.part >/dev/null 2>&1 && fail "temporary files left behind"
+ls "$WORK"/*.part* >/dev/null 2>&1 && fail "temporary files left behind"
 grep -qx "space = object" "$WORK/coarse_bake.txt" || fail "description does not say object space"
 grep -qx "bits = 16" "$WORK/coarse_bake.txt" || fail "description does not say 16 bit"
 grep -qx "diffuse_map = coarse_diffuse.png" "$WORK/coarse_bake.txt" || fail "description does not list the diffuse map"

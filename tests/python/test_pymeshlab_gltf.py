@@ -58,7 +58,7 @@ def test_glb_parses_and_holds_the_layer(baked):
     ms, out = baked
     path = out / "coarse.glb"
     assert path.exists(), sorted(os.listdir(out))
-    assert not list(out.glob("*.part")), "temporary files left behind"
+    assert not list(out.glob("*.part*")), "temporary files left behind"
     assert "gltf = coarse.glb" in (out / "coarse_bake.txt").read_text().splitlines()
     with warnings.catch_warnings():
         warnings.simplefilter("error")

@@ -1,0 +1,115 @@
+// The irradiance vector grid of Granier et al. 2007 ("Irradiance Vector Grid"): a cache of indirect
+// light for a whole scene. An axis-aligned grid of Ni x Nj x Nk cells stores, at each of its
+// (Ni + 1)(Nj + 1)(Nk + 1) vertices and for each of the six main directions delta = +x, -x, +y, -y,
+// +z, -z, one irradiance vector per colour channel (Arvo 1994):
+//     I_delta(v) = integral over the hemisphere around delta of L(v <- w) w dw.
+// Shading a point p with normal n (Granier et al. 2007, "Irradiance Vector Interpolation"):
+//   1. spatial: for each axis a, the direction +a or -a chosen by the sign of n_a, its vectors
+//      interpolated trilinearly between the eight vertices of p's cell;
+//   2. directional: I_n(p) = I_x(p) n_x^2 + I_y(p) n_y^2 + I_z(p) n_z^2;
+//   3. reflected radiance of a diffuse surface: L_r = rho_d / pi <I_n(p), n>, per channel.
+// For the GPU the paper compresses the three vectors of a (vertex, delta) to one colour and one
+// direction ("Hardware Implementation"): r = |I_r|, g = |I_g|, b = |I_b|, d = normalise(I_r + I_g +
+// I_b), so that I_c ~ c d; gpuCompressed() gives that form and evaluating it on the CPU
+// (reflectedRadianceCompressed) shows what the compression costs.
+//
+// File (.ivg), written atomically by writeIrradianceVectorGrid: an ASCII header of lines
+//     RADIANCE_IVG 1
+//     cells <Ni> <Nj> <Nk>
+//     origin <x> <y> <z>              (world position of vertex (0, 0, 0))
+//     cell_size <sx> <sy> <sz>        (> 0)
+//     bounces <B>                     (metadata: diffuse bounces the vectors contain)
+//     rays <R>                        (metadata: rays per grid vertex and direction)
+//     comment <free text, optional, repeatable>
+//     data float32 little_endian
+//     end_header
+// then (Ni + 1)(Nj + 1)(Nk + 1) * 54 float32 values, little endian: vertices in the order of
+// vertexIndex() (i fastest, then j, then k); per vertex the six directions in the order +x, -x, +y,
+// -y, +z, -z; per direction the channels R, G, B; per channel the vector's x, y, z.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace rad {
+
+struct IrradianceVectorGridError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+struct IrradianceVectorGrid {
+    static constexpr int kDirections = 6;                  // +x, -x, +y, -y, +z, -z
+    static constexpr int kFloatsPerDirection = 9;          // 3 channels x 3 components
+    static constexpr int kFloatsPerVertex = kDirections * kFloatsPerDirection;  // 54
+
+    std::array<int, 3> cells{{0, 0, 0}};                   // Ni, Nj, Nk (>= 1 each)
+    std::array<float, 3> origin{{0, 0, 0}};
+    std::array<float, 3> cellSize{{1, 1, 1}};
+    int bounces = 0;
+    int raysPerDirection = 0;
+    std::vector<float> vectors;                            // kFloatsPerVertex per vertex, see the file comment
+
+    // A grid of the given cell counts covering [boxMin, boxMax] (cell sizes from the box), vectors
+    // zero. Throws IrradianceVectorGridError for counts < 1, a count product above 2^26 vertices,
+    // or an empty, inverted or non-finite box.
+    static IrradianceVectorGrid covering(const std::array<float, 3>& boxMin, const std::array<float, 3>& boxMax,
+                                         const std::array<int, 3>& cellCounts);
+
+    std::array<int, 3> vertexCounts() const { return {{cells[0] + 1, cells[1] + 1, cells[2] + 1}}; }
+    std::size_t vertexCount() const {
+        return static_cast<std::size_t>(cells[0] + 1) * (cells[1] + 1) * (cells[2] + 1);
+    }
+    std::size_t vertexIndex(int i, int j, int k) const {
+        return static_cast<std::size_t>(i) + static_cast<std::size_t>(cells[0] + 1) *
+                                                 (static_cast<std::size_t>(j) + static_cast<std::size_t>(cells[1] + 1) * k);
+    }
+    std::array<float, 3> vertexPosition(int i, int j, int k) const {
+        return {{origin[0] + i * cellSize[0], origin[1] + j * cellSize[1], origin[2] + k * cellSize[2]}};
+    }
+    // The 9 floats (R xyz, G xyz, B xyz) of direction `direction` (0..5) at a vertex.
+    float* at(std::size_t vertex, int direction) { return vectors.data() + vertex * kFloatsPerVertex + direction * kFloatsPerDirection; }
+    const float* at(std::size_t vertex, int direction) const {
+        return vectors.data() + vertex * kFloatsPerVertex + direction * kFloatsPerDirection;
+    }
+    std::size_t memoryBytes() const { return vectors.size() * sizeof(float); }
+
+    // Throws IrradianceVectorGridError when the fields are inconsistent (counts, sizes, vector
+    // count) or a value is not finite.
+    void validate() const;
+};
+
+// Unit direction of index 0..5 (+x, -x, +y, -y, +z, -z).
+std::array<float, 3> gridDirection(int direction);
+
+// Step 1 and 2 above: I_n(p) per channel, out[9] = R xyz, G xyz, B xyz. Points outside the grid's
+// box take the value at the nearest point of the box (clamped). `normal` need not be unit length
+// (it is normalised; a zero normal gives zero vectors).
+void interpolateIrradianceVector(const IrradianceVectorGrid& grid, const float point[3], const float normal[3], float out[9]);
+
+// Step 3: rho_d / pi <I_n(p), n> per channel (albedo per channel in [0, 1]; radiance never negative:
+// a negative dot product, possible with interpolated vectors, gives 0).
+void reflectedRadiance(const IrradianceVectorGrid& grid, const float point[3], const float normal[3], const float albedo[3],
+                       float outRgb[3]);
+
+// The paper's GPU form: per vertex and direction 6 floats, colour (|I_R|, |I_G|, |I_B|) then the
+// unit direction of I_R + I_G + I_B (zero when that sum is zero). Size vertexCount() * 6 * 6.
+std::vector<float> gpuCompressed(const IrradianceVectorGrid& grid);
+
+// reflectedRadiance() evaluated from gpuCompressed() data (what a shader using the paper's
+// compression computes), for the same grid geometry.
+void reflectedRadianceCompressed(const IrradianceVectorGrid& grid, const std::vector<float>& compressed, const float point[3],
+                                 const float normal[3], const float albedo[3], float outRgb[3]);
+
+// Atomic write (temporary file beside `path`, renamed when complete); std::runtime_error when the
+// file cannot be written (no file left behind). Validates the grid first.
+void writeIrradianceVectorGrid(const std::string& path, const IrradianceVectorGrid& grid);
+
+// Throws IrradianceVectorGridError naming the file and the problem (not an .ivg file, unknown
+// version, missing or malformed header line, data size not matching the header, truncated data,
+// non-finite values). Never allocates more than the file's size justifies.
+IrradianceVectorGrid readIrradianceVectorGrid(const std::string& path);
+
+}  // namespace rad
