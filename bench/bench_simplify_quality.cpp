@@ -12,7 +12,7 @@
 // pixels either mesh covers (render/image_space_error.h).
 //  [1b] Fig. 8 rebuilt as the paper describes it: glossy and matte stripes with equal mean colours.
 //   bench_simplify_quality [--views N] [--size S] [--lazy 0|1] [--level L (fig. 8 icosphere, 5)] [--only fig8|fig8b|fig7]
-#include "acquisition/scene_radiance_field.h"
+#include "acquisition/sample_scene_radiance_mesh.h"
 #include "acquisition/virtual_scene.h"
 #include "geometry/mesh_normals.h"
 #include "geometry/primitive_meshes.h"
@@ -40,22 +40,15 @@ rad::ImageSpaceOptions imageOptions;
 bool lazy = true;
 int sphereLevel = 5;  // 10,242 vertices; --level L for others
 
+// The sample scene's exact radiance on the mesh, the lights placed at half the box diagonal.
 rad::RadianceMesh radianceMesh(rad::TriangleMesh mesh, rad::SampleMaterial material, rad::BasisSpec basis,
                                const Eigen::Vector3d& up, bool shadows) {
-    if (!mesh.hasNormals()) rad::computeAreaWeightedNormals(mesh);
-    Eigen::AlignedBox3d box;
-    for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
-        box.extend(Eigen::Vector3d(mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]));
-    double radius = 0.5 * box.diagonal().norm();
-    rad::VirtualSceneOptions options;
+    rad::SampleSceneRadianceOptions options;
+    options.material = material;
+    options.up = up;
     options.castShadows = shadows;
-    rad::VirtualScene scene(mesh, rad::makeSampleMaterial(material, box, up),
-                            rad::makeSampleLighting(box.center(), radius, up), options);
-    rad::RadianceMesh out;
-    out.radiance = rad::sceneRadianceField(scene, basis, false);
-    out.positions = scene.mesh().positions;
-    out.faces = scene.mesh().faces;
-    return out;
+    options.lightRadius = rad::SampleLightRadius::HalfBoxDiagonal;
+    return rad::sampleSceneRadianceMesh(std::move(mesh), basis, options);
 }
 
 rad::RadianceMesh simplified(const rad::RadianceMesh& mesh, rad::SimplificationMetric metric, rad::CollapseKind kind,

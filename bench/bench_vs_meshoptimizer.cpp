@@ -31,7 +31,7 @@
 //                          [--quick] [--weights 0.1,0.5,2,8,32] [--threads 2] [--views 16] [--size 512]
 //                          [--lazy 0|1] [--geometry-weight W] (experiments away from the defaults)
 #include "acquisition/camera_rig.h"
-#include "acquisition/scene_radiance_field.h"
+#include "acquisition/sample_scene_radiance_mesh.h"
 #include "acquisition/virtual_photographs.h"
 #include "acquisition/virtual_scene.h"
 #include "fit/radiance_from_views.h"
@@ -75,27 +75,16 @@ bool quick = false;
 bool armadilloError = true;
 const double kLevels[] = {0.50, 0.25, 0.10, 0.05};
 
-Eigen::AlignedBox3d bounds(const std::vector<float>& p) {
-    Eigen::AlignedBox3d box;
-    for (std::size_t i = 0; i + 2 < p.size(); i += 3) box.extend(Eigen::Vector3d(p[i], p[i + 1], p[i + 2]));
-    return box;
-}
-
-// The exact radiance of a sample scene projected on a basis at every vertex (make_radiance_mesh).
+// The exact radiance of a sample scene projected on a basis at every vertex (make_radiance_mesh),
+// the lights placed at half the box diagonal.
 rad::RadianceMesh sceneMesh(rad::TriangleMesh mesh, rad::SampleMaterial material, rad::BasisSpec basis,
                             const Eigen::Vector3d& up, bool shadows) {
-    if (!mesh.hasNormals()) rad::computeAreaWeightedNormals(mesh);
-    const Eigen::AlignedBox3d box = bounds(mesh.positions);
-    const double radius = 0.5 * box.diagonal().norm();
-    rad::VirtualSceneOptions options;
+    rad::SampleSceneRadianceOptions options;
+    options.material = material;
+    options.up = up;
     options.castShadows = shadows;
-    rad::VirtualScene scene(mesh, rad::makeSampleMaterial(material, box, up),
-                            rad::makeSampleLighting(box.center(), radius, up), options);
-    rad::RadianceMesh out;
-    out.radiance = rad::sceneRadianceField(scene, basis, false);
-    out.positions = scene.mesh().positions;
-    out.faces = scene.mesh().faces;
-    return out;
+    options.lightRadius = rad::SampleLightRadius::HalfBoxDiagonal;
+    return rad::sampleSceneRadianceMesh(std::move(mesh), basis, options);
 }
 
 // The main job's fit: virtual photographs of the scan (glossy, cast shadows, default lights, y up,
@@ -104,11 +93,9 @@ rad::RadianceMesh fittedBunny(const std::string& data) {
     rad::TriangleMesh scan = rad::readOff(data + "/meshes/bunny00.off");
     if (!scan.hasNormals()) rad::computeAreaWeightedNormals(scan);
     const Eigen::Vector3d up = Eigen::Vector3d::UnitY();
-    Eigen::AlignedBox3d box = bounds(scan.positions);
+    Eigen::AlignedBox3d box;
     double radius = 0.0;
-    for (std::size_t v = 0; v < scan.vertexCount(); ++v)
-        radius = std::max(radius, (Eigen::Vector3d(scan.positions[3 * v], scan.positions[3 * v + 1],
-                                                   scan.positions[3 * v + 2]) - box.center()).norm());
+    rad::sampleSceneBounds(scan, rad::SampleLightRadius::FarthestVertex, box, radius);
     rad::VirtualSceneOptions sceneOptions;
     sceneOptions.castShadows = true;
     rad::VirtualScene scene(scan, rad::makeSampleMaterial(rad::SampleMaterial::Glossy, box, up),

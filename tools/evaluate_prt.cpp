@@ -16,6 +16,7 @@
 // per-pixel ray-cast transfer, and each mesh with interpolated vertex colours) and the meshes as .rply
 // with their transfer vectors.
 // Exit status: 0 success, 1 data error, 2 bad command line.
+#include "acquisition/sample_scene_radiance_mesh.h"
 #include "geometry/mesh_normals.h"
 #include "geometry/primitive_meshes.h"
 #include "image/image_io.h"
@@ -342,7 +343,7 @@ int run(int argc, char** argv) {
     if (const std::string problem = scene.validate(); !problem.empty()) throw std::invalid_argument(problem);
     Eigen::AlignedBox3d box;
     double radius = 0.0;
-    radtools::meshBounds(scene, box, radius);
+    rad::sampleSceneBounds(scene, rad::SampleLightRadius::FarthestVertex, box, radius);
     const rad::RayScene rays(scene.positions.data(), scene.vertexCount(), scene.faces.data(), scene.faceCount());
     rad::TransferOptions options;
     options.degree = s.order - 1;

@@ -2,8 +2,7 @@
 // sample material (no photographs): the exact outgoing radiance of the virtual scene of
 // acquisition/virtual_scene.h (same presets as virtual_acquisition) projected onto a basis at every
 // vertex. Input of the simplification benchmarks and of the main job's simplification step.
-#include "acquisition/scene_radiance_field.h"
-#include "acquisition/virtual_scene.h"
+#include "acquisition/sample_scene_radiance_mesh.h"
 #include "geometry/mesh_normals.h"
 #include "geometry/midpoint_subdivision.h"
 #include "io/radiance_ply.h"
@@ -13,6 +12,7 @@
 #include <cstdio>
 #include <iostream>
 #include <string>
+#include <utility>
 
 #include "command_line.h"
 #include "scene_setup.h"
@@ -78,19 +78,14 @@ int run(int argc, char** argv) {
     if (!mesh.hasNormals()) rad::computeAreaWeightedNormals(mesh);
     if (subdivide > 0) mesh = rad::subdivideMidpoint(mesh, subdivide, rad::SubdivisionNormals::Interpolate);
 
-    Eigen::AlignedBox3d box;
-    double radius = 0.0;
-    radtools::meshBounds(mesh, box, radius);
-    rad::VirtualSceneOptions sceneOptions;
+    rad::SampleSceneRadianceOptions sceneOptions;
+    sceneOptions.material = materialKind;
+    sceneOptions.up = up;
     sceneOptions.castShadows = shadows;
-    sceneOptions.variation.enabled = variation;
-    rad::VirtualScene scene(mesh, rad::makeSampleMaterial(materialKind, box, up),
-                            rad::makeSampleLighting(box.center(), radius, up), sceneOptions);
-
-    rad::RadianceMesh out;
-    out.radiance = rad::sceneRadianceField(scene, *basis, reflected);
-    out.positions = scene.mesh().positions;
-    out.faces = scene.mesh().faces;
+    sceneOptions.variation = variation;
+    sceneOptions.reflected = reflected;
+    sceneOptions.lightRadius = rad::SampleLightRadius::FarthestVertex;
+    rad::RadianceMesh out = rad::sampleSceneRadianceMesh(std::move(mesh), *basis, sceneOptions);
     radtools::setMeanColors(out);
     rad::writeRadiancePly(output, out);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

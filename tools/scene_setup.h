@@ -66,14 +66,4 @@ inline void setMeanColors(rad::RadianceMesh& out) {
     }
 }
 
-inline void meshBounds(const rad::TriangleMesh& mesh, Eigen::AlignedBox3d& box, double& radius) {
-    box.setEmpty();
-    for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
-        box.extend(Eigen::Vector3d(mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]));
-    radius = 0.0;
-    for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
-        radius = std::max(radius, (Eigen::Vector3d(mesh.positions[3 * v], mesh.positions[3 * v + 1],
-                                                   mesh.positions[3 * v + 2]) - box.center()).norm());
-}
-
 }  // namespace radtools

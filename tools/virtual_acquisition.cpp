@@ -15,6 +15,7 @@
 //                                   makeSampleMaterial / makeSampleLighting and these values)
 // and prints timings. Photographs are rendered with the cameras exactly as the project stores them
 // (float32 values, storedCamera()), so photographs and project agree bit for bit.
+#include "acquisition/sample_scene_radiance_mesh.h"
 #include "acquisition/camera_rig.h"
 #include "acquisition/virtual_photographs.h"
 #include "acquisition/virtual_scene.h"
@@ -203,7 +204,7 @@ int run(int argc, char** argv) {
 
     Eigen::AlignedBox3d box;
     double radius = 0.0;  // bounding sphere around the box centre
-    radtools::meshBounds(mesh, box, radius);
+    rad::sampleSceneBounds(mesh, rad::SampleLightRadius::FarthestVertex, box, radius);
     const Eigen::Vector3d centre = box.center();
 
     rad::AnalyticLighting lighting;

@@ -1,0 +1,43 @@
+#include "acquisition/sample_scene_radiance_mesh.h"
+
+#include "acquisition/scene_radiance_field.h"
+#include "geometry/mesh_normals.h"
+
+#include <algorithm>
+
+namespace rad {
+
+void sampleSceneBounds(const TriangleMesh& mesh, SampleLightRadius kind, Eigen::AlignedBox3d& box, double& radius) {
+    box.setEmpty();
+    const std::size_t n = mesh.vertexCount();
+    const auto position = [&](std::size_t v) {
+        return Eigen::Vector3d(mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]);
+    };
+    for (std::size_t v = 0; v < n; ++v) box.extend(position(v));
+    radius = 0.0;
+    if (kind == SampleLightRadius::HalfBoxDiagonal) {
+        radius = 0.5 * box.diagonal().norm();
+        return;
+    }
+    for (std::size_t v = 0; v < n; ++v) radius = std::max(radius, (position(v) - box.center()).norm());
+}
+
+RadianceMesh sampleSceneRadianceMesh(TriangleMesh mesh, const BasisSpec& basis, const SampleSceneRadianceOptions& options,
+                                     const ProgressCallback& progress) {
+    if (!mesh.hasNormals()) computeAreaWeightedNormals(mesh);
+    Eigen::AlignedBox3d box;
+    double radius = 0.0;
+    sampleSceneBounds(mesh, options.lightRadius, box, radius);
+    VirtualSceneOptions sceneOptions;
+    sceneOptions.castShadows = options.castShadows;
+    sceneOptions.variation.enabled = options.variation;
+    VirtualScene scene(mesh, makeSampleMaterial(options.material, box, options.up),
+                       makeSampleLighting(box.center(), radius, options.up), sceneOptions);
+    RadianceMesh out;
+    out.radiance = sceneRadianceField(scene, basis, options.reflected, progress);
+    out.positions = scene.mesh().positions;
+    out.faces = scene.mesh().faces;
+    return out;
+}
+
+}  // namespace rad
