@@ -20,6 +20,7 @@
 #include "io/off_reader.h"
 #include "io/ply_stream_reader.h"
 #include "outofcore/out_of_core_simplification.h"
+#include "outofcore/streamed_normal_map.h"
 
 #include <algorithm>
 #include <chrono>
@@ -195,13 +196,26 @@ int compare(const std::string& scan, std::size_t target, int size, const std::st
     const std::vector<float> a = rad::readNormalMap(streamed.normalMapFile, w1, h1);
     const std::vector<float> b = rad::readNormalMap(incore.normalMapFile, w2, h2);
     const rad::TexelCoverage coverage = rad::rasterizeTexelCoverage(streamed.wedgeUv.data(), streamed.mesh.faceCount(), size, size);
-    std::vector<double> angles;
+    // The texels points landed in (again, with the scan in memory) to split the error.
+    rad::NormalSplatter splatter(streamed.mesh, streamed.wedgeUv, size);
+    splatter.splat(source.positions.data(), source.normals.data(), source.vertexCount());
+    const rad::StreamedNormalMap again = splatter.finish(request.gutterTexels);
+    std::vector<double> angles, reached, filled;
     for (std::size_t t = 0; t < coverage.face.size(); ++t) {
         if (coverage.face[t] < 0 || !coverage.interior[t]) continue;
         double dot = 0;
         for (int k = 0; k < 3; ++k) dot += double(a[3 * t + k]) * b[3 * t + k];
-        angles.push_back(std::acos(std::clamp(dot, -1.0, 1.0)) * 180.0 / 3.14159265358979323846);
+        const double angle = std::acos(std::clamp(dot, -1.0, 1.0)) * 180.0 / 3.14159265358979323846;
+        angles.push_back(angle);
+        (again.valid[t] ? reached : filled).push_back(angle);
     }
+    auto meanOf = [](const std::vector<double>& v) {
+        double m = 0;
+        for (double x : v) m += x;
+        return v.empty() ? 0.0 : m / double(v.size());
+    };
+    std::printf("texels points landed in: %zu, mean %.3f degrees; texels filled: %zu, mean %.3f degrees\n",
+                reached.size(), meanOf(reached), filled.size(), meanOf(filled));
     std::sort(angles.begin(), angles.end());
     double sum = 0;
     for (double x : angles) sum += x;

@@ -109,14 +109,14 @@ int run(int argc, char** argv) {
                 c.clampedVertices, c.meanFallbacks);
     std::printf("simplified: %zu vertices, %zu triangles -> %s\n", report.mesh.vertexCount(), report.mesh.faceCount(),
                 objPath.c_str());
-    std::printf("normal map %dx%d %d bit: %zu points splatted, %zu without normal; %zu chart texels, %zu with points, "
-                "%zu filled -> %s\n",
+    std::printf("normal map %dx%d %d bit: %zu points splatted, %zu without normal; %zu chart texels, %zu with "
+                "points, %zu filled -> %s\n",
                 request.textureSize, request.textureSize, request.bits, report.pointsSplatted,
                 report.pointsWithoutNormal, report.chartTexels, report.texelsWithPoints, report.chartTexelsFilled,
                 report.normalMapFile.c_str());
-    std::printf("time: total %.2f s (clustering pass %.2f, normal-map pass %.2f, write %.2f); %.2f M input "
-                "triangles/s\n",
-                report.totalSeconds, report.clusteringSeconds, report.splatSeconds, report.writeSeconds,
+    std::printf("time: total %.2f s (clustering pass %.2f, normal-map pass %.2f, fill %.2f, write %.2f); %.2f M "
+                "input triangles/s\n",
+                report.totalSeconds, report.clusteringSeconds, report.splatSeconds, report.fillSeconds, report.writeSeconds,
                 triangles / 1e6 / report.totalSeconds);
     std::printf("peak resident memory: %.0f MB\n", peakResidentMegabytes());
     return 0;

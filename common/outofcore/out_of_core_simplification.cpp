@@ -41,8 +41,11 @@ void checkOutOfCoreRequest(const OutOfCoreRequest& request) {
     if (reader.info().faceCount == 0)
         throw BakeInputError(request.plyPath + " has no faces: the out-of-core simplification needs a triangle mesh "
                              "(reconstruct a surface from the point cloud first).");
-    // The atlas must fit the map for the largest mesh the target can give.
-    makePerTriangleAtlas(std::max<std::size_t>(request.targetTriangles, 1), request.textureSize, request.gutterTexels + 1);
+    // The atlas must fit the map for the mesh the target gives (up to 25 % more triangles than asked
+    // for: refused now rather than after a pass over the whole file).
+    if (request.cellSize == 0.0)
+        makePerTriangleAtlas(request.targetTriangles + request.targetTriangles / 4, request.textureSize,
+                             request.gutterTexels + 1);
 }
 
 OutOfCoreReport simplifyOutOfCore(const OutOfCoreRequest& request) {
@@ -99,9 +102,11 @@ OutOfCoreReport simplifyOutOfCore(const OutOfCoreRequest& request) {
     }
     positions = {};
     accumulatedNormals = {};
-    reportProgress(request.progress, 0.9, "filling the map");
-    StreamedNormalMap map = splatter.finish(request.gutterTexels);
     report.splatSeconds = secondsSince(phase);
+    reportProgress(request.progress, 0.9, "filling the map");
+    phase = Clock::now();
+    StreamedNormalMap map = splatter.finish(request.gutterTexels);
+    report.fillSeconds = secondsSince(phase);
     report.pointsSplatted = map.pointsSplatted;
     report.pointsWithoutNormal = map.pointsWithoutNormal;
     report.chartTexels = map.chartTexels;

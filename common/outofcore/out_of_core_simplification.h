@@ -39,7 +39,7 @@ struct OutOfCoreReport {
     std::size_t pointsSplatted = 0, pointsWithoutNormal = 0;
     std::size_t chartTexels = 0, texelsWithPoints = 0, chartTexelsFilled = 0;
     std::string normalMapFile, descriptionFile;
-    double clusteringSeconds = 0, splatSeconds = 0, writeSeconds = 0, totalSeconds = 0;
+    double clusteringSeconds = 0, splatSeconds = 0, fillSeconds = 0, writeSeconds = 0, totalSeconds = 0;  // splat: pass 2; fill: averaging and filling
 };
 
 // Cheap checks before anything is read beyond the header (the filter runs them first): throws

@@ -2,11 +2,14 @@
 // al. 2007, out-of-core part): the simplified triangles are put in a bounding-volume hierarchy
 // (Embree's, through raycast/ray_scene.h's closest-point query: the simplified mesh is small, a
 // million triangles take ~100 MB, and Embree's BVH is already built and tested there), each
-// original point finds its nearest simplified triangle, and its unit normal is added to the texel
-// of the texture layout under that nearest point. Texels average what they received (then
-// renormalised); texels of the charts that received nothing, the gutters and the background are
-// filled like an in-core bake (bake/normal_map_bake.h fillBakedMap: pull-push, Gortler et al. 1996,
-// the diffusion of Granier et al.).
+// original point finds its nearest simplified triangle, the point of that triangle whose
+// interpolated normal passes through it (a ray-cast bake's correspondence; the closest point when
+// that leaves the triangle), and its unit normal is added to the texel there. Texels average what
+// they received (then renormalised). Texels of a triangle that received nothing grow from their
+// neighbours of the same triangle; triangles no point reached take the points' normals gathered at
+// the simplified vertices, interpolated; the gutters and the background are filled like an in-core
+// bake (bake/normal_map_bake.h fillBakedMap: pull-push, Gortler et al. 1996, the diffusion of
+// Granier et al.).
 //
 // Unlike the in-core bake (rays from each texel centre), nothing here needs the original mesh in
 // memory: the points come in chunks, in any order, and only the map's accumulators are kept

@@ -90,7 +90,7 @@ void VertexClustering::beginTriangles() {
     if (options_.cellSize <= 0.0) {
         // Occupied cells counted on evenly spaced vertices; the grid refined until about
         // target / 2 cells are occupied (cells ~ area / h^2, hence the square root).
-        const std::size_t stride = std::max<std::size_t>(1, n / 4000000);
+        const std::size_t stride = std::max<std::size_t>(1, n / std::max<std::size_t>(options_.sampledVertices, 1));
         const double wanted = std::max(1.0, double(options_.targetTriangles) / 2.0);
         std::vector<std::uint64_t> keys;
         for (int iteration = 0; iteration < 12; ++iteration) {
@@ -99,11 +99,13 @@ void VertexClustering::beginTriangles() {
             keys.clear();
             for (std::size_t v = 0; v < n; v += stride) keys.push_back(cells.key(&positions_[3 * v], origin_));
             std::sort(keys.begin(), keys.end());
-            const double occupied = double(std::unique(keys.begin(), keys.end()) - keys.begin()) * double(stride);
+            // Cells hold many vertices at any useful target, so the cells the sample occupies are
+            // (nearly) all the occupied cells: no scaling by the stride.
+            const double occupied = double(std::unique(keys.begin(), keys.end()) - keys.begin());
             const double ratio = occupied / wanted;
             if (std::abs(ratio - 1.0) < 0.03) break;
             // Every sampled vertex alone in its cell: finer cells cannot add any.
-            if (occupied >= double(keys.size()) * double(stride) * 0.999 && ratio < 1.0) break;
+            if (occupied >= double(keys.size()) * 0.999 && ratio < 1.0) break;
             h = std::max(smallest, h * std::sqrt(std::clamp(ratio, 0.05, 20.0)));
         }
     }

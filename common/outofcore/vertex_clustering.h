@@ -5,7 +5,7 @@
 //  - A uniform grid of cubic cells covers the bounding box of the vertices. Its cell size is given,
 //    or chosen from a target triangle count: a closed surface has about twice as many triangles as
 //    vertices, so the grid is refined until about target / 2 cells hold a vertex (counted on the
-//    vertices themselves, a few hundred thousand of them sampled evenly, before the triangles come).
+//    vertices themselves, at most 4 M of them sampled evenly, before the triangles come).
 //  - Every triangle adds its plane's quadric, weighted by its area, to the cells of its three
 //    vertices (Garland and Heckbert 1997's fundamental quadric, as Lindstrom does).
 //  - A triangle whose three vertices fall in three different cells is kept, as a triangle of those
@@ -34,6 +34,7 @@ namespace rad {
 struct ClusteringOptions {
     std::size_t targetTriangles = 0;  // used when cellSize <= 0
     double cellSize = 0.0;            // edge of a cubic cell, in model units; > 0 wins over the target
+    std::size_t sampledVertices = 4000000;  // at most this many evenly spaced vertices count the occupied cells
 };
 
 struct ClusteringStats {

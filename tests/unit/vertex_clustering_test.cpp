@@ -118,6 +118,19 @@ TEST(VertexClustering, OutputTriangleCountNearTheTarget) {
     }
 }
 
+TEST(VertexClustering, TargetHoldsWhenOnlyASampleOfTheVerticesChoosesTheGrid) {
+    // Large scans choose the grid on every k-th vertex: the count must not depend on k.
+    const rad::TriangleMesh sphere = rad::makeIcosphere(6);  // 40,962 vertices
+    for (std::size_t sample : {std::size_t(4000), std::size_t(10000)}) {
+        rad::ClusteringOptions options;
+        options.targetTriangles = 2000;
+        options.sampledVertices = sample;
+        const rad::TriangleMesh result = rad::clusterVertices(sphere, options);
+        EXPECT_GT(double(result.faceCount()), 0.7 * 2000) << sample;
+        EXPECT_LT(double(result.faceCount()), 1.3 * 2000) << sample;
+    }
+}
+
 TEST(VertexClustering, AMeshSmallerThanTheGridComesBackUnchanged) {
     const rad::TriangleMesh sphere = rad::makeIcosphere(2);  // 320 triangles, 162 vertices
     rad::ClusteringOptions options;
