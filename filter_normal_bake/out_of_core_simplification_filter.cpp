@@ -94,11 +94,13 @@ private:
     void run(FilterContext& ctx) const {
         const RichParameterList& par = ctx.parameters;
         const QString plyPath = par.getOpenFileName("plyFile").trimmed();
-        if (plyPath.isEmpty()) throw Refusal("Choose the PLY file of the scan (parameter 'PLY scan').");
+        if (plyPath.isEmpty())
+            throw Refusal("Choose the PLY file of the scan (parameter 'PLY scan'). The layers are unchanged.");
         if (!QFileInfo(plyPath).isFile())
-            throw Refusal("The PLY file " + plyPath.toStdString() + " does not exist: choose an existing file.");
+            throw Refusal("The PLY file " + plyPath.toStdString() +
+                          " does not exist: choose an existing file. The layers are unchanged.");
         const int target = par.getInt("targetFaces");
-        if (target < 4) throw Refusal("The target number of triangles must be at least 4.");
+        if (target < 4) throw Refusal("The target number of triangles must be at least 4. The layers are unchanged.");
 
         rad::OutOfCoreRequest request;
         request.plyPath = plyPath.toStdString();
@@ -144,7 +146,7 @@ private:
                            c.gridCells[0], c.gridCells[1], c.gridCells[2], c.cellSize, c.occupiedCells,
                            report.totalSeconds, report.clusteringSeconds, report.splatSeconds, report.writeSeconds));
         ctx.log(formatLine("Out-of-Core Simplification: normal map %dx%d, %d bit, object space: %zu points splatted, "
-                           "%zu of %zu chart texels received points, %zu filled by pull-push; wrote %s, %s",
+                           "%zu of %zu chart texels received points, %zu filled from their triangle; wrote %s, %s",
                            request.textureSize, request.textureSize, request.bits, report.pointsSplatted,
                            report.texelsWithPoints, report.chartTexels, report.chartTexelsFilled,
                            report.normalMapFile.c_str(), report.descriptionFile.c_str()));

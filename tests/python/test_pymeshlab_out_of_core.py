@@ -30,8 +30,7 @@ def test_new_layer_with_texture_and_a_map_of_the_sphere(scenes, tmp_path):
     run(ms, scan, tmp_path)
     assert ms.mesh_number() == 2
     assert np.array_equal(ms.mesh(0).vertex_matrix(), before), "the current layer was changed"
-    layer = ms.current_mesh()
-    assert layer.id() != 0
+    layer = ms.mesh(1)  # the new layer (not made current, like the other filters' new layers)
     faces, vertices = layer.face_matrix(), layer.vertex_matrix()
     assert 250 <= len(faces) <= 550, len(faces)
     radius = np.linalg.norm(vertices, axis=1)
