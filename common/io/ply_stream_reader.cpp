@@ -360,7 +360,6 @@ PlyStreamReader::PlyStreamReader(std::string path, std::size_t chunkVertices, st
 
 PlyStreamReader::~PlyStreamReader() {
     if (impl_ && impl_->file) std::fclose(impl_->file);
-    delete impl_;
 }
 
 PlyStreamStats PlyStreamReader::read(const std::function<void(const PlyVertexChunk&)>& onVertices,

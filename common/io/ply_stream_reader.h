@@ -28,6 +28,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -96,7 +97,7 @@ private:
     std::string path_;
     std::size_t chunkVertices_, chunkTriangles_;
     PlyStreamInfo info_;
-    Impl* impl_ = nullptr;
+    std::unique_ptr<Impl> impl_;  // owned also when the constructor throws
 };
 
 }  // namespace rad
