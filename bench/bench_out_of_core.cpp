@@ -216,6 +216,23 @@ int compare(const std::string& scan, std::size_t target, int size, const std::st
     };
     std::printf("texels points landed in: %zu, mean %.3f degrees; texels filled: %zu, mean %.3f degrees\n",
                 reached.size(), meanOf(reached), filled.size(), meanOf(filled));
+    // How much the in-core map itself changes from one texel to the next (same triangle): the scale
+    // of the disagreement between a point sample at the texel centre and an average over the texel.
+    double neighbourSum = 0;
+    std::size_t neighbourCount = 0;
+    for (int row = 0; row < size; ++row)
+        for (int column = 0; column + 1 < size; ++column) {
+            const std::size_t t = std::size_t(row) * size + column;
+            if (coverage.face[t] < 0 || !coverage.interior[t] || !coverage.interior[t + 1] ||
+                coverage.face[t + 1] != coverage.face[t])
+                continue;
+            double dot = 0;
+            for (int k = 0; k < 3; ++k) dot += double(b[3 * t + k]) * b[3 * (t + 1) + k];
+            neighbourSum += std::acos(std::clamp(dot, -1.0, 1.0)) * 180.0 / 3.14159265358979323846;
+            ++neighbourCount;
+        }
+    std::printf("in-core map: mean angle between horizontally adjacent texels of a triangle %.3f degrees\n",
+                neighbourSum / double(std::max<std::size_t>(neighbourCount, 1)));
     std::sort(angles.begin(), angles.end());
     double sum = 0;
     for (double x : angles) sum += x;
