@@ -13,6 +13,7 @@ ooc_mlx() {  # FILE PLY OUTPUT_BASE
         "<Param type=\"RichOpenFile\" name=\"plyFile\" value=\"$2\" exts_cardinality=\"1\" exts_val0=\"*.ply\"/>" \
         '<Param type="RichInt" name="targetFaces" value="400"/>' \
         '<Param type="RichInt" name="textureSize" value="256"/>' \
+        '<Param type="RichInt" name="gutter" value="4"/>' \
         '<Param type="RichEnum" name="bits" value="0" enum_cardinality="2" enum_val0="16 bit" enum_val1="8 bit"/>' \
         "<Param type=\"RichString\" name=\"outputFile\" value=\"$3\"/>"
 }

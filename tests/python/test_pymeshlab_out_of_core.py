@@ -87,3 +87,13 @@ def test_bad_texture_size_is_refused(scenes, tmp_path):
     ms = h.load(scenes("sphere", level=1))
     h.expect_refusal(ms, OOC, "power of two", plyfile=scenes("sphere", level=2), targetfaces=100, texturesize=100,
                      outputfile=str(tmp_path / "out"))
+
+
+def test_a_target_too_large_for_the_atlas_is_refused_before_reading_and_the_gutter_helps(scenes, tmp_path):
+    """1500 triangles (+25 %) with a 4-texel gutter need more than 256^2; with a 1-texel gutter they fit."""
+    ms = h.load(scenes("sphere", level=1))
+    h.expect_refusal(ms, OOC, "too small for a per-triangle atlas", plyfile=scenes("sphere", level=5),
+                     targetfaces=1500, texturesize=256, gutter=4, outputfile=str(tmp_path / "out"))
+    ms.apply_filter(OOC, plyfile=scenes("sphere", level=5), targetfaces=1500, texturesize=256, gutter=1,
+                    outputfile=str(tmp_path / "out"))
+    assert ms.mesh_number() == 2

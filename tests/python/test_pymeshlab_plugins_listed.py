@@ -39,7 +39,7 @@ EXPECTED_PARAMETERS = {
     h.BAKE: ["sourceMesh", "textureSize", "space", "tangentFrame", "bits", "maxDistance", "gutter", "newAtlas", "diffuse", "lean",
              "gltf", "gltfRoughness", "assign", "outputFile"],
     h.POP_LEVELS: ["levels", "correction"],
-    h.OUT_OF_CORE: ["plyFile", "targetFaces", "textureSize", "bits", "outputFile"],
+    h.OUT_OF_CORE: ["plyFile", "targetFaces", "textureSize", "gutter", "bits", "outputFile"],
 }
 
 
