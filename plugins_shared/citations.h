@@ -14,6 +14,12 @@ inline constexpr const char* kCiteGranier2007WeberStamminger =
     "M. Stamminger</i>, <b>\"Stateless Level of Detail Lighting for Automotive Visualization\"</b> (Alg. 2-4, "
     "sec. 3.5), after <i>M. Olano, D. Baker</i>, \"LEAN Mapping\", I3D 2010.";
 
+inline constexpr const char* kCiteGranier2007Lindstrom2000 =
+    "<br><br>Out-of-core simplification and normal maps from the streamed scan: <i>X. Granier, R. Pacanowski, "
+    "C. Schlick</i>, <b>\"Managing Geometry Complexity for Illumination Computation of Cultural Heritage "
+    "Scenes\"</b> (2007). Vertex clustering with quadrics: <i>P. Lindstrom</i>, <b>\"Out-of-Core Simplification "
+    "of Large Polygonal Models\"</b>, SIGGRAPH 2000.";
+
 inline constexpr const char* kCiteMikkelsen2008 =
     "<br><br>Tangent space: <i>M. S. Mikkelsen</i>, <b>\"Simulation of wrinkled surfaces revisited\"</b>, "
     "MSc thesis, University of Copenhagen (2008) (MikkTSpace).";

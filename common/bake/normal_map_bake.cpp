@@ -65,33 +65,6 @@ private:
     bool committed_ = false;
 };
 
-// Pull-push inside the charts, `rings` of dilation around them, pull-push for the rest: every
-// texel ends up with a value, and the gutter carries each chart's own border values.
-struct FillCounts {
-    std::size_t holes = 0, gutter = 0, background = 0;
-};
-FillCounts fillWholeMap(std::vector<float>& values, int width, int height, std::vector<std::uint8_t> valid,
-                        const std::vector<std::uint8_t>& chart, int rings) {
-    FillCounts counts;
-    counts.holes = fillByPullPush(values.data(), 3, width, height, valid, chart.data());
-    counts.gutter = dilateValidTexels(values.data(), 3, width, height, valid, rings);
-    counts.background = fillByPullPush(values.data(), 3, width, height, valid, nullptr);
-    return counts;
-}
-
-void writeNormalPng(const std::string& path, const std::vector<float>& normals, int width, int height, int bits) {
-    const std::size_t count = std::size_t(width) * height * 3;
-    if (bits == 16) {
-        std::vector<std::uint16_t> codes(count);
-        for (std::size_t i = 0; i < count; ++i) codes[i] = encodeNormal16(normals[i]);
-        writePng16(path, width, height, 3, codes.data());
-    } else {
-        Image8 image(width, height);
-        for (std::size_t i = 0; i < count; ++i) image.rgb[i] = encodeNormal8(normals[i]);
-        writePng(path, image);
-    }
-}
-
 void writeColorPng(const std::string& path, const std::vector<float>& colors, int width, int height) {
     Image8 image(width, height);
     for (std::size_t i = 0; i < image.rgb.size(); ++i) {
@@ -110,6 +83,28 @@ std::string preciseText(double value) {
 std::string fileName(const std::string& path) { return std::filesystem::path(path).filename().string(); }
 
 }  // namespace
+
+BakedMapFillCounts fillBakedMap(std::vector<float>& values, int width, int height, std::vector<std::uint8_t> valid,
+                                const std::vector<std::uint8_t>& chart, int rings) {
+    BakedMapFillCounts counts;
+    counts.holes = fillByPullPush(values.data(), 3, width, height, valid, chart.data());
+    counts.gutter = dilateValidTexels(values.data(), 3, width, height, valid, rings);
+    counts.background = fillByPullPush(values.data(), 3, width, height, valid, nullptr);
+    return counts;
+}
+
+void writeNormalMapPng(const std::string& path, const std::vector<float>& normals, int width, int height, int bits) {
+    const std::size_t count = std::size_t(width) * height * 3;
+    if (bits == 16) {
+        std::vector<std::uint16_t> codes(count);
+        for (std::size_t i = 0; i < count; ++i) codes[i] = encodeNormal16(normals[i]);
+        writePng16(path, width, height, 3, codes.data());
+    } else {
+        Image8 image(width, height);
+        for (std::size_t i = 0; i < count; ++i) image.rgb[i] = encodeNormal8(normals[i]);
+        writePng(path, image);
+    }
+}
 
 std::size_t estimatedBakeBytes(const NormalMapBakeRequest& request) {
     const bool withColor = request.bakeDiffuse && request.sourceColors != nullptr;
@@ -232,18 +227,18 @@ NormalMapBakeReport bakeNormalMapFiles(const NormalMapBakeRequest& request) {
     reportProgress(request.progress, 0.75, "filling holes and gutters");
 
     phase = Clock::now();
-    const FillCounts normalFill = fillWholeMap(baked.normals, size, size, baked.valid, baked.chart, request.gutterTexels);
+    const BakedMapFillCounts normalFill = fillBakedMap(baked.normals, size, size, baked.valid, baked.chart, request.gutterTexels);
     normalizeTexelVectors(baked.normals.data(), baked.normals.size() / 3);
     report.holesFilled = normalFill.holes;
     report.gutterTexelsDilated = normalFill.gutter;
     report.backgroundTexelsFilled = normalFill.background;
     if (withLean) {
-        fillWholeMap(baked.tangents, size, size, baked.valid, baked.chart, request.gutterTexels);
+        fillBakedMap(baked.tangents, size, size, baked.valid, baked.chart, request.gutterTexels);
         normalizeTexelVectors(baked.tangents.data(), baked.tangents.size() / 3);
     }
-    if (withColor) fillWholeMap(baked.colors, size, size, baked.valid, baked.chart, request.gutterTexels);
+    if (withColor) fillBakedMap(baked.colors, size, size, baked.valid, baked.chart, request.gutterTexels);
     if (gltfFromSecondMap) {
-        fillWholeMap(baked.mikkTSpaceNormals, size, size, baked.valid, baked.chart, request.gutterTexels);
+        fillBakedMap(baked.mikkTSpaceNormals, size, size, baked.valid, baked.chart, request.gutterTexels);
         normalizeTexelVectors(baked.mikkTSpaceNormals.data(), baked.mikkTSpaceNormals.size() / 3);
     }
     report.fillSeconds = secondsSince(phase);
@@ -268,7 +263,7 @@ NormalMapBakeReport bakeNormalMapFiles(const NormalMapBakeRequest& request) {
         const std::string leanPath = files.add(report.leanFile);
         leanWritten = std::async(std::launch::async, [&lean, leanPath] { writeLeanMoments(leanPath, lean); });
     }
-    writeNormalPng(files.add(report.normalMapFile), baked.normals, size, size, request.bits);
+    writeNormalMapPng(files.add(report.normalMapFile), baked.normals, size, size, request.bits);
     if (withColor) {
         report.diffuseMapFile = request.outputBase + "_diffuse.png";
         writeColorPng(files.add(report.diffuseMapFile), baked.colors, size, size);

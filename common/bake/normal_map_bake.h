@@ -19,6 +19,7 @@
 #include "bake/texture_atlas.h"  // BakeInputError
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -73,6 +74,20 @@ struct NormalMapBakeReport {
 // the limit (with the figures and the largest texture size that fits). OperationCancelled on cancel;
 // std::runtime_error when a file cannot be written (temporary files removed).
 NormalMapBakeReport bakeNormalMapFiles(const NormalMapBakeRequest& request);
+
+// The filling bakeNormalMapFiles applies to a baked map (3 floats per texel): pull-push inside the
+// charts (map_filling.h), `rings` of dilation around them, pull-push for the rest, so every texel
+// ends up with a value and the gutter carries each chart's own border values. `valid` is taken by
+// value (the caller's stays as baked); `chart` is 1 on texels some face covers.
+struct BakedMapFillCounts {
+    std::size_t holes = 0, gutter = 0, background = 0;
+};
+BakedMapFillCounts fillBakedMap(std::vector<float>& values, int width, int height, std::vector<std::uint8_t> valid,
+                                const std::vector<std::uint8_t>& chart, int rings);
+
+// B_normal.png as bakeNormalMapFiles writes it: unit vectors, 3 floats per texel, rows top to
+// bottom, encoded with encodeNormal8 / encodeNormal16 (bits 8 or 16). Throws on I/O errors.
+void writeNormalMapPng(const std::string& path, const std::vector<float>& normals, int width, int height, int bits);
 
 // The checks alone (the filter runs them before touching anything).
 void checkNormalMapBakeRequest(const NormalMapBakeRequest& request);

@@ -8,13 +8,15 @@ run_meshlabserver "$WORK/server.log" -d "$WORK/dump.txt" || true
 
 for name in "Radiance: Create Radiance Data from Analytic Material" \
             "Radiance: Evaluate Radiance toward a Viewpoint as Vertex Color" \
-            "Extract Level of Detail (POP Buffer)"; do
+            "Extract Level of Detail (POP Buffer)" \
+            "Out-of-Core Simplification and Normal Map"; do
     grep -qF "$name" "$WORK/dump.txt" || fail "filter '$name' missing from meshlabserver -d"
 done
 # Help text, with the paper it implements.
 grep -qF "Simplification of meshes with digitized radiance" "$WORK/dump.txt" || fail "help text does not cite Vanhoey et al. 2015"
 grep -qF "hemispherical polynomials" "$WORK/dump.txt" || fail "help text of the create filter missing"
 grep -qF "Rapid Progressive Clustering by Geometry Quantization" "$WORK/dump.txt" || fail "help text does not cite Limper et al. 2013"
+grep -qF "Out-of-Core Simplification of Large Polygonal Models" "$WORK/dump.txt" || fail "help text does not cite Lindstrom 2000"
 # Parameters are listed with their descriptions.
 grep -qF "Store reflected functions" "$WORK/dump.txt" || fail "parameter descriptions missing"
 # The system plugins are loaded too.

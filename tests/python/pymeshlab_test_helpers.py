@@ -37,6 +37,7 @@ FILTERS = {
     "Radiance: PRT Relighting as Vertex Color": "radiance_prt_relighting_as_vertex_color",
     "Bake Normal Map": "bake_normal_map",
     "Extract Level of Detail (POP Buffer)": "extract_level_of_detail_pop_buffer",
+    "Out-of-Core Simplification and Normal Map": "out_of_core_simplification_and_normal_map",
 }
 CREATE = FILTERS["Radiance: Create Radiance Data from Analytic Material"]
 EVALUATE = FILTERS["Radiance: Evaluate Radiance toward a Viewpoint as Vertex Color"]
@@ -48,6 +49,7 @@ UNIFORM = FILTERS["Radiance: Uniform PRT Subdivision"]
 RELIGHT = FILTERS["Radiance: PRT Relighting as Vertex Color"]
 BAKE = FILTERS["Bake Normal Map"]
 POP_LEVELS = FILTERS["Extract Level of Detail (POP Buffer)"]
+OUT_OF_CORE = FILTERS["Out-of-Core Simplification and Normal Map"]
 
 # The plugin files the package must load (the 2025 builds of build/pymeshlab_plugins).
 PLUGIN_FILES = ("libio_radiance.so", "libfilter_radiance_fit.so", "libfilter_radiance_simplify.so",

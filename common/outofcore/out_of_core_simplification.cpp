@@ -1,0 +1,155 @@
+#include "outofcore/out_of_core_simplification.h"
+
+#include "bake/bake_description.h"
+#include "bake/normal_map_bake.h"
+#include "bake/texture_atlas.h"
+#include "outofcore/streamed_normal_map.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+
+namespace rad {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+}  // namespace
+
+void checkOutOfCoreRequest(const OutOfCoreRequest& request) {
+    const std::string sizeProblem = textureSizeProblem(request.textureSize);
+    if (!sizeProblem.empty()) throw BakeInputError(sizeProblem);
+    if (request.bits != 8 && request.bits != 16)
+        throw BakeInputError("The normal map is written with 8 or 16 bits per channel, not " + std::to_string(request.bits) + ".");
+    if (request.gutterTexels < 1 || request.gutterTexels > 64)
+        throw BakeInputError("The gutter must be 1 to 64 texels wide (4 keeps two MIP levels clean).");
+    if (!(request.cellSize >= 0.0) || !std::isfinite(request.cellSize))
+        throw BakeInputError("The cell size must be 0 (use the target triangle count) or a positive distance.");
+    if (request.cellSize == 0.0 && request.targetTriangles < 4)
+        throw BakeInputError("The target triangle count must be at least 4 (or give a cell size).");
+    if (request.outputBase.empty())
+        throw BakeInputError("No output file name: give the base name of the normal map (e.g. /some/folder/scan, "
+                             "which writes scan_normal.png and scan_bake.txt).");
+    const std::filesystem::path directory = std::filesystem::path(request.outputBase).parent_path();
+    if (!directory.empty() && !std::filesystem::is_directory(directory))
+        throw BakeInputError("The output directory " + directory.string() + " does not exist: create it or choose another.");
+    if (request.plyPath.empty()) throw BakeInputError("No PLY file given: choose the scan's .ply file.");
+    PlyStreamReader reader(request.plyPath);
+    if (reader.info().faceCount == 0)
+        throw BakeInputError(request.plyPath + " has no faces: the out-of-core simplification needs a triangle mesh "
+                             "(reconstruct a surface from the point cloud first).");
+    // The atlas must fit the map for the mesh the target gives (up to 25 % more triangles than asked
+    // for: refused now rather than after a pass over the whole file).
+    if (request.cellSize == 0.0)
+        makePerTriangleAtlas(request.targetTriangles + request.targetTriangles / 4, request.textureSize,
+                             request.gutterTexels + 1);
+}
+
+OutOfCoreReport simplifyOutOfCore(const OutOfCoreRequest& request) {
+    const Clock::time_point start = Clock::now();
+    checkOutOfCoreRequest(request);
+    OutOfCoreReport report;
+    PlyStreamReader reader(request.plyPath);
+    report.file = reader.info();
+    report.normalsFromFile = report.file.hasNormals;
+
+    // Pass 1: positions kept (12 bytes per vertex), triangles streamed into the grid's quadrics.
+    Clock::time_point phase = Clock::now();
+    ClusteringOptions options;
+    options.targetTriangles = request.targetTriangles;
+    options.cellSize = request.cellSize;
+    VertexClustering clustering(options);
+    clustering.reserveVertices(std::size_t(report.file.vertexCount));
+    std::vector<float> accumulatedNormals;
+    if (!report.normalsFromFile) accumulatedNormals.assign(3 * std::size_t(report.file.vertexCount), 0.0f);
+    report.read = reader.read(
+        [&](const PlyVertexChunk& chunk) { clustering.addVertices(chunk.positions, chunk.count); },
+        [&](const PlyTriangleChunk& chunk) {
+            clustering.addTriangles(chunk.indices, chunk.count,
+                                    accumulatedNormals.empty() ? nullptr : accumulatedNormals.data());
+        },
+        false, progressRange(request.progress, 0.0, 0.45));
+    report.mesh = clustering.finish();
+    report.clustering = clustering.stats();
+    report.clusteringSeconds = secondsSince(phase);
+    if (report.mesh.faceCount() == 0)
+        throw BakeInputError("Nothing is left of the mesh at this resolution (every triangle collapsed): raise the target "
+                             "triangle count or lower the cell size.");
+    reportProgress(request.progress, 0.5, "laying out the texture");
+
+    PerTriangleAtlas atlas = makePerTriangleAtlas(report.mesh.faceCount(), request.textureSize, request.gutterTexels + 1);
+    report.wedgeUv = std::move(atlas.wedgeUv);
+
+    // Pass 2: the original points through the simplified mesh's hierarchy.
+    phase = Clock::now();
+    NormalSplatter splatter(report.mesh, report.wedgeUv, request.textureSize);
+    const ProgressCallback splatProgress = progressRange(request.progress, 0.5, 0.9);
+    std::vector<float>& positions = clustering.positions();
+    if (report.normalsFromFile) {
+        positions = {};  // the file gives them again with the normals
+        reader.read([&](const PlyVertexChunk& chunk) { splatter.splat(chunk.positions, chunk.normals, chunk.count); },
+                    {}, true, splatProgress);
+    } else {
+        // Normalised in the splatter; the accumulated sums are area-weighted normals.
+        const std::size_t n = positions.size() / 3, block = 1 << 18;
+        for (std::size_t first = 0; first < n; first += block) {
+            splatter.splat(&positions[3 * first], &accumulatedNormals[3 * first], std::min(block, n - first));
+            reportProgress(splatProgress, double(first + block) / double(n), "streaming the points into the map");
+        }
+    }
+    positions = {};
+    accumulatedNormals = {};
+    report.splatSeconds = secondsSince(phase);
+    reportProgress(request.progress, 0.9, "filling the map");
+    phase = Clock::now();
+    StreamedNormalMap map = splatter.finish(request.gutterTexels);
+    report.fillSeconds = secondsSince(phase);
+    report.pointsSplatted = map.pointsSplatted;
+    report.pointsWithoutNormal = map.pointsWithoutNormal;
+    report.chartTexels = map.chartTexels;
+    report.texelsWithPoints = map.texelsWithPoints;
+    report.chartTexelsFilled = map.chartTexelsFilled;
+    reportProgress(request.progress, 0.95, "writing the map");
+
+    // Written as an in-core bake's files, under temporary names renamed together at the end.
+    phase = Clock::now();
+    report.normalMapFile = request.outputBase + "_normal.png";
+    report.descriptionFile = request.outputBase + "_bake.txt";
+    const std::string mapPart = report.normalMapFile + ".part", descriptionPart = report.descriptionFile + ".part";
+    try {
+        writeNormalMapPng(mapPart, map.normals, map.size, map.size, request.bits);
+        writeBakeDescription(
+            descriptionPart,
+            {{"space", "object"},
+             {"size", std::to_string(map.size)},
+             {"bits", std::to_string(request.bits)},
+             {"encoding", request.bits == 16 ? "(x + 1) / 2 * 65535" : "(x + 1) / 2 * 255"},
+             {"uv", "per-triangle atlas"},
+             {"gutter_texels", std::to_string(request.gutterTexels)},
+             {"normal_map", std::filesystem::path(report.normalMapFile).filename().string()},
+             {"method", "out-of-core: vertex clustering (Lindstrom 2000), original points splatted into the texel of "
+                        "their nearest simplified triangle, pull-push filled (Granier et al. 2007)"},
+             {"source_vertices", std::to_string(report.file.vertexCount)},
+             {"source_triangles", std::to_string(report.read.trianglesEmitted)},
+             {"source_normals", report.normalsFromFile ? "file" : "area-weighted from the faces"},
+             {"chart_texels", std::to_string(map.chartTexels)},
+             {"texels_with_points", std::to_string(map.texelsWithPoints)},
+             {"holes_filled", std::to_string(map.chartTexelsFilled)}});
+        std::filesystem::rename(mapPart, report.normalMapFile);
+        std::filesystem::rename(descriptionPart, report.descriptionFile);
+    } catch (...) {
+        std::error_code ignored;
+        std::filesystem::remove(mapPart, ignored);
+        std::filesystem::remove(descriptionPart, ignored);
+        throw;
+    }
+    report.writeSeconds = secondsSince(phase);
+    report.totalSeconds = secondsSince(start);
+    if (request.progress) request.progress(1.0, "done");
+    return report;
+}
+
+}  // namespace rad

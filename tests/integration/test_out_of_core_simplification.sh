@@ -1,0 +1,55 @@
+#!/usr/bin/env bash
+# "Out-of-Core Simplification and Normal Map" through the real meshlabserver 2020.09: a sphere scan
+# (make_scene, 20,480 triangles, radius 1) named by path is simplified into a NEW layer, saved with
+# the project (-w) as an OBJ with its wedge texture coordinates and its texture; the map and its
+# description are written beside it. Checked: the new layer's size and that its vertices lie on the
+# sphere; the current layer saved unchanged. Then the refusals: a truncated PLY and a PLY whose face
+# uses a vertex that does not exist (no file written, the layer unchanged).
+source "$(dirname "$0")/lib.sh"
+FILTER="Out-of-Core Simplification and Normal Map"
+
+ooc_mlx() {  # FILE PLY OUTPUT_BASE
+    write_mlx "$1" "$FILTER" \
+        "<Param type=\"RichOpenFile\" name=\"plyFile\" value=\"$2\" exts_cardinality=\"1\" exts_val0=\"*.ply\"/>" \
+        '<Param type="RichInt" name="targetFaces" value="400"/>' \
+        '<Param type="RichInt" name="textureSize" value="256"/>' \
+        '<Param type="RichInt" name="gutter" value="4"/>' \
+        '<Param type="RichEnum" name="bits" value="0" enum_cardinality="2" enum_val0="16 bit" enum_val1="8 bit"/>' \
+        "<Param type=\"RichString\" name=\"outputFile\" value=\"$3\"/>"
+}
+
+"$MAKE_SCENE" sphere --level 5 -o "$WORK/scan.ply" >/dev/null
+"$MAKE_SCENE" sphere --level 1 -o "$WORK/current.ply" >/dev/null
+mkdir -p "$WORK/out"
+ooc_mlx "$WORK/ooc.mlx" "$WORK/scan.ply" "$WORK/out/scan"
+run_meshlabserver "$WORK/ooc.log" -i "$WORK/current.ply" -s "$WORK/ooc.mlx" -w "$WORK/out/ooc.mlp" \
+    || { cat "$WORK/ooc.log" >&2; fail "the filter failed"; }
+grep -qE "Out-of-Core Simplification: 'scan.ply' \(10242 vertices, 20480 triangles, normals from the file\) -> layer 'scan_ooc': [0-9]+ triangles" \
+    "$WORK/ooc.log" || { cat "$WORK/ooc.log" >&2; fail "no log line"; }
+[ -s "$WORK/out/scan_normal.png" ] && [ -s "$WORK/out/scan_bake.txt" ] || fail "normal map or description missing"
+grep -q "^space = object" "$WORK/out/scan_bake.txt" || fail "the description does not say object space"
+saved=$(ls "$WORK/out"/scan_ooc*.ply 2>/dev/null | head -n 1)
+[ -n "$saved" ] || { ls "$WORK/out" >&2; fail "the new layer was not saved with the project"; }
+python3 - "$saved" <<'PY' || fail "the new layer is wrong"
+import sys
+sys.path.insert(0, __import__("os").environ["RADIANCE_SOURCE_DIR"] + "/tests/integration")
+import ply_reader
+ply = ply_reader.read_ply(sys.argv[1])
+v = ply.data["vertex"]
+n = len(ply.data["face"]["vertex_indices"])
+assert 250 <= n <= 550, n
+for x, y, z in zip(v["x"], v["y"], v["z"]):
+    r = (x * x + y * y + z * z) ** 0.5
+    assert abs(r - 1.0) < 0.05, r
+print("new layer: %d faces, vertices on the sphere" % n)
+PY
+
+# Refusals: the current layer is saved unchanged and no map is written.
+head -c 200000 "$WORK/scan.ply" >"$WORK/truncated.ply"
+ooc_mlx "$WORK/truncated.mlx" "$WORK/truncated.ply" "$WORK/refused"
+expect_refusal truncated "The PLY file cannot be read" "$WORK/current.ply" "$WORK/truncated.mlx"
+printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 9\n' >"$WORK/bad_index.ply"
+ooc_mlx "$WORK/bad_index.mlx" "$WORK/bad_index.ply" "$WORK/refused"
+expect_refusal bad_index "face 0 uses vertex 9, out of range" "$WORK/current.ply" "$WORK/bad_index.mlx"
+[ ! -e "$WORK/refused_normal.png" ] || fail "a refused run wrote a map"
+note "ok"

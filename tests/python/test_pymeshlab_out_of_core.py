@@ -1,0 +1,99 @@
+"""'Out-of-Core Simplification and Normal Map' through pymeshlab 2025.7: a PLY scan read from disk
+(never loaded as a layer) becomes a NEW simplified layer with wedge texture coordinates and the
+normal map as its texture; malformed files are refused and the document is left as it was.
+
+Expected values come from the definitions, computed here with numpy: the scan is a sphere of radius
+1 (make_scene, exact normals), so every vertex of the simplified mesh lies near the sphere, and the
+map, decoded with the documented encoding ((x + 1) / 2 * 65535), holds the sphere's normal at the
+texel's point, i.e. its direction from the centre.
+"""
+import os
+
+import numpy as np
+import pytest
+
+import pymeshlab_radiance  # noqa: F401  (loads our plugins into pymeshlab)
+import pymeshlab_test_helpers as h
+
+OOC = h.OUT_OF_CORE
+
+
+def run(ms, ply, work, target=400, size=256):
+    ms.apply_filter(OOC, plyfile=str(ply), targetfaces=target, texturesize=size, outputfile=str(work / "scan"))
+
+
+def test_new_layer_with_texture_and_a_map_of_the_sphere(scenes, tmp_path):
+    scan = scenes("sphere", level=5)  # 20,480 triangles, radius 1
+    ms = h.load(scenes("sphere", level=1))  # MeshLab needs a current layer; it is left alone
+    h.keep_alive(ms)
+    before = ms.current_mesh().vertex_matrix().copy()
+    run(ms, scan, tmp_path)
+    assert ms.mesh_number() == 2
+    assert np.array_equal(ms.mesh(0).vertex_matrix(), before), "the current layer was changed"
+    layer = ms.mesh(1)  # the new layer (not made current, like the other filters' new layers)
+    faces, vertices = layer.face_matrix(), layer.vertex_matrix()
+    assert 250 <= len(faces) <= 550, len(faces)
+    radius = np.linalg.norm(vertices, axis=1)
+    assert np.all(np.abs(radius - 1.0) < 0.05), radius
+    assert layer.has_wedge_tex_coord()
+    uv = layer.wedge_tex_coord_matrix()
+    assert uv.shape == (3 * len(faces), 2) and uv.min() >= 0.0 and uv.max() <= 1.0
+    assert layer.texture_number() == 1
+    png = tmp_path / "scan_normal.png"
+    desc = tmp_path / "scan_bake.txt"
+    assert png.exists() and desc.exists()
+    assert "space = object" in desc.read_text()
+
+    # Decode the map at the centre of each face's UV triangle and compare with the sphere's normal
+    # at the face's centroid.
+    image, depth = h.read_png(png)
+    assert depth == 16
+    height, width = image.shape[:2]
+    normals = image[:, :, :3] * 2.0 - 1.0
+    corner_uv = uv.reshape(-1, 3, 2).mean(axis=1)
+    columns = np.clip((corner_uv[:, 0] * width).astype(int), 0, width - 1)
+    rows_ = np.clip(((1.0 - corner_uv[:, 1]) * height).astype(int), 0, height - 1)
+    sampled = h.normalized(normals[rows_, columns])
+    centroids = vertices[faces].mean(axis=1)
+    expected = h.normalized(centroids)
+    angles = np.degrees(np.arccos(np.clip(np.sum(sampled * expected, axis=1), -1, 1)))
+    assert angles.mean() < 2.0, angles.mean()
+    assert np.percentile(angles, 95) < 5.0
+
+
+@pytest.mark.parametrize("case,content,message", [
+    ("truncated", None, "truncated"),
+    ("not_ply", b"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "not a PLY file"),
+    ("bad_index", None, "out of range"),
+    ("missing", None, "does not exist"),
+])
+def test_malformed_ply_is_refused_and_the_document_is_unchanged(scenes, tmp_path, case, content, message):
+    path = tmp_path / (case + ".ply")
+    good = open(scenes("sphere", level=2), "rb").read()
+    if case == "truncated":
+        path.write_bytes(good[: len(good) - 100])
+    elif case == "not_ply":
+        path.write_bytes(content)
+    elif case == "bad_index":
+        h.write_ascii_ply(path, [(0, 0, 0), (1, 0, 0), (0, 1, 0)], [(0, 1, 7)])
+    ms = h.load(scenes("sphere", level=1))
+    text = h.expect_refusal(ms, OOC, message, plyfile=str(path), targetfaces=100, texturesize=128,
+                            outputfile=str(tmp_path / "out"))
+    assert "unchanged" in text
+    assert not any(f.startswith("out") for f in os.listdir(tmp_path)), os.listdir(tmp_path)
+
+
+def test_bad_texture_size_is_refused(scenes, tmp_path):
+    ms = h.load(scenes("sphere", level=1))
+    h.expect_refusal(ms, OOC, "power of two", plyfile=scenes("sphere", level=2), targetfaces=100, texturesize=100,
+                     outputfile=str(tmp_path / "out"))
+
+
+def test_a_target_too_large_for_the_atlas_is_refused_before_reading_and_the_gutter_helps(scenes, tmp_path):
+    """1500 triangles (+25 %) with a 4-texel gutter need more than 256^2; with a 1-texel gutter they fit."""
+    ms = h.load(scenes("sphere", level=1))
+    h.expect_refusal(ms, OOC, "too small for a per-triangle atlas", plyfile=scenes("sphere", level=5),
+                     targetfaces=1500, texturesize=256, gutter=4, outputfile=str(tmp_path / "out"))
+    ms.apply_filter(OOC, plyfile=scenes("sphere", level=5), targetfaces=1500, texturesize=256, gutter=1,
+                    outputfile=str(tmp_path / "out"))
+    assert ms.mesh_number() == 2

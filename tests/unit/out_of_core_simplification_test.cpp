@@ -1,0 +1,111 @@
+// The whole out-of-core job (outofcore/out_of_core_simplification.h): a PLY file in, the simplified
+// mesh, its atlas and the files of a bake out; refusals leave no file.
+#include "outofcore/out_of_core_simplification.h"
+
+#include "bake/bake_description.h"
+#include "bake/texture_atlas.h"
+#include "geometry/primitive_meshes.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Folder {
+    fs::path path;
+    explicit Folder(const std::string& name) : path(fs::temp_directory_path() / name) {
+        fs::remove_all(path);
+        fs::create_directories(path);
+    }
+    ~Folder() { fs::remove_all(path); }
+    std::size_t files() const { return std::size_t(std::distance(fs::directory_iterator(path), fs::directory_iterator())); }
+};
+
+// Binary little-endian PLY of the mesh, without normals (the job computes area-weighted ones).
+std::string writePly(const fs::path& path, const rad::TriangleMesh& mesh) {
+    std::ofstream out(path, std::ios::binary);
+    out << "ply\nformat binary_little_endian 1.0\nelement vertex " << mesh.vertexCount()
+        << "\nproperty float x\nproperty float y\nproperty float z\nelement face " << mesh.faceCount()
+        << "\nproperty list uchar uint vertex_indices\nend_header\n";
+    out.write(reinterpret_cast<const char*>(mesh.positions.data()), std::streamsize(4 * mesh.positions.size()));
+    for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
+        const char three = 3;
+        out.write(&three, 1);
+        out.write(reinterpret_cast<const char*>(&mesh.faces[3 * f]), 12);
+    }
+    return path.string();
+}
+
+TEST(OutOfCoreSimplification, SphereFileGivesASimplifiedMeshAndAMap) {
+    const Folder folder("radiance_ooc_sphere");
+    rad::OutOfCoreRequest request;
+    request.plyPath = writePly(folder.path / "sphere.ply", rad::makeIcosphere(5));  // 20,480 triangles
+    request.targetTriangles = 500;
+    request.textureSize = 256;
+    request.outputBase = (folder.path / "out").string();
+    const rad::OutOfCoreReport report = rad::simplifyOutOfCore(request);
+    EXPECT_FALSE(report.normalsFromFile);
+    EXPECT_EQ(report.read.trianglesEmitted, 20480u);
+    EXPECT_GT(report.mesh.faceCount(), 350u);
+    EXPECT_LT(report.mesh.faceCount(), 650u);
+    EXPECT_EQ(report.wedgeUv.size(), 6 * report.mesh.faceCount());
+    EXPECT_EQ(report.pointsSplatted, rad::icosphereVertexCount(5));
+    const rad::BakeDescription description = rad::readBakeDescription(report.descriptionFile);
+    EXPECT_EQ(description.space, rad::NormalSpace::Object);
+    EXPECT_EQ(description.size, 256);
+    int width = 0, height = 0;
+    const std::vector<float> map = rad::readNormalMap(report.normalMapFile, width, height);
+    ASSERT_EQ(width, 256);
+    // The map at each face's UV centroid is the sphere's normal at the face's centroid (within the
+    // faceting of the points' normals: area-weighted normals of a level-5 icosphere).
+    double sum = 0;
+    for (std::size_t f = 0; f < report.mesh.faceCount(); ++f) {
+        float u = 0, v = 0, p[3] = {0, 0, 0};
+        for (int k = 0; k < 3; ++k) {
+            u += report.wedgeUv[6 * f + 2 * k] / 3;
+            v += report.wedgeUv[6 * f + 2 * k + 1] / 3;
+            for (int a = 0; a < 3; ++a) p[a] += report.mesh.positions[3 * report.mesh.faces[3 * f + k] + a] / 3;
+        }
+        const int column = std::min(width - 1, int(u * width)), row = std::min(height - 1, int((1 - v) * height));
+        const float* n = &map[3 * (std::size_t(row) * width + column)];
+        const float length = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+        sum += std::acos(std::min(1.0f, (n[0] * p[0] + n[1] * p[1] + n[2] * p[2]) / length)) * 180.0 / 3.14159265;
+    }
+    EXPECT_LT(sum / double(report.mesh.faceCount()), 2.0);
+    EXPECT_EQ(folder.files(), 3u);  // sphere.ply, out_normal.png, out_bake.txt: no temporary left
+}
+
+TEST(OutOfCoreSimplification, RefusalsAndCancelLeaveNoFile) {
+    const Folder folder("radiance_ooc_refusals");
+    rad::OutOfCoreRequest request;
+    request.plyPath = writePly(folder.path / "sphere.ply", rad::makeIcosphere(3));
+    request.targetTriangles = 100;
+    request.textureSize = 128;
+    request.outputBase = (folder.path / "out").string();
+
+    rad::OutOfCoreRequest badSize = request;
+    badSize.textureSize = 100;
+    EXPECT_THROW(rad::simplifyOutOfCore(badSize), rad::BakeInputError);
+    rad::OutOfCoreRequest badFolder = request;
+    badFolder.outputBase = (folder.path / "missing" / "out").string();
+    EXPECT_THROW(rad::simplifyOutOfCore(badFolder), rad::BakeInputError);
+    rad::OutOfCoreRequest missing = request;
+    missing.plyPath = (folder.path / "nothing.ply").string();
+    EXPECT_THROW(rad::simplifyOutOfCore(missing), rad::PlyStreamError);
+    rad::OutOfCoreRequest tooBig = request;
+    tooBig.targetTriangles = 1000000;  // a million triangles do not fit a 128^2 atlas
+    EXPECT_THROW(rad::simplifyOutOfCore(tooBig), rad::BakeInputError);
+    rad::OutOfCoreRequest cancelled = request;
+    cancelled.progress = [](double fraction, const char*) { return fraction < 0.7; };
+    EXPECT_THROW(rad::simplifyOutOfCore(cancelled), rad::OperationCancelled);
+    EXPECT_EQ(folder.files(), 1u);  // only the input
+}
+
+}  // namespace
