@@ -73,6 +73,13 @@ GlCapabilities queryGlCapabilities() {
         caps.rgb32TextureBuffer =
             atLeast(caps.glMajor, caps.glMinor, 4, 0) || hasExtension("GL_ARB_texture_buffer_object_rgb32");
     }
+    {
+        GLint size = 0, units = 0;
+        glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &size);
+        glGetIntegerv(GL_MAX_TEXTURE_IMAGE_UNITS, &units);
+        caps.max3dTextureSize = size;
+        caps.maxFragmentTextureUnits = units;
+    }
     while (glGetError() != GL_NO_ERROR) {
     }
     return caps;
