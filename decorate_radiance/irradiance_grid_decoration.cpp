@@ -7,6 +7,7 @@
 
 #include "bake/bake_description.h"
 #include "bake/lean_maps.h"
+#include "image/image_io.h"
 #include "image/rgb_image.h"
 #include "lighting/irradiance_vector_grid.h"
 #include "render/tone_mapping.h"
@@ -133,8 +134,7 @@ std::unique_ptr<IrradianceGridView> startIrradianceGrid(MeshModel& m, const Rich
         rad::RadianceMesh plain;
         if (!radml::exportPlainMesh(m.cm, choice, plain, why)) return nullptr;
         std::string mapWhy;
-        const std::string description =
-            par.getEnum(kNormals) == kMappedNormals ? bakedMapOf(m, mapWhy) : std::string();
+        const std::string description = bakedMapOf(m, mapWhy);  // normal map and diffuse map of a bake
         std::vector<float> wedgeUv = description.empty() ? std::vector<float>(6 * plain.faceCount(), 0.0f)
                                                          : radml::exportWedgeTexCoords(m.cm);
         std::string problem = view->renderer->setMesh(plain.positions.data(), plain.normals.data(), plain.vertexCount(),
@@ -143,7 +143,23 @@ std::unique_ptr<IrradianceGridView> startIrradianceGrid(MeshModel& m, const Rich
             why = problem;
             return nullptr;
         }
+        std::string colourNote = "albedo from the options";
+        bool diffuse = false;
         if (!description.empty()) {
+            const rad::BakeDescription bake = rad::readBakeDescription(description);
+            const QDir folder = QFileInfo(QString::fromStdString(description)).absoluteDir();
+            if (!bake.diffuseMap.empty()) {
+                const std::string file = folder.filePath(QString::fromStdString(bake.diffuseMap)).toStdString();
+                try {
+                    problem = view->renderer->setDiffuseMap(rad::readImage8(file));
+                } catch (const std::exception& e) {
+                    problem = e.what();
+                }
+                diffuse = problem.empty();
+                colourNote = diffuse ? "albedo from the baked diffuse map" : "diffuse map refused (" + problem + ")";
+            }
+        }
+        if (!description.empty() && par.getEnum(kNormals) == kMappedNormals) {
             const rad::BakeDescription bake = rad::readBakeDescription(description);
             const QDir folder = QFileInfo(QString::fromStdString(description)).absoluteDir();
             int width = 0, height = 0;
@@ -158,8 +174,7 @@ std::unique_ptr<IrradianceGridView> startIrradianceGrid(MeshModel& m, const Rich
                 mapNote = "vertex normals (normal map refused: " + problem + ")";
             }
         }
-        std::string colourNote = "albedo from the options";
-        if (m.hasDataMask(MeshModel::MM_VERTCOLOR) && plain.colors.size() == 4 * plain.vertexCount()) {
+        if (!diffuse && m.hasDataMask(MeshModel::MM_VERTCOLOR) && plain.colors.size() == 4 * plain.vertexCount()) {
             std::vector<float> rho(3 * plain.vertexCount());
             for (std::size_t v = 0; v < plain.vertexCount(); ++v)
                 for (int c = 0; c < 3; ++c) rho[3 * v + c] = static_cast<float>(linearOf(plain.colors[4 * v + c]));

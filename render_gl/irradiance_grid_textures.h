@@ -9,7 +9,7 @@
 //
 // Limits (gl_capabilities.h): each axis's vertex count at most GL_MAX_3D_TEXTURE_SIZE (at least 256
 // from GL 3.0 on) and the fragment shader needs 12 texture units besides the ones its renderer
-// already uses (the normal-map renderer: 2, so 14 of the at least 16 of GL 3.2). When a limit is not
+// already uses (the normal-map renderer: 3, so 15 of the at least 16 of GL 3.2). When a limit is not
 // met, upload() refuses with the reason (the decoration logs it and draws without indirect light).
 #pragma once
 

@@ -12,7 +12,8 @@
 namespace radgl {
 
 namespace {
-constexpr int kGridFirstUnit = 2;  // units 0 and 1: the normal map and the LEAN moments
+constexpr int kDiffuseUnit = 2;    // units 0 and 1: the normal map and the LEAN moments
+constexpr int kGridFirstUnit = 3;  // then the irradiance vector grid's 12 3D textures
 constexpr int kCornerFloats = 12;  // position, normal, uv, MikkTSpace tangent and sign
 // POP buffer: position, normal, uv, level-16 cell, d(u)/dxyz, d(v)/dxyz, then the tangent and sign.
 constexpr int kPopCornerFloats = 21;
@@ -89,6 +90,8 @@ void NormalMapGlRenderer::buildProgram() {
     u_.boxExtent = loc("uBoxExtent");
     u_.indirect = loc("uIndirect");
     u_.vertexAlbedo = loc("uVertexAlbedo");
+    u_.diffuseMap = loc("uDiffuseMap");
+    u_.useDiffuseMap = loc("uUseDiffuseMap");
     u_.gridOrigin = loc("uIvgOrigin");
     u_.gridCellSize = loc("uIvgCellSize");
     u_.gridVertexCounts = loc("uIvgVertexCounts");
@@ -175,6 +178,7 @@ std::string NormalMapGlRenderer::eraseFullMesh(const Eigen::Vector3f& top, const
 NormalMapGlRenderer::~NormalMapGlRenderer() {
     deleteGlBuffer(vertexBuffer_);
     deleteGlBuffer(colorBuffer_);
+    deleteGlTexture(diffuseTexture_);
     grid_.release();
     deleteGlTexture(normalTexture_);
     deleteGlTexture(momentTexture_);
@@ -396,10 +400,45 @@ std::string NormalMapGlRenderer::setVertexColors(const float* rgb, std::size_t v
     return {};
 }
 
+std::string NormalMapGlRenderer::setDiffuseMap(const rad::Image8& image) {
+    if (!program_) return shaderProblem_;
+    if (image.width <= 0 || image.height <= 0 || image.rgb.size() != std::size_t(image.width) * image.height * 3)
+        return "the diffuse map is empty or its size does not match its data";
+    GLint previousTexture = 0, previousUnpackBuffer = 0;
+    glGetIntegerv(GL_TEXTURE_BINDING_2D, &previousTexture);
+    glGetIntegerv(GL_PIXEL_UNPACK_BUFFER_BINDING, &previousUnpackBuffer);
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+    glPushClientAttrib(GL_CLIENT_PIXEL_STORE_BIT);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+    glPixelStorei(GL_UNPACK_SKIP_ROWS, 0);
+    glPixelStorei(GL_UNPACK_SKIP_PIXELS, 0);
+    // Rows flipped (images are stored top to bottom, GL's first row is v = 0); GL_SRGB8: the
+    // sampler returns linear values, filtered after decoding.
+    const std::size_t row = std::size_t(image.width) * 3;
+    std::vector<std::uint8_t> flipped(image.rgb.size());
+    for (int r = 0; r < image.height; ++r)
+        std::copy(image.rgb.begin() + std::ptrdiff_t(row * (image.height - 1 - r)),
+                  image.rgb.begin() + std::ptrdiff_t(row * (image.height - r)), flipped.begin() + std::ptrdiff_t(row * r));
+    if (!diffuseTexture_) glGenTextures(1, &diffuseTexture_);
+    glBindTexture(GL_TEXTURE_2D, diffuseTexture_);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_SRGB8, image.width, image.height, 0, GL_RGB, GL_UNSIGNED_BYTE, flipped.data());
+    glGenerateMipmap(GL_TEXTURE_2D);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glPopClientAttrib();
+    glBindTexture(GL_TEXTURE_2D, static_cast<GLuint>(previousTexture));
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, static_cast<GLuint>(previousUnpackBuffer));
+    checkGl("diffuse map upload");
+    return {};
+}
+
 std::string NormalMapGlRenderer::setIrradianceGrid(const rad::IrradianceVectorGrid& grid, std::string& note) {
     note.clear();
     if (!program_) return shaderProblem_;
-    const std::string problem = grid_.upload(grid, caps_, kGridFirstUnit, note);
+    const std::string problem = grid_.upload(grid, caps_, kGridFirstUnit, note);  // units 0 .. kGridFirstUnit - 1 in use
     checkGl("irradiance grid upload");
     return problem;
 }
@@ -415,12 +454,12 @@ std::string NormalMapGlRenderer::draw(NormalMapShading mode, const NormalMapLigh
     }
     if (lighting.indirect != IndirectLight::None && !grid_.ready()) return "no irradiance vector grid";
 
-    GLint previousProgram = 0, previousArray = 0, previousActiveTexture = 0, previousTextures[2] = {0, 0};
+    GLint previousProgram = 0, previousArray = 0, previousActiveTexture = 0, previousTextures[3] = {0, 0, 0};
     GLint previousGridTextures[IrradianceGridTextures::kTextures] = {};
     glGetIntegerv(GL_CURRENT_PROGRAM, &previousProgram);
     glGetIntegerv(GL_ARRAY_BUFFER_BINDING, &previousArray);
     glGetIntegerv(GL_ACTIVE_TEXTURE, &previousActiveTexture);
-    for (int unit = 0; unit < 2; ++unit) {
+    for (int unit = 0; unit < 3; ++unit) {
         glActiveTexture(GL_TEXTURE0 + unit);
         glGetIntegerv(GL_TEXTURE_BINDING_2D, &previousTextures[unit]);
     }
@@ -447,6 +486,8 @@ std::string NormalMapGlRenderer::draw(NormalMapShading mode, const NormalMapLigh
     glBindTexture(GL_TEXTURE_2D, normalTexture_);
     glActiveTexture(GL_TEXTURE1);
     glBindTexture(GL_TEXTURE_2D, momentTexture_);
+    glActiveTexture(GL_TEXTURE0 + kDiffuseUnit);
+    glBindTexture(GL_TEXTURE_2D, diffuseTexture_);
     if (gridBound)
         for (int t = 0; t < IrradianceGridTextures::kTextures; ++t) {
             glActiveTexture(GL_TEXTURE0 + kGridFirstUnit + t);
@@ -459,6 +500,8 @@ std::string NormalMapGlRenderer::draw(NormalMapShading mode, const NormalMapLigh
     for (int t = 0; t < IrradianceGridTextures::kTextures; ++t) glUniform1i(u_.gridSamplers[t], kGridFirstUnit + t);
     glUniform1i(u_.indirect, static_cast<int>(lighting.indirect));
     glUniform1i(u_.vertexAlbedo, colorBuffer_ ? 1 : 0);
+    glUniform1i(u_.diffuseMap, kDiffuseUnit);
+    glUniform1i(u_.useDiffuseMap, diffuseTexture_ ? 1 : 0);
     glUniform3f(u_.gridOrigin, grid_.origin()[0], grid_.origin()[1], grid_.origin()[2]);
     glUniform3f(u_.gridCellSize, grid_.cellSize()[0], grid_.cellSize()[1], grid_.cellSize()[2]);
     glUniform3f(u_.gridVertexCounts, static_cast<float>(grid_.vertexCounts()[0]), static_cast<float>(grid_.vertexCounts()[1]),
@@ -523,7 +566,7 @@ std::string NormalMapGlRenderer::draw(NormalMapShading mode, const NormalMapLigh
             glActiveTexture(GL_TEXTURE0 + kGridFirstUnit + t);
             glBindTexture(GL_TEXTURE_3D, static_cast<GLuint>(previousGridTextures[t]));
         }
-    for (int unit = 1; unit >= 0; --unit) {
+    for (int unit = 2; unit >= 0; --unit) {
         glActiveTexture(GL_TEXTURE0 + unit);
         glBindTexture(GL_TEXTURE_2D, static_cast<GLuint>(previousTextures[unit]));
     }

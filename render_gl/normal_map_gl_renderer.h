@@ -22,6 +22,7 @@
 
 #include "bake/lean_maps.h"
 #include "bake/normal_baker.h"  // TangentFrame
+#include "image/rgb_image.h"
 #include "lod/pop_buffer.h"
 #include "lod/texcoord_correction.h"
 #include "render/tone_mapping.h"
@@ -105,9 +106,16 @@ public:
     std::string setVertexColors(const float* rgb, std::size_t vertexCount);
     bool hasVertexColors() const { return colorBuffer_ != 0; }
 
+    // A diffuse map (8-bit sRGB, rows top to bottom, read with the mesh's wedge UVs: the bake's
+    // B_diffuse.png) as rho, before the vertex colours and the albedo uniform; decoded to linear by
+    // GL (GL_SRGB8), mip-mapped, on texture unit 2. Kept until replaced. Returns the reason on
+    // refusal, else empty.
+    std::string setDiffuseMap(const rad::Image8& image);
+    bool hasDiffuseMap() const { return diffuseTexture_ != 0; }
+
     // The irradiance vector grid of the scene (Granier et al. 2007), in the mesh's object
     // coordinates, uploaded as 12 RGB16F 3D textures (irradiance_grid_textures.h) on texture units
-    // 2..13. Returns the reason on refusal (GL limits, shaders), else empty; `note` as
+    // 3..14 (15 units in all with the normal map, the LEAN moments and the diffuse map). Returns the reason on refusal (GL limits, shaders), else empty; `note` as
     // IrradianceGridTextures::upload. Kept across setMesh calls.
     std::string setIrradianceGrid(const rad::IrradianceVectorGrid& grid, std::string& note);
     void clearIrradianceGrid() { grid_.release(); }
@@ -149,13 +157,14 @@ private:
         int normalMap = -1, moments = -1, mode = -1, tangentSpace = -1, mikkTSpace = -1, textureSize = -1, eye = -1,
             lightDirection = -1, lightColor = -1, albedo = -1, specular = -1, ambient = -1, shininess = -1,
             exposureScale = -1, toneCurve = -1, popLevel = -1, popCorrection = -1, boxMin = -1, boxExtent = -1,
-            indirect = -1, vertexAlbedo = -1, gridOrigin = -1, gridCellSize = -1, gridVertexCounts = -1;
+            indirect = -1, vertexAlbedo = -1, diffuseMap = -1, useDiffuseMap = -1, gridOrigin = -1, gridCellSize = -1, gridVertexCounts = -1;
         int gridSamplers[IrradianceGridTextures::kTextures] = {-1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1};
     } u_;
     // The mesh's vertex of every uploaded corner (for setVertexColors), in upload order.
     std::vector<std::uint32_t> cornerVertex_;
     std::size_t meshVertexCount_ = 0;
     unsigned colorBuffer_ = 0;
+    unsigned diffuseTexture_ = 0;
     IrradianceGridTextures grid_;
     unsigned vertexBuffer_ = 0;
     std::size_t cornerCount_ = 0;

@@ -64,6 +64,8 @@ uniform vec3 uAmbient;
 uniform float uShininess;
 uniform int uIndirect;       // IndirectLight: 0 none, 1 indirect alone, 2 direct + indirect
 uniform int uVertexAlbedo;   // 1: rho = the interpolated vertex colour, else uAlbedo
+uniform sampler2D uDiffuseMap;
+uniform int uUseDiffuseMap;  // 1: rho = the diffuse map (linear: an sRGB texture), before the above
 in vec3 vColor;
 in vec3 vObject;
 in vec3 vNormal;
@@ -83,6 +85,7 @@ vec3 orthogonalTangent(vec3 n, vec3 t) {
 }
 
 void main() {
+    vec3 diffuse = texture(uDiffuseMap, vUv).rgb;  // in uniform control flow (implicit derivatives)
     vec3 nv = normalize(vNormal);
     vec3 dpdx = dFdx(vObject), dpdy = dFdy(vObject);
     vec2 dtdx = dFdx(vUv), dtdy = dFdy(vUv);
@@ -141,7 +144,7 @@ void main() {
         }
     }
     if (ndl <= 0.0) spec = 0.0;
-    vec3 rho = uVertexAlbedo == 1 ? vColor : uAlbedo;
+    vec3 rho = uUseDiffuseMap == 1 ? diffuse : uVertexAlbedo == 1 ? vColor : uAlbedo;
     vec3 linear = vec3(0.0);
     if (uIndirect != 1) linear = uAmbient * rho + uLightColor * (rho * max(ndl, 0.0) + uSpecular * spec);
     if (uIndirect != 0) linear += ivgReflected(vObject, n, rho);

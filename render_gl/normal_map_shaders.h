@@ -31,7 +31,8 @@ namespace radgl {
 // map modes, so that a simplified mesh with its normal map receives the scan's detail of indirect
 // light): None: the direct light above only; Indirect: rho / pi <I_n, n> alone (no ambient, no
 // direct light); DirectAndIndirect: the direct light above (no shadows) plus the indirect term.
-// rho: the per-vertex albedo when the renderer has vertex colours, else the albedo uniform.
+// rho: the diffuse map when the renderer has one, else the per-vertex albedo when it has vertex
+// colours, else the albedo uniform (for the direct light too).
 enum class IndirectLight {
     None = 0,
     Indirect = 1,

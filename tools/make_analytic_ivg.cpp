@@ -1,10 +1,11 @@
 // make_analytic_ivg: a test scene for the "Irradiance Vector Grid" decoration while no grid
 // computation exists on this branch: an icosphere (PLY, white vertex colours) and, beside it with the
 // same base name, an irradiance vector grid (.ivg, Granier et al. 2007) of an analytic two-colour
-// field: red light from the +x side, blue light from the -x side. At every grid vertex and direction
-// delta, per channel, I_delta = pi L delta with L = (red(x), 0, blue(x)), red(x) = clamp(0.5 + x / s, 0, 1) *
-// `radiance`, blue = the same at -x (s = the sphere's radius): a white diffuse sphere looks red on
-// its +x half and blue on its -x half whatever its normals.
+// field: red light from the +x side, green light from the -x side (green, not blue: MeshLab's
+// background is blue). At every grid vertex and direction delta, per channel, I_delta = pi L delta
+// with L = (red(x), green(x), 0), red(x) = clamp(0.5 + 2 x / r, 0, 1) * `radiance`, green = the same
+// at -x (r = the sphere's radius): a white diffuse sphere looks red on its +x side and green on its
+// -x side whatever its normals, the two mixed in a band |x| < r / 4.
 //
 //   make_analytic_ivg -o DIR/NAME [--radius 1] [--cells 8] [--radiance 0.9]
 //
@@ -72,9 +73,9 @@ int main(int argc, char** argv) {
             for (int j = 0; j <= cells; ++j)
                 for (int i = 0; i <= cells; ++i) {
                     const double x = grid.vertexPosition(i, j, k)[0];
-                    const double red = radiance * std::clamp(0.5 + x / radius, 0.0, 1.0);
-                    const double blue = radiance * std::clamp(0.5 - x / radius, 0.0, 1.0);
-                    const double L[3] = {red, 0.0, blue};
+                    const double red = radiance * std::clamp(0.5 + 2.0 * x / radius, 0.0, 1.0);
+                    const double green = radiance * std::clamp(0.5 - 2.0 * x / radius, 0.0, 1.0);
+                    const double L[3] = {red, green, 0.0};
                     for (int d = 0; d < rad::IrradianceVectorGrid::kDirections; ++d) {
                         const std::array<float, 3> delta = rad::gridDirection(d);
                         float* out = grid.at(grid.vertexIndex(i, j, k), d);

@@ -20,6 +20,7 @@
 
 #include "bake/normal_baker.h"
 #include "geometry/primitive_meshes.h"
+#include "image/rgb_image.h"
 #include "lighting/irradiance_vector_grid.h"
 #include "render/tone_mapping.h"
 
@@ -361,6 +362,51 @@ TEST(IrradianceGridGl, NormalMapModeEvaluatesTheGridWithTheMappedNormal) {
     EXPECT_GT(withVertexNormal.meanDiff, 5.0);
 }
 
+// rho from a diffuse map (the bake's B_diffuse.png: 8-bit sRGB, decoded to linear by GL), which
+// takes precedence over vertex colours: a map whose left half (u < 0.5) and right half have two
+// colours, on a quad facing +z under a uniform sky, L = rho L_sky.
+TEST(IrradianceGridGl, DiffuseMapGivesTheAlbedo) {
+    radgl::NormalMapGlRenderer r(capabilities());
+    const Eigen::Vector3d sky(0.9, 0.85, 0.8);
+    const rad::IrradianceVectorGrid grid = gridFrom(uniformSky(sky), {{2, 2, 2}});
+    std::string note;
+    ASSERT_EQ(r.setIrradianceGrid(grid, note), "");
+    Plane q;
+    q.normal = Eigen::Vector3d(0, 0, 1);
+    q.u = Eigen::Vector3d(1, 0, 0);
+    q.v = Eigen::Vector3d(0, 1, 0);
+    q.half = 0.5;
+    const MeshData quad = planeMesh(q, q.normal);  // u = x + 0.5, v = y + 0.5
+    upload(r, quad);
+    std::vector<float> grey(12, 0.2f);
+    ASSERT_EQ(r.setVertexColors(grey.data(), 4), "");
+    const std::uint8_t left[3] = {200, 120, 60}, right[3] = {60, 140, 210};
+    rad::Image8 map(64, 64);
+    for (int row = 0; row < 64; ++row)
+        for (int column = 0; column < 64; ++column)
+            for (int c = 0; c < 3; ++c) map.pixel(column, row)[c] = column < 32 ? left[c] : right[c];
+    ASSERT_EQ(r.setDiffuseMap(map), "");
+    EXPECT_TRUE(r.hasDiffuseMap());
+    const rad::PinholeCamera camera = rad::PinholeCamera::lookAt({0.1, 0.05, 1.5}, {0, 0, 0}, {0, 1, 0}, 45.0, kWidth, kHeight);
+    const std::vector<std::uint8_t> picture = render(r, NormalMapShading::VertexNormals, camera, indirectOnly({0.5, 0.5, 0.5}));
+    int maxDiff = 0, pixels = 0;
+    const Hit hit = planeHit(camera, q, q.normal, 0.01);
+    for (int y = 0; y < kHeight; ++y)
+        for (int x = 0; x < kWidth; ++x) {
+            Eigen::Vector3d p, n;
+            if (!hit(camera.rayDirection(x + 0.5, y + 0.5), p, n) || std::fabs(p.x()) < 0.04) continue;  // the colour edge
+            const std::uint8_t* code = p.x() < 0 ? left : right;
+            for (int c = 0; c < 3; ++c) {
+                const double expected = rad::srgbToLinear(code[c]) * sky[c];
+                maxDiff = std::max(maxDiff, std::abs(int(picture[3 * (y * kWidth + x) + c]) - int(rad::toSrgb8(expected))));
+            }
+            ++pixels;
+        }
+    std::printf("[ivg-gl] diffuse map: %d pixels, max %d codes\n", pixels, maxDiff);
+    EXPECT_GT(pixels, 5000);
+    EXPECT_LE(maxDiff, 2);
+}
+
 TEST(IrradianceGridGl, LimitsAreCheckedAndARefusedGridDrawsNothingExtra) {
     radgl::GlCapabilities caps = capabilities();
     EXPECT_GE(caps.max3dTextureSize, 256);          // GL 3.0 minimum
@@ -375,7 +421,7 @@ TEST(IrradianceGridGl, LimitsAreCheckedAndARefusedGridDrawsNothingExtra) {
     EXPECT_NE(tooBig.find("at most 7 cells"), std::string::npos) << tooBig;
     radgl::GlCapabilities fewUnits = caps;
     fewUnits.maxFragmentTextureUnits = 8;
-    EXPECT_NE(radgl::irradianceGridTextureProblem(fewUnits, {{3, 3, 3}}, 2).find("14 fragment texture units"), std::string::npos);
+    EXPECT_NE(radgl::irradianceGridTextureProblem(fewUnits, {{3, 3, 3}}, 3).find("15 fragment texture units"), std::string::npos);
     radgl::GlCapabilities old = caps;
     radgl::capGlVersion(old, 2, 1);
     EXPECT_NE(radgl::irradianceGridTextureProblem(old, {{3, 3, 3}}, 2), "");
