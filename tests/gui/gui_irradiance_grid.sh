@@ -10,7 +10,12 @@
 #     green ones; MeshLab's own rendering of the white sphere has neither;
 #   - "Direct + indirect" (private settings) changes the picture (the direct light adds to it);
 #   - a truncated .ivg beside another copy of the sphere: the log says why (the reader's "truncated
-#     file"), meshlab keeps running and nothing red or green is drawn; no .ivg at all: the log says so.
+#     file"), meshlab keeps running and nothing red or green is drawn; no .ivg at all: the log says so;
+#   - Granier et al. 2007's case, a simplified mesh with a baked normal map: the armadillo scan
+#     simplified by MeshLab to 1,000 faces and its normals baked by our filter (as gui_normal_map.sh),
+#     a grid over its box, light mostly from above: the decoration says it evaluates the grid with the baked normal map, and
+#     the picture differs from the one with the vertex normals: more than 3,000 pixels by more than 5 %
+#     (13 levels; the scan's detail; the armadillo covers about 35,000 pixels, measured 9,509).
 source "$(dirname "$0")/../integration/lib.sh"
 source "$(dirname "$0")/gui_lib.sh"
 MAKE_IVG="$RADIANCE_BUILD_DIR/tools/make_analytic_ivg"
@@ -25,11 +30,12 @@ cp "$WORK/sphere.ply" "$WORK/nogrid.ply"
 CROP="10 90 760 640"
 
 start_xvfb
-settings() {  # settings LIGHT(0|1)
+settings() {  # settings LIGHT(0|1) [NORMALS(0 map|1 vertex)]
     mkdir -p "$XDG_CONFIG_HOME/VCG"
     cat >"$XDG_CONFIG_HOME/VCG/MeshLab_64bit_fp.conf" <<CONF
 [General]
 MeshLab%3A%3ADecoration%3A%3AIrradianceGridLight="<!DOCTYPE MeshLabSettings>\n<Param type=\"RichEnum\" value=\"$1\" name=\"MeshLab::Decoration::IrradianceGridLight\" enum_cardinality=\"2\" enum_val0=\"Indirect\" enum_val1=\"Direct + indirect\"/>\n"
+MeshLab%3A%3ADecoration%3A%3AIrradianceGridNormals="<!DOCTYPE MeshLabSettings>\n<Param type=\"RichEnum\" value=\"${2:-0}\" name=\"MeshLab::Decoration::IrradianceGridNormals\" enum_cardinality=\"2\" enum_val0=\"Normal map\" enum_val1=\"Vertex normals\"/>\n"
 CONF
 }
 shot() {  # shot NAME INPUT DECORATE(1|0)
@@ -62,8 +68,11 @@ awk -v r="$red_x" -v b="$green_x" 'BEGIN { exit !(r > b + 50) }' || fail "red is
 
 settings 1
 shot direct "$WORK/sphere.ply" 1
-d="$({ compare -metric RMSE "$WORK/indirect.png"[760x640+10+90] "$WORK/direct.png"[760x640+10+90] null: 2>&1 || true; } |
-    sed -E 's/.*\(([0-9.e-]+)\).*/\1/' | awk '{ printf "%.2f", $1 * 255 }')"
+rmse() {
+    { compare -metric RMSE "$1"[760x640+10+90] "$2"[760x640+10+90] null: 2>&1 || true; } |
+        sed -E 's/.*\(([0-9.e-]+)\).*/\1/' | awk '{ printf "%.2f", $1 * 255 }'
+}
+d="$(rmse "$WORK/indirect.png" "$WORK/direct.png")"
 note "RMSE indirect vs direct + indirect: $d levels"
 awk -v d="$d" 'BEGIN { exit !(d > 5) }' || fail "the direct light changes nothing (RMSE $d)"
 read -r _ direct_red _ _ direct_green _ <<<"$(sides direct)"
@@ -80,4 +89,32 @@ read -r _ bad_red _ _ bad_green _ <<<"$(sides bad)"
 shot nogrid "$WORK/nogrid.ply" 1
 grep -E "Irradiance Vector Grid: not started on layer .*no irradiance vector grid '.*nogrid\.ivg'" "$WORK/nogrid.meshlab.log" \
     || { grep -i "irradiance" "$WORK/nogrid.meshlab.log" >&2; fail "nogrid: no log line"; }
+
+# The simplified armadillo with its baked normal map, and a grid over its box.
+scan="$RADIANCE_SOURCE_DIR/data-cache/meshes/armadillo.off"
+[ -s "$scan" ] || fail "no $scan (scripts/setup.sh fetches it)"
+{
+    echo '<!DOCTYPE FilterScript>'
+    echo '<FilterScript>'
+    bash "$RADIANCE_SOURCE_DIR/scripts/meshlab_decimation_filter.sh" 1000 true
+    bash "$RADIANCE_SOURCE_DIR/scripts/bake_normal_map_filter.sh" 0 1024 0 0 true true "$WORK/armadillo_normal.png"
+    echo '</FilterScript>'
+} >"$WORK/simplify.mlx"
+run_meshlabserver "$WORK/prepare.log" -i "$scan" -i "$scan" -s "$WORK/simplify.mlx" -o "$WORK/armadillo_baked.ply" -m wt vn \
+    || { cat "$WORK/prepare.log" >&2; fail "simplification + bake failed"; }
+"$MAKE_IVG" -o "$WORK/armadillo_baked" --fit "$WORK/armadillo_baked.ply" --cells 6 --from-above >/dev/null || fail "no grid for the armadillo"
+settings 0 0
+shot mapped "$WORK/armadillo_baked.ply" 1
+grep -E "Irradiance Vector Grid: layer .*armadillo_baked\.ivg', 6 x 6 x 6 cells.*the baked 1024x1024 normal map" \
+    "$WORK/mapped.meshlab.log" || { grep -i "irradiance" "$WORK/mapped.meshlab.log" >&2; fail "mapped: not drawn with the normal map"; }
+read -r _ map_red map_red_x _ map_green map_green_x <<<"$(sides mapped)"
+note "armadillo, normal map: $map_red red (mean column $map_red_x), $map_green green (mean column $map_green_x)"
+[ "$map_red" -gt 1000 ] && [ "$map_green" -gt 1000 ] || fail "mapped: the field's colours are not on the armadillo"
+awk -v r="$map_red_x" -v b="$map_green_x" 'BEGIN { exit !(r > b) }' || fail "mapped: red is not right (+x) of green"
+settings 0 1
+shot vertexnormals "$WORK/armadillo_baked.ply" 1
+grep -qE "Irradiance Vector Grid: layer .*vertex normals" "$WORK/vertexnormals.meshlab.log" || fail "vertexnormals: the option was not read"
+d_map="$({ compare -metric AE -fuzz 5% "$WORK/mapped.png"[760x640+10+90] "$WORK/vertexnormals.png"[760x640+10+90] null: 2>&1 || true; } | awk '{ print int($1) }')"
+note "armadillo: $d_map pixels differ by more than 5 % between the normal map and the vertex normals"
+[ "$d_map" -gt 3000 ] || fail "the normal map does not change the indirect light ($d_map pixels differ)"
 note "ok"
