@@ -226,12 +226,15 @@ void drawIrradianceGrid(IrradianceGridView& view, MeshModel& m, const RichParame
         return;
     }
     if (path != view.gridPath) {
+        if (path == view.failedPath) return;
         std::string note;
         const std::string problem = loadGrid(view, path, note, nullptr);
         if (!problem.empty()) {
+            view.failedPath = path;
             reportOnce(GLLogStream::WARNING, problem + "; nothing drawn");
             return;
         }
+        view.failedPath.clear();
         reportOnce(GLLogStream::FILTER, "now drawing the grid '" + path + "'" + (note.empty() ? "" : "; " + note));
     }
 

@@ -23,6 +23,7 @@ namespace raddecorate {
 struct IrradianceGridView {
     std::unique_ptr<radgl::NormalMapGlRenderer> renderer;
     std::string gridPath;        // the grid drawn
+    std::string failedPath;      // a grid named in the options that could not be read (not retried every frame)
     bool normalMap = false;      // the layer's baked normal map is uploaded
     int vn = -1, fn = -1;        // what was uploaded (a filter that changes the layer stops the drawing)
     const void* vertices = nullptr;
