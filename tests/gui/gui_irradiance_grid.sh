@@ -11,6 +11,7 @@
 #   - "Direct + indirect" (private settings) changes the picture (the direct light adds to it);
 #   - a truncated .ivg beside another copy of the sphere: the log says why (the reader's "truncated
 #     file"), meshlab keeps running and nothing red or green is drawn; no .ivg at all: the log says so;
+#     the grid named in the options (relative: beside the layer) is drawn on that layer;
 #   - Granier et al. 2007's case, a simplified mesh with a baked normal map: the armadillo scan
 #     simplified by MeshLab to 1,000 faces and its normals baked by our filter (as gui_normal_map.sh),
 #     a grid over its box, light mostly from above: the decoration says it evaluates the grid with the baked normal map, and
@@ -30,12 +31,13 @@ cp "$WORK/sphere.ply" "$WORK/nogrid.ply"
 CROP="10 90 760 640"
 
 start_xvfb
-settings() {  # settings LIGHT(0|1) [NORMALS(0 map|1 vertex)]
+settings() {  # settings LIGHT(0|1) [NORMALS(0 map|1 vertex)] [GRID_FILE]
     mkdir -p "$XDG_CONFIG_HOME/VCG"
     cat >"$XDG_CONFIG_HOME/VCG/MeshLab_64bit_fp.conf" <<CONF
 [General]
 MeshLab%3A%3ADecoration%3A%3AIrradianceGridLight="<!DOCTYPE MeshLabSettings>\n<Param type=\"RichEnum\" value=\"$1\" name=\"MeshLab::Decoration::IrradianceGridLight\" enum_cardinality=\"2\" enum_val0=\"Indirect\" enum_val1=\"Direct + indirect\"/>\n"
 MeshLab%3A%3ADecoration%3A%3AIrradianceGridNormals="<!DOCTYPE MeshLabSettings>\n<Param type=\"RichEnum\" value=\"${2:-0}\" name=\"MeshLab::Decoration::IrradianceGridNormals\" enum_cardinality=\"2\" enum_val0=\"Normal map\" enum_val1=\"Vertex normals\"/>\n"
+MeshLab%3A%3ADecoration%3A%3AIrradianceGridFile="<!DOCTYPE MeshLabSettings>\n<Param type=\"RichOpenFile\" value=\"${3:-}\" name=\"MeshLab::Decoration::IrradianceGridFile\" exts_cardinality=\"1\" ext_val0=\"*.ivg\"/>\n"
 CONF
 }
 shot() {  # shot NAME INPUT DECORATE(1|0)
@@ -89,6 +91,14 @@ read -r _ bad_red _ _ bad_green _ <<<"$(sides bad)"
 shot nogrid "$WORK/nogrid.ply" 1
 grep -E "Irradiance Vector Grid: not started on layer .*no irradiance vector grid '.*nogrid\.ivg'" "$WORK/nogrid.meshlab.log" \
     || { grep -i "irradiance" "$WORK/nogrid.meshlab.log" >&2; fail "nogrid: no log line"; }
+# The same layer with the grid named in the options (a relative name: beside the layer's file).
+settings 0 0 sphere.ivg
+shot named "$WORK/nogrid.ply" 1
+grep -qE "Irradiance Vector Grid: layer 'nogrid.ply', grid '.*/sphere\.ivg'" "$WORK/named.meshlab.log" \
+    || { grep -i "irradiance" "$WORK/named.meshlab.log" >&2; fail "named: the grid file of the options was not used"; }
+read -r _ named_red _ _ named_green _ <<<"$(sides named)"
+note "grid named in the options: $named_red red, $named_green green"
+[ "$named_red" -gt 5000 ] && [ "$named_green" -gt 5000 ] || fail "named: the field's colours are not on the sphere"
 
 # The simplified armadillo with its baked normal map, and a grid over its box.
 scan="$RADIANCE_SOURCE_DIR/data-cache/meshes/armadillo.off"
