@@ -150,11 +150,7 @@ std::string missingDataAdvice() {
 }
 
 // RADIANCE_DECORATE_MAX_GL=2.1 pretends the context is older (to see the fallback in the GUI).
-void applyGlCap(radgl::GlCapabilities& caps) {
-    const char* cap = std::getenv("RADIANCE_DECORATE_MAX_GL");
-    int major = 0, minor = 0;
-    if (cap && std::sscanf(cap, "%d.%d", &major, &minor) == 2) radgl::capGlVersion(caps, major, minor);
-}
+void applyGlCap(radgl::GlCapabilities& caps) { radgl::capGlVersionFromEnvironment(caps); }
 
 
 }  // namespace

@@ -42,13 +42,6 @@ enum { kMappedNormals = 0, kVertexNormals = 1 };
 
 double linearOf(int code) { return double(rad::srgbToLinear(static_cast<std::uint8_t>(std::clamp(code, 0, 255)))); }
 
-// RADIANCE_DECORATE_MAX_GL=2.1 pretends the context is older (the other decorations do the same).
-void applyGlCap(radgl::GlCapabilities& caps) {
-    const char* cap = std::getenv("RADIANCE_DECORATE_MAX_GL");
-    int major = 0, minor = 0;
-    if (cap && std::sscanf(cap, "%d.%d", &major, &minor) == 2) radgl::capGlVersion(caps, major, minor);
-}
-
 // Reads and uploads the grid at `path`; returns the reason on failure (the reader's message names
 // the file and the problem), else empty, with `note` from the upload.
 std::string loadGrid(IrradianceGridView& view, const std::string& path, std::string& note, rad::IrradianceVectorGrid* out) {
@@ -120,7 +113,7 @@ std::unique_ptr<IrradianceGridView> startIrradianceGrid(MeshModel& m, const Rich
         return nullptr;
     }
     radgl::GlCapabilities caps = radgl::queryGlCapabilities();
-    applyGlCap(caps);
+    radgl::capGlVersionFromEnvironment(caps);  // RADIANCE_DECORATE_MAX_GL, as the other decorations
     auto view = std::make_unique<IrradianceGridView>();
     std::string mapNote = "vertex normals";
     try {

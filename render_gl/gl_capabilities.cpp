@@ -3,6 +3,7 @@
 #include <GL/glew.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <sstream>
 
@@ -104,6 +105,12 @@ void capGlVersion(GlCapabilities& caps, int major, int minor) {
     }
     if (!atLeast(major, minor, 4, 0)) caps.rgb32TextureBuffer = false;
     if (!atLeast(major, minor, 3, 1)) caps.maxTextureBufferTexels = 0;
+}
+
+void capGlVersionFromEnvironment(GlCapabilities& caps) {
+    const char* cap = std::getenv("RADIANCE_DECORATE_MAX_GL");
+    int major = 0, minor = 0;
+    if (cap && std::sscanf(cap, "%d.%d", &major, &minor) == 2) capGlVersion(caps, major, minor);
 }
 
 }  // namespace radgl

@@ -44,4 +44,8 @@ GlCapabilities queryGlCapabilities();
 // versions and drops the features the lower version lacks.
 void capGlVersion(GlCapabilities& caps, int major, int minor);
 
+// capGlVersion with the "major.minor" of the environment variable RADIANCE_DECORATE_MAX_GL when it is
+// set (the decorations' way to show their fallbacks in the GUI); otherwise nothing.
+void capGlVersionFromEnvironment(GlCapabilities& caps);
+
 }  // namespace radgl
