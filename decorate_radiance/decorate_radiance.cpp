@@ -1,4 +1,6 @@
 #include "decorate_radiance.h"
+#include "irradiance_grid_decoration.h"
+#include "layer_files.h"
 
 #include "mesh_conversion.h"
 #include "radiance_attribute.h"
@@ -148,36 +150,8 @@ std::string missingDataAdvice() {
 }
 
 // RADIANCE_DECORATE_MAX_GL=2.1 pretends the context is older (to see the fallback in the GUI).
-void applyGlCap(radgl::GlCapabilities& caps) {
-    const char* cap = std::getenv("RADIANCE_DECORATE_MAX_GL");
-    int major = 0, minor = 0;
-    if (cap && std::sscanf(cap, "%d.%d", &major, &minor) == 2) radgl::capGlVersion(caps, major, minor);
-}
+void applyGlCap(radgl::GlCapabilities& caps) { radgl::capGlVersionFromEnvironment(caps); }
 
-
-// The bake description (<base>_bake.txt) of the layer's texture, resolved like MeshLab resolves
-// textures: an absolute name as it is, a relative one beside the layer's file, then in the working
-// directory. Empty with `why` when the layer has no baked normal map.
-std::string bakedMapOf(const MeshModel& m, std::string& why) {
-    const std::string advice = "run 'Bake Normal Map' (Filters > Texture) with this layer as the target first";
-    if (m.cm.fn == 0 || !m.hasDataMask(MeshModel::MM_WEDGTEXCOORD) || m.cm.textures.empty()) {
-        why = "the layer has no texture coordinates and texture: " + advice;
-        return {};
-    }
-    const QString name = QString::fromStdString(m.cm.textures.front());
-    QStringList candidates;
-    if (QFileInfo(name).isAbsolute()) candidates << name;
-    else {
-        if (!m.fullName().isEmpty()) candidates << QFileInfo(m.fullName()).absoluteDir().filePath(name);
-        candidates << QFileInfo(name).absoluteFilePath();
-    }
-    for (const QString& candidate : candidates) {
-        const std::string description = rad::bakeDescriptionPathFor(candidate.toStdString());
-        if (!description.empty() && QFileInfo::exists(QString::fromStdString(description))) return description;
-    }
-    why = "the layer's texture '" + name.toStdString() + "' has no bake description (…_bake.txt) beside it: " + advice;
-    return {};
-}
 
 }  // namespace
 
@@ -209,11 +183,12 @@ struct DecorateRadiancePlugin::NormalMapView {
 };
 
 DecorateRadiancePlugin::DecorateRadiancePlugin() {
-    typeList << DP_RADIANCE_FIELD << DP_NORMAL_MAP;
+    typeList << DP_RADIANCE_FIELD << DP_NORMAL_MAP << DP_IRRADIANCE_GRID;
     for (FilterIDType tt : types()) {
         QAction* action = new QAction(decorationName(tt), this);
         action->setCheckable(true);
-        action->setShortcut(QKeySequence(Qt::CTRL + Qt::ALT + (tt == DP_NORMAL_MAP ? Qt::Key_N : Qt::Key_R)));
+        action->setShortcut(QKeySequence(Qt::CTRL + Qt::ALT +
+                                          (tt == DP_NORMAL_MAP ? Qt::Key_N : tt == DP_IRRADIANCE_GRID ? Qt::Key_I : Qt::Key_R)));
         // MeshLab lists a decoration on its toolbar only when it has an icon: a small drawn one.
         QPixmap pixmap(32, 32);
         pixmap.fill(Qt::transparent);
@@ -221,8 +196,10 @@ DecorateRadiancePlugin::DecorateRadiancePlugin() {
         painter.setRenderHint(QPainter::Antialiasing);
         QRadialGradient gradient(QPointF(12, 11), 16);
         gradient.setColorAt(0.0, QColor(255, 255, 240));
-        gradient.setColorAt(0.35, tt == DP_NORMAL_MAP ? QColor(128, 128, 255) : QColor(230, 120, 60));
-        gradient.setColorAt(1.0, tt == DP_NORMAL_MAP ? QColor(30, 30, 110) : QColor(90, 30, 20));
+        const QColor middle = tt == DP_NORMAL_MAP ? QColor(128, 128, 255) : tt == DP_IRRADIANCE_GRID ? QColor(120, 200, 120) : QColor(230, 120, 60);
+        const QColor edge = tt == DP_NORMAL_MAP ? QColor(30, 30, 110) : tt == DP_IRRADIANCE_GRID ? QColor(20, 80, 30) : QColor(90, 30, 20);
+        gradient.setColorAt(0.35, middle);
+        gradient.setColorAt(1.0, edge);
         painter.setBrush(gradient);
         painter.setPen(Qt::NoPen);
         painter.drawEllipse(QRectF(3, 3, 26, 26));
@@ -237,12 +214,14 @@ DecorateRadiancePlugin::~DecorateRadiancePlugin() {
     // active decoration before closing its views. Whatever is left goes with the context.
     for (auto& entry : views_) entry.second->renderer.release();
     for (auto& entry : normalViews_) entry.second->renderer.release();
+    for (auto& entry : gridViews_) entry.second->renderer.release();
 }
 
 QString DecorateRadiancePlugin::decorationName(FilterIDType id) const {
     switch (id) {
         case DP_RADIANCE_FIELD: return "Radiance Field";
         case DP_NORMAL_MAP: return "Baked Normal Map";
+        case DP_IRRADIANCE_GRID: return "Irradiance Vector Grid";
     }
     return {};
 }
@@ -274,14 +253,21 @@ QString DecorateRadiancePlugin::decorationInfo(FilterIDType id) const {
                    "<b>Stateless Level of Detail Lighting for Automotive Visualization</b>, Alg. 3-4 and sec. "
                    "3.5, after <i>Olano and Baker</i>, LEAN Mapping, I3D 2010. Needs OpenGL 3.2 / GLSL 1.50. "
                    "Shortcut Ctrl+Alt+N.";
+        case DP_IRRADIANCE_GRID: return raddecorate::irradianceGridInfo();
     }
     return {};
 }
 
 bool DecorateRadiancePlugin::isDecorationApplicable(QAction* action, const MeshModel& m, QString& message) const {
+    if (ID(action) == DP_IRRADIANCE_GRID) {
+        // Whether a grid exists and reads is said in the log when the decoration starts.
+        if (m.cm.fn > 0) return true;
+        message = "the layer has no faces (a point cloud): the decoration draws triangles";
+        return false;
+    }
     if (ID(action) == DP_NORMAL_MAP) {
         std::string why;
-        if (bakedMapOf(m, why).empty()) {
+        if (raddecorate::bakedMapOf(m, why).empty()) {
             message = QString::fromStdString(why);
             return false;
         }
@@ -294,6 +280,10 @@ bool DecorateRadiancePlugin::isDecorationApplicable(QAction* action, const MeshM
 }
 
 void DecorateRadiancePlugin::initGlobalParameterSet(QAction* action, RichParameterList& par) {
+    if (ID(action) == DP_IRRADIANCE_GRID) {
+        raddecorate::addIrradianceGridParameters(par);
+        return;
+    }
     if (ID(action) == DP_NORMAL_MAP) {
         par.addParam(RichEnum(kNormalShading, 2,
                               QStringList() << "Vertex normals (Blinn-Phong)" << "Normal map (Blinn-Phong)"
@@ -395,6 +385,24 @@ bool uploadLayer(DecorateRadiancePlugin::MeshView& view, CMeshO& mesh, std::stri
 bool DecorateRadiancePlugin::startDecorate(QAction* action, MeshModel& m, const RichParameterList* par, GLArea* gla) {
     if (!gla || !par) return false;
     if (ID(action) == DP_NORMAL_MAP) return startNormalMap(m, par, gla);
+    if (ID(action) == DP_IRRADIANCE_GRID) {
+        const Key key(gla, m.id());
+        gridViews_.erase(key);
+        if (!GLExtensionsManager::initializeGLextensions_notThrowing()) {
+            Log(GLLogStream::WARNING, "Irradiance Vector Grid: OpenGL extensions could not be initialised; nothing drawn.");
+            return false;
+        }
+        std::string startLine, why;
+        std::unique_ptr<raddecorate::IrradianceGridView> view = raddecorate::startIrradianceGrid(m, *par, startLine, why);
+        if (!view) {
+            Log(GLLogStream::WARNING, "Irradiance Vector Grid: not started on layer '%s': %s", qUtf8Printable(m.label()),
+                why.c_str());
+            return false;
+        }
+        Log("Irradiance Vector Grid: layer '%s', %s", qUtf8Printable(m.label()), startLine.c_str());
+        gridViews_[key] = std::move(view);
+        return true;
+    }
     if (!GLExtensionsManager::initializeGLextensions_notThrowing()) {
         Log(GLLogStream::WARNING, "Radiance Field: OpenGL extensions could not be initialised; nothing drawn.");
         return false;
@@ -434,6 +442,13 @@ bool DecorateRadiancePlugin::startDecorate(QAction* action, MeshModel& m, const 
 }
 
 void DecorateRadiancePlugin::endDecorate(QAction* action, MeshModel& m, const RichParameterList*, GLArea* gla) {
+    if (ID(action) == DP_IRRADIANCE_GRID) {
+        auto grid = gridViews_.find(Key(gla, m.id()));
+        if (grid == gridViews_.end()) return;
+        if (gla) gla->makeCurrent();
+        gridViews_.erase(grid);
+        return;
+    }
     if (ID(action) == DP_NORMAL_MAP) {
         auto normal = normalViews_.find(Key(gla, m.id()));
         if (normal == normalViews_.end()) return;
@@ -451,6 +466,11 @@ void DecorateRadiancePlugin::decorateMesh(QAction* action, MeshModel& m, const R
                                           QPainter*, GLLogStream& log) {
     if (ID(action) == DP_NORMAL_MAP) {
         decorateNormalMap(m, par, gla, log);
+        return;
+    }
+    if (ID(action) == DP_IRRADIANCE_GRID) {
+        auto grid = gridViews_.find(Key(gla, m.id()));
+        if (grid != gridViews_.end() && par) raddecorate::drawIrradianceGrid(*grid->second, m, *par, log);
         return;
     }
     auto it = views_.find(Key(gla, m.id()));
@@ -578,7 +598,7 @@ bool DecorateRadiancePlugin::startNormalMap(MeshModel& m, const RichParameterLis
         return false;
     };
     std::string why;
-    const std::string descriptionPath = bakedMapOf(m, why);
+    const std::string descriptionPath = raddecorate::bakedMapOf(m, why);
     if (descriptionPath.empty()) return refuse(why);
     auto view = std::make_unique<NormalMapView>();
     radgl::GlCapabilities caps = radgl::queryGlCapabilities();

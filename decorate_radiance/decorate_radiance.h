@@ -7,6 +7,8 @@
 // "Baked Normal Map" draws a layer with the normal map of the "Bake Normal Map" filter, with
 // Blinn-Phong or with the LEAN Gaussian lobe (Weber and Stamminger, Alg. 3-4; render_gl/normal_map_gl_renderer.h),
 // so that the highlight's behaviour at a distance can be compared (docs/normal-map-baking.md).
+// "Irradiance Vector Grid" draws a layer lit by the indirect light of an irradiance vector grid
+// (Granier et al. 2007; irradiance_grid_decoration.h).
 #pragma once
 
 #include <QObject>
@@ -14,6 +16,10 @@
 
 #include <map>
 #include <memory>
+
+namespace raddecorate {
+struct IrradianceGridView;
+}
 #include <utility>
 
 class DecorateRadiancePlugin : public QObject, public MeshDecorateInterface {
@@ -22,7 +28,7 @@ class DecorateRadiancePlugin : public QObject, public MeshDecorateInterface {
     Q_INTERFACES(MeshDecorateInterface)
 
 public:
-    enum { DP_RADIANCE_FIELD, DP_NORMAL_MAP };
+    enum { DP_RADIANCE_FIELD, DP_NORMAL_MAP, DP_IRRADIANCE_GRID };
 
     DecorateRadiancePlugin();
     ~DecorateRadiancePlugin() override;
@@ -48,4 +54,5 @@ private:
     using Key = std::pair<const GLArea*, int>;
     std::map<Key, std::unique_ptr<MeshView>> views_;
     std::map<Key, std::unique_ptr<NormalMapView>> normalViews_;
+    std::map<Key, std::unique_ptr<raddecorate::IrradianceGridView>> gridViews_;
 };

@@ -3,6 +3,7 @@
 #include <GL/glew.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <sstream>
 
@@ -73,6 +74,13 @@ GlCapabilities queryGlCapabilities() {
         caps.rgb32TextureBuffer =
             atLeast(caps.glMajor, caps.glMinor, 4, 0) || hasExtension("GL_ARB_texture_buffer_object_rgb32");
     }
+    {
+        GLint size = 0, units = 0;
+        glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &size);
+        glGetIntegerv(GL_MAX_TEXTURE_IMAGE_UNITS, &units);
+        caps.max3dTextureSize = size;
+        caps.maxFragmentTextureUnits = units;
+    }
     while (glGetError() != GL_NO_ERROR) {
     }
     return caps;
@@ -97,6 +105,12 @@ void capGlVersion(GlCapabilities& caps, int major, int minor) {
     }
     if (!atLeast(major, minor, 4, 0)) caps.rgb32TextureBuffer = false;
     if (!atLeast(major, minor, 3, 1)) caps.maxTextureBufferTexels = 0;
+}
+
+void capGlVersionFromEnvironment(GlCapabilities& caps) {
+    const char* cap = std::getenv("RADIANCE_DECORATE_MAX_GL");
+    int major = 0, minor = 0;
+    if (cap && std::sscanf(cap, "%d.%d", &major, &minor) == 2) capGlVersion(caps, major, minor);
 }
 
 }  // namespace radgl

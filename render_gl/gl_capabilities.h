@@ -22,6 +22,10 @@ struct GlCapabilities {
     bool compatibilityProfile = true;   // false for a core-profile context (no built-in matrices)
     bool rgb32TextureBuffer = false;
     long long maxTextureBufferTexels = 0;
+    // The irradiance vector grid (irradiance_grid_textures.h): 3D textures per axis and the
+    // fragment shader's texture units (the grid's 12 plus the normal map's 2).
+    int max3dTextureSize = 0;
+    int maxFragmentTextureUnits = 0;
     std::string vendor, renderer, version;
 
     // GL >= 3.2, GLSL >= 1.50, compatibility profile.
@@ -39,5 +43,9 @@ GlCapabilities queryGlCapabilities();
 // RADIANCE_DECORATE_MAX_GL environment variable of the plugin): lowers the reported GL and GLSL
 // versions and drops the features the lower version lacks.
 void capGlVersion(GlCapabilities& caps, int major, int minor);
+
+// capGlVersion with the "major.minor" of the environment variable RADIANCE_DECORATE_MAX_GL when it is
+// set (the decorations' way to show their fallbacks in the GUI); otherwise nothing.
+void capGlVersionFromEnvironment(GlCapabilities& caps);
 
 }  // namespace radgl

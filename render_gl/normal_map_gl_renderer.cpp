@@ -1,6 +1,7 @@
 #include "normal_map_gl_renderer.h"
 
 #include "gl_helpers.h"
+#include "irradiance_grid_shaders.h"
 
 #include "geometry/mikktspace_tangents.h"
 
@@ -11,6 +12,8 @@
 namespace radgl {
 
 namespace {
+constexpr int kDiffuseUnit = 2;    // units 0 and 1: the normal map and the LEAN moments
+constexpr int kGridFirstUnit = 3;  // then the irradiance vector grid's 12 3D textures
 constexpr int kCornerFloats = 12;  // position, normal, uv, MikkTSpace tangent and sign
 // POP buffer: position, normal, uv, level-16 cell, d(u)/dxyz, d(v)/dxyz, then the tangent and sign.
 constexpr int kPopCornerFloats = 21;
@@ -85,6 +88,17 @@ void NormalMapGlRenderer::buildProgram() {
     u_.popCorrection = loc("uPopCorrection");
     u_.boxMin = loc("uBoxMin");
     u_.boxExtent = loc("uBoxExtent");
+    u_.indirect = loc("uIndirect");
+    u_.vertexAlbedo = loc("uVertexAlbedo");
+    u_.diffuseMap = loc("uDiffuseMap");
+    u_.useDiffuseMap = loc("uUseDiffuseMap");
+    u_.gridOrigin = loc("uIvgOrigin");
+    u_.gridCellSize = loc("uIvgCellSize");
+    u_.gridVertexCounts = loc("uIvgVertexCounts");
+    for (int d = 0; d < 6; ++d) {
+        u_.gridSamplers[2 * d] = loc(irradianceGridColourSampler(d));
+        u_.gridSamplers[2 * d + 1] = loc(irradianceGridDirectionSampler(d));
+    }
 
     // The erase pass: MeshLab's background gradient (raw 8-bit colours, interpolated in window y) and
     // optionally the far depth.
@@ -163,6 +177,9 @@ std::string NormalMapGlRenderer::eraseFullMesh(const Eigen::Vector3f& top, const
 
 NormalMapGlRenderer::~NormalMapGlRenderer() {
     deleteGlBuffer(vertexBuffer_);
+    deleteGlBuffer(colorBuffer_);
+    deleteGlTexture(diffuseTexture_);
+    grid_.release();
     deleteGlTexture(normalTexture_);
     deleteGlTexture(momentTexture_);
     if (program_) glDeleteProgram(program_);
@@ -201,6 +218,8 @@ std::string NormalMapGlRenderer::setMesh(const float* positions, const float* no
             c[7] = wedgeUv[6 * f + 2 * k + 1];
             for (int a = 0; a < 4; ++a) c[8 + a] = tangents.tangents[4 * (3 * f + k) + a];
         }
+    cornerVertex_.assign(faces, faces + 3 * faceCount);
+    meshVertexCount_ = vertexCount;
     popLevelEnd_.clear();
     popDerivatives_ = false;
     popLevel_ = 0;
@@ -218,6 +237,7 @@ void NormalMapGlRenderer::uploadCorners(const std::vector<float>& corners, int f
     glBindBuffer(GL_ARRAY_BUFFER, static_cast<GLuint>(previousArray));
     cornerCount_ = corners.size() / floatsPerCorner;
     floatsPerCorner_ = floatsPerCorner;
+    deleteGlBuffer(colorBuffer_);  // colours belong to the previous mesh
     checkGl("normal-map mesh upload");
 }
 
@@ -254,6 +274,10 @@ std::string NormalMapGlRenderer::setPopMesh(const float* positions, const float*
             for (int a = 0; a < 4; ++a) c[17 + a] = tangents.tangents[4 * (3 * f + k) + a];
         }
     }
+    cornerVertex_.resize(3 * faceCount);
+    for (std::size_t i = 0; i < faceCount; ++i)
+        for (int k = 0; k < 3; ++k) cornerVertex_[3 * i + k] = faces[3 * pop.faceOrder[i] + k];
+    meshVertexCount_ = vertexCount;
     popLevelEnd_.assign(pop.levelEnd.begin(), pop.levelEnd.end());
     for (int a = 0; a < 3; ++a) {
         boxMin_[a] = static_cast<float>(pop.boxMin[a]);
@@ -358,6 +382,67 @@ std::string NormalMapGlRenderer::setLeanMoments(const std::vector<rad::MipImage>
     return {};
 }
 
+std::string NormalMapGlRenderer::setVertexColors(const float* rgb, std::size_t vertexCount) {
+    if (!program_) return shaderProblem_;
+    if (!cornerCount_) return "no mesh";
+    if (!rgb || vertexCount != meshVertexCount_)
+        return "vertex colours for " + std::to_string(vertexCount) + " vertices, the mesh has " + std::to_string(meshVertexCount_);
+    std::vector<float> corners(3 * cornerVertex_.size());
+    for (std::size_t c = 0; c < cornerVertex_.size(); ++c)
+        for (int a = 0; a < 3; ++a) corners[3 * c + a] = rgb[3 * std::size_t(cornerVertex_[c]) + a];
+    GLint previousArray = 0;
+    glGetIntegerv(GL_ARRAY_BUFFER_BINDING, &previousArray);
+    if (!colorBuffer_) glGenBuffers(1, &colorBuffer_);
+    glBindBuffer(GL_ARRAY_BUFFER, colorBuffer_);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(corners.size() * sizeof(float)), corners.data(), GL_STATIC_DRAW);
+    glBindBuffer(GL_ARRAY_BUFFER, static_cast<GLuint>(previousArray));
+    checkGl("vertex colour upload");
+    return {};
+}
+
+std::string NormalMapGlRenderer::setDiffuseMap(const rad::Image8& image) {
+    if (!program_) return shaderProblem_;
+    if (image.width <= 0 || image.height <= 0 || image.rgb.size() != std::size_t(image.width) * image.height * 3)
+        return "the diffuse map is empty or its size does not match its data";
+    GLint previousTexture = 0, previousUnpackBuffer = 0;
+    glGetIntegerv(GL_TEXTURE_BINDING_2D, &previousTexture);
+    glGetIntegerv(GL_PIXEL_UNPACK_BUFFER_BINDING, &previousUnpackBuffer);
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+    glPushClientAttrib(GL_CLIENT_PIXEL_STORE_BIT);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+    glPixelStorei(GL_UNPACK_SKIP_ROWS, 0);
+    glPixelStorei(GL_UNPACK_SKIP_PIXELS, 0);
+    // Rows flipped (images are stored top to bottom, GL's first row is v = 0); GL_SRGB8: the
+    // sampler returns linear values, filtered after decoding.
+    const std::size_t row = std::size_t(image.width) * 3;
+    std::vector<std::uint8_t> flipped(image.rgb.size());
+    for (int r = 0; r < image.height; ++r)
+        std::copy(image.rgb.begin() + std::ptrdiff_t(row * (image.height - 1 - r)),
+                  image.rgb.begin() + std::ptrdiff_t(row * (image.height - r)), flipped.begin() + std::ptrdiff_t(row * r));
+    if (!diffuseTexture_) glGenTextures(1, &diffuseTexture_);
+    glBindTexture(GL_TEXTURE_2D, diffuseTexture_);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_SRGB8, image.width, image.height, 0, GL_RGB, GL_UNSIGNED_BYTE, flipped.data());
+    glGenerateMipmap(GL_TEXTURE_2D);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glPopClientAttrib();
+    glBindTexture(GL_TEXTURE_2D, static_cast<GLuint>(previousTexture));
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, static_cast<GLuint>(previousUnpackBuffer));
+    checkGl("diffuse map upload");
+    return {};
+}
+
+std::string NormalMapGlRenderer::setIrradianceGrid(const rad::IrradianceVectorGrid& grid, std::string& note) {
+    note.clear();
+    if (!program_) return shaderProblem_;
+    const std::string problem = grid_.upload(grid, caps_, kGridFirstUnit, note);  // units 0 .. kGridFirstUnit - 1 in use
+    checkGl("irradiance grid upload");
+    return problem;
+}
+
 std::string NormalMapGlRenderer::draw(NormalMapShading mode, const NormalMapLighting& lighting,
                                       const rad::ToneMapping& toneMapping, const Eigen::Vector3d& eyeObject) {
     if (!program_) return shaderProblem_;
@@ -367,15 +452,23 @@ std::string NormalMapGlRenderer::draw(NormalMapShading mode, const NormalMapLigh
         if (tangentSpace_) return "LEAN mapping needs an object-space normal map; this one is in tangent space";
         if (!momentTexture_) return "no LEAN moments";
     }
+    if (lighting.indirect != IndirectLight::None && !grid_.ready()) return "no irradiance vector grid";
 
-    GLint previousProgram = 0, previousArray = 0, previousActiveTexture = 0, previousTextures[2] = {0, 0};
+    GLint previousProgram = 0, previousArray = 0, previousActiveTexture = 0, previousTextures[3] = {0, 0, 0};
+    GLint previousGridTextures[IrradianceGridTextures::kTextures] = {};
     glGetIntegerv(GL_CURRENT_PROGRAM, &previousProgram);
     glGetIntegerv(GL_ARRAY_BUFFER_BINDING, &previousArray);
     glGetIntegerv(GL_ACTIVE_TEXTURE, &previousActiveTexture);
-    for (int unit = 0; unit < 2; ++unit) {
+    for (int unit = 0; unit < 3; ++unit) {
         glActiveTexture(GL_TEXTURE0 + unit);
         glGetIntegerv(GL_TEXTURE_BINDING_2D, &previousTextures[unit]);
     }
+    const bool gridBound = grid_.ready();
+    if (gridBound)
+        for (int t = 0; t < IrradianceGridTextures::kTextures; ++t) {
+            glActiveTexture(GL_TEXTURE0 + kGridFirstUnit + t);
+            glGetIntegerv(GL_TEXTURE_BINDING_3D, &previousGridTextures[t]);
+        }
     glPushAttrib(GL_ENABLE_BIT | GL_DEPTH_BUFFER_BIT | GL_POLYGON_BIT | GL_LIGHTING_BIT | GL_CURRENT_BIT);
     glPushClientAttrib(GL_CLIENT_VERTEX_ARRAY_BIT);
 
@@ -393,8 +486,26 @@ std::string NormalMapGlRenderer::draw(NormalMapShading mode, const NormalMapLigh
     glBindTexture(GL_TEXTURE_2D, normalTexture_);
     glActiveTexture(GL_TEXTURE1);
     glBindTexture(GL_TEXTURE_2D, momentTexture_);
+    glActiveTexture(GL_TEXTURE0 + kDiffuseUnit);
+    glBindTexture(GL_TEXTURE_2D, diffuseTexture_);
+    if (gridBound)
+        for (int t = 0; t < IrradianceGridTextures::kTextures; ++t) {
+            glActiveTexture(GL_TEXTURE0 + kGridFirstUnit + t);
+            glBindTexture(GL_TEXTURE_3D, grid_.texture(t / 2, t % 2));
+        }
     glUniform1i(u_.normalMap, 0);
     glUniform1i(u_.moments, 1);
+    // The 3D samplers always name their own units: two samplers of different types on one unit make
+    // the draw fail, even when the shader never reads them.
+    for (int t = 0; t < IrradianceGridTextures::kTextures; ++t) glUniform1i(u_.gridSamplers[t], kGridFirstUnit + t);
+    glUniform1i(u_.indirect, static_cast<int>(lighting.indirect));
+    glUniform1i(u_.vertexAlbedo, colorBuffer_ ? 1 : 0);
+    glUniform1i(u_.diffuseMap, kDiffuseUnit);
+    glUniform1i(u_.useDiffuseMap, diffuseTexture_ ? 1 : 0);
+    glUniform3f(u_.gridOrigin, grid_.origin()[0], grid_.origin()[1], grid_.origin()[2]);
+    glUniform3f(u_.gridCellSize, grid_.cellSize()[0], grid_.cellSize()[1], grid_.cellSize()[2]);
+    glUniform3f(u_.gridVertexCounts, static_cast<float>(grid_.vertexCounts()[0]), static_cast<float>(grid_.vertexCounts()[1]),
+                static_cast<float>(grid_.vertexCounts()[2]));
     glUniform1i(u_.mode, static_cast<int>(mode));
     glUniform1i(u_.tangentSpace, tangentSpace_ ? 1 : 0);
     glUniform1i(u_.mikkTSpace, mikkTSpace_ ? 1 : 0);
@@ -438,12 +549,24 @@ std::string NormalMapGlRenderer::draw(NormalMapShading mode, const NormalMapLigh
     glEnableClientState(GL_TEXTURE_COORD_ARRAY);
     glTexCoordPointer(4, GL_FLOAT, stride, reinterpret_cast<const void*>(tangentOffset(floatsPerCorner_) * sizeof(float)));
     glClientActiveTexture(GL_TEXTURE0);
-    glDisableClientState(GL_COLOR_ARRAY);
+    if (colorBuffer_) {
+        glBindBuffer(GL_ARRAY_BUFFER, colorBuffer_);
+        glEnableClientState(GL_COLOR_ARRAY);
+        glColorPointer(3, GL_FLOAT, 0, nullptr);
+        glBindBuffer(GL_ARRAY_BUFFER, vertexBuffer_);
+    } else {
+        glDisableClientState(GL_COLOR_ARRAY);
+    }
 
     // A level is a prefix of the buffer: no per-frame work besides the uniforms.
     glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(3 * drawnFaceCount()));
 
-    for (int unit = 1; unit >= 0; --unit) {
+    if (gridBound)
+        for (int t = IrradianceGridTextures::kTextures - 1; t >= 0; --t) {
+            glActiveTexture(GL_TEXTURE0 + kGridFirstUnit + t);
+            glBindTexture(GL_TEXTURE_3D, static_cast<GLuint>(previousGridTextures[t]));
+        }
+    for (int unit = 2; unit >= 0; --unit) {
         glActiveTexture(GL_TEXTURE0 + unit);
         glBindTexture(GL_TEXTURE_2D, static_cast<GLuint>(previousTextures[unit]));
     }

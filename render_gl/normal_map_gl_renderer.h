@@ -16,11 +16,13 @@
 #pragma once
 
 #include "gl_capabilities.h"
+#include "irradiance_grid_textures.h"
 #include "normal_map_shaders.h"
 #include "radiance_gl_renderer.h"  // GlRendererError
 
 #include "bake/lean_maps.h"
 #include "bake/normal_baker.h"  // TangentFrame
+#include "image/rgb_image.h"
 #include "lod/pop_buffer.h"
 #include "lod/texcoord_correction.h"
 #include "render/tone_mapping.h"
@@ -44,6 +46,9 @@ struct NormalMapLighting {
     Eigen::Vector3d specular{0.5, 0.5, 0.5};
     double shininess = 50.0;
     Eigen::Vector3d ambient{0.0, 0.0, 0.0};
+    // Indirect light from the grid set by setIrradianceGrid (ignored, with draw() saying so, when
+    // there is none).
+    IndirectLight indirect = IndirectLight::None;
 };
 
 class NormalMapGlRenderer {
@@ -94,6 +99,28 @@ public:
     // object-space normals (Weber and Stamminger sec. 3.2-3.3), or when the sizes do not match the map.
     std::string setLeanMoments(const std::vector<rad::MipImage>& levels1toK);
     bool hasNormalMap() const { return normalTexture_ != 0; }
+
+    // Per-vertex albedo rho (linear RGB, 3 floats per vertex of the mesh given to setMesh /
+    // setPopMesh), used instead of lighting.albedo until the next mesh. Returns the reason on
+    // refusal (no mesh, count mismatch, no shaders), else empty.
+    std::string setVertexColors(const float* rgb, std::size_t vertexCount);
+    bool hasVertexColors() const { return colorBuffer_ != 0; }
+
+    // A diffuse map (8-bit sRGB, rows top to bottom, read with the mesh's wedge UVs: the bake's
+    // B_diffuse.png) as rho, before the vertex colours and the albedo uniform; decoded to linear by
+    // GL (GL_SRGB8), mip-mapped, on texture unit 2. Kept until replaced. Returns the reason on
+    // refusal, else empty.
+    std::string setDiffuseMap(const rad::Image8& image);
+    bool hasDiffuseMap() const { return diffuseTexture_ != 0; }
+
+    // The irradiance vector grid of the scene (Granier et al. 2007), in the mesh's object
+    // coordinates, uploaded as 12 RGB16F 3D textures (irradiance_grid_textures.h) on texture units
+    // 3..14 (15 units in all with the normal map, the LEAN moments and the diffuse map). Returns the reason on refusal (GL limits, shaders), else empty; `note` as
+    // IrradianceGridTextures::upload. Kept across setMesh calls.
+    std::string setIrradianceGrid(const rad::IrradianceVectorGrid& grid, std::string& note);
+    void clearIrradianceGrid() { grid_.release(); }
+    bool hasIrradianceGrid() const { return grid_.ready(); }
+    std::size_t irradianceGridBytes() const { return grid_.gpuBytes(); }
     bool hasLeanMoments() const { return momentTexture_ != 0; }
 
     // Draws the mesh; eyeObject: the eye in the mesh's object coordinates. Returns why nothing was
@@ -129,8 +156,16 @@ private:
     struct Uniforms {
         int normalMap = -1, moments = -1, mode = -1, tangentSpace = -1, mikkTSpace = -1, textureSize = -1, eye = -1,
             lightDirection = -1, lightColor = -1, albedo = -1, specular = -1, ambient = -1, shininess = -1,
-            exposureScale = -1, toneCurve = -1, popLevel = -1, popCorrection = -1, boxMin = -1, boxExtent = -1;
+            exposureScale = -1, toneCurve = -1, popLevel = -1, popCorrection = -1, boxMin = -1, boxExtent = -1,
+            indirect = -1, vertexAlbedo = -1, diffuseMap = -1, useDiffuseMap = -1, gridOrigin = -1, gridCellSize = -1, gridVertexCounts = -1;
+        int gridSamplers[IrradianceGridTextures::kTextures] = {-1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1};
     } u_;
+    // The mesh's vertex of every uploaded corner (for setVertexColors), in upload order.
+    std::vector<std::uint32_t> cornerVertex_;
+    std::size_t meshVertexCount_ = 0;
+    unsigned colorBuffer_ = 0;
+    unsigned diffuseTexture_ = 0;
+    IrradianceGridTextures grid_;
     unsigned vertexBuffer_ = 0;
     std::size_t cornerCount_ = 0;
     int floatsPerCorner_ = 12;  // set by uploadCorners

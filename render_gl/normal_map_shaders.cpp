@@ -1,5 +1,6 @@
 #include "normal_map_shaders.h"
 
+#include "irradiance_grid_shaders.h"
 #include "radiance_shaders.h"  // toneMappingGlsl
 
 namespace radgl {
@@ -15,6 +16,7 @@ out vec3 vObject;
 out vec3 vNormal;
 out vec2 vUv;
 out vec4 vTangent;  // MikkTSpace tangent and bitangent sign of the corner
+out vec3 vColor;    // per-vertex albedo (linear), when the renderer has vertex colours
 void main() {
     vec3 p = gl_Vertex.xyz;
     vec2 uv = gl_MultiTexCoord0.xy;
@@ -39,6 +41,7 @@ void main() {
     vNormal = gl_Normal;
     vUv = uv;
     vTangent = gl_MultiTexCoord4;  // MikkTSpace tangent and sign (texture coordinates 1-3: the POP buffer's)
+    vColor = gl_Color.rgb;
 }
 )GLSL";
 
@@ -59,6 +62,11 @@ uniform vec3 uAlbedo;
 uniform vec3 uSpecular;
 uniform vec3 uAmbient;
 uniform float uShininess;
+uniform int uIndirect;       // IndirectLight: 0 none, 1 indirect alone, 2 direct + indirect
+uniform int uVertexAlbedo;   // 1: rho = the interpolated vertex colour, else uAlbedo
+uniform sampler2D uDiffuseMap;
+uniform int uUseDiffuseMap;  // 1: rho = the diffuse map (linear: an sRGB texture), before the above
+in vec3 vColor;
 in vec3 vObject;
 in vec3 vNormal;
 in vec2 vUv;
@@ -77,6 +85,7 @@ vec3 orthogonalTangent(vec3 n, vec3 t) {
 }
 
 void main() {
+    vec3 diffuse = texture(uDiffuseMap, vUv).rgb;  // in uniform control flow (implicit derivatives)
     vec3 nv = normalize(vNormal);
     vec3 dpdx = dFdx(vObject), dpdy = dFdy(vObject);
     vec2 dtdx = dFdx(vUv), dtdy = dFdy(vUv);
@@ -135,7 +144,10 @@ void main() {
         }
     }
     if (ndl <= 0.0) spec = 0.0;
-    vec3 linear = uAmbient * uAlbedo + uLightColor * (uAlbedo * max(ndl, 0.0) + uSpecular * spec);
+    vec3 rho = uUseDiffuseMap == 1 ? diffuse : uVertexAlbedo == 1 ? vColor : uAlbedo;
+    vec3 linear = vec3(0.0);
+    if (uIndirect != 1) linear = uAmbient * rho + uLightColor * (rho * max(ndl, 0.0) + uSpecular * spec);
+    if (uIndirect != 0) linear += ivgReflected(vObject, n, rho);
     gl_FragColor = vec4(displayColor(linear), 1.0);
 }
 )GLSL";
@@ -144,6 +156,6 @@ void main() {
 
 std::string normalMapVertexShaderSource() { return kVertex; }
 
-std::string normalMapFragmentShaderSource() { return std::string(kFragmentHead) + toneMappingGlsl() + kFragmentBody; }
+std::string normalMapFragmentShaderSource() { return std::string(kFragmentHead) + toneMappingGlsl() + irradianceGridGlsl() + kFragmentBody; }
 
 }  // namespace radgl

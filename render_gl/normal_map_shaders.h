@@ -18,12 +18,26 @@
 //   the same lambda in both map modes, so that they agree exactly when the covariance is 0).
 // dP/du, dP/dv come from the screen-space derivatives of the object position and of uv.
 // Lighting (object space): linear = ambient * albedo + light * (albedo * max(n.L, 0) + specular * spec),
-// spec = 0 where n.L <= 0; then displayColor() of radiance_shaders.h (toneMappingGlsl()).
+// spec = 0 where n.L <= 0, albedo = rho below; plus or instead the indirect light of an irradiance
+// vector grid (IndirectLight); then displayColor() of radiance_shaders.h (toneMappingGlsl()).
 #pragma once
 
 #include <string>
 
 namespace radgl {
+
+// Indirect light from an irradiance vector grid (Granier et al. 2007, irradiance_grid_shaders.h),
+// evaluated at the fragment's object position with the shading normal n (the mapped normal in the
+// map modes, so that a simplified mesh with its normal map receives the scan's detail of indirect
+// light): None: the direct light above only; Indirect: rho / pi <I_n, n> alone (no ambient, no
+// direct light); DirectAndIndirect: the direct light above (no shadows) plus the indirect term.
+// rho: the diffuse map when the renderer has one, else the per-vertex albedo when it has vertex
+// colours, else the albedo uniform (for the direct light too).
+enum class IndirectLight {
+    None = 0,
+    Indirect = 1,
+    DirectAndIndirect = 2,
+};
 
 enum class NormalMapShading {
     VertexNormals = 0,

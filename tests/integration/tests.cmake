@@ -54,3 +54,8 @@ set_tests_properties(gui.normal_map_decoration PROPERTIES ENVIRONMENT "${_integr
 add_test(NAME gui.pop_lod_decoration COMMAND bash "${PROJECT_SOURCE_DIR}/tests/gui/gui_pop_lod.sh")
 set_tests_properties(gui.pop_lod_decoration PROPERTIES ENVIRONMENT "${_integration_env}" LABELS gui TIMEOUT 300
   RUN_SERIAL TRUE)
+# The "Irradiance Vector Grid" decoration in the real meshlab (tests/gui/gui_irradiance_grid.sh): a
+# two-colour analytic grid beside a sphere, a truncated grid, no grid.
+add_test(NAME gui.irradiance_grid_decoration COMMAND bash "${PROJECT_SOURCE_DIR}/tests/gui/gui_irradiance_grid.sh")
+set_tests_properties(gui.irradiance_grid_decoration PROPERTIES ENVIRONMENT "${_integration_env}" LABELS gui TIMEOUT 300
+  RUN_SERIAL TRUE)

@@ -1,0 +1,266 @@
+#include "irradiance_grid_decoration.h"
+
+#include "layer_files.h"
+#include "mesh_conversion.h"
+
+#include "gl_capabilities.h"
+
+#include "bake/bake_description.h"
+#include "bake/lean_maps.h"
+#include "image/image_io.h"
+#include "image/rgb_image.h"
+#include "lighting/irradiance_vector_grid.h"
+#include "render/tone_mapping.h"
+
+#include <GL/glew.h>
+
+#include <wrap/gl/math.h>
+
+#include <Eigen/LU>
+
+#include <QDir>
+#include <QElapsedTimer>
+#include <QFileInfo>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+namespace raddecorate {
+namespace {
+
+const char* const kFile = "MeshLab::Decoration::IrradianceGridFile";
+const char* const kLight = "MeshLab::Decoration::IrradianceGridLight";
+const char* const kNormals = "MeshLab::Decoration::IrradianceGridNormals";
+const char* const kAlbedo = "MeshLab::Decoration::IrradianceGridAlbedo";
+const char* const kDirection = "MeshLab::Decoration::IrradianceGridLightDirection";
+const char* const kIntensity = "MeshLab::Decoration::IrradianceGridLightIntensity";
+const char* const kExposure = "MeshLab::Decoration::IrradianceGridExposure";
+const char* const kToneMap = "MeshLab::Decoration::IrradianceGridToneMap";
+enum { kIndirectOnly = 0, kDirectAndIndirect = 1 };
+enum { kMappedNormals = 0, kVertexNormals = 1 };
+
+double linearOf(int code) { return double(rad::srgbToLinear(static_cast<std::uint8_t>(std::clamp(code, 0, 255)))); }
+
+// Reads and uploads the grid at `path`; returns the reason on failure (the reader's message names
+// the file and the problem), else empty, with `note` from the upload.
+std::string loadGrid(IrradianceGridView& view, const std::string& path, std::string& note, rad::IrradianceVectorGrid* out) {
+    try {
+        rad::IrradianceVectorGrid grid = rad::readIrradianceVectorGrid(path);
+        const std::string problem = view.renderer->setIrradianceGrid(grid, note);
+        if (!problem.empty()) return "cannot draw the grid '" + path + "' with this OpenGL: " + problem;
+        view.gridPath = path;
+        if (out) *out = std::move(grid);
+        return {};
+    } catch (const std::exception& e) {
+        return e.what();
+    }
+}
+
+}  // namespace
+
+void addIrradianceGridParameters(RichParameterList& par) {
+    par.addParam(RichOpenFile(kFile, "", QStringList() << "*.ivg", "Irradiance vector grid file",
+                              "The grid to draw. Empty: the layer's file with the extension .ivg, as 'Compute "
+                              "Irradiance Vector Grid' saves it. A relative name is taken beside the layer's file."));
+    par.addParam(RichEnum(kLight, kIndirectOnly,
+                          QStringList() << "Indirect light only" << "Direct + indirect light (direct: no shadows)",
+                          "Irradiance grid light",
+                          "Indirect only: rho / pi <I_n, n> from the grid. Direct + indirect: plus one directional "
+                          "light that follows the camera (Lambert; the direct light casts no shadows)."));
+    par.addParam(RichEnum(kNormals, kMappedNormals,
+                          QStringList() << "Baked normal map when the layer has one" << "Vertex normals",
+                          "Irradiance grid normals",
+                          "The normal the grid is evaluated with: the normal map baked by 'Bake Normal Map' (the "
+                          "scan's detail on a simplified mesh, Granier et al. 2007), or the mesh's vertex normals."));
+    par.addParam(RichColor(kAlbedo, QColor(200, 200, 200), "Irradiance grid albedo",
+                           "Diffuse colour rho of a layer without vertex colours (a layer with colours uses them)."));
+    par.addParam(RichPoint3f(kDirection, vcg::Point3f(0.4f, 0.5f, 1.0f), "Irradiance grid direct light direction",
+                             "Direction toward the direct light in camera coordinates (x right, y up, z toward you)."));
+    par.addParam(RichFloat(kIntensity, 1.0f, "Irradiance grid direct light intensity",
+                           "Irradiance of the direct light (white): L = rho max(n.l, 0) x intensity."));
+    par.addParam(RichFloat(kExposure, 0.0f, "Irradiance grid exposure (stops)",
+                           "Displayed colour = tone curve(2^stops x radiance), then sRGB."));
+    par.addParam(RichEnum(kToneMap, 0, QStringList() << "Clamp" << "Reinhard x/(1+x)", "Irradiance grid tone curve",
+                          "Clamp: values above 1 saturate. Reinhard: x/(1+x) per channel."));
+}
+
+QString irradianceGridInfo() {
+    return "Draws the layer lit by the indirect light stored in an irradiance vector grid: <i>P. Granier, R. "
+           "Pacanowski, C. Schlick</i>, <b>Managing Geometry Complexity for Illumination Computation of Cultural "
+           "Heritage Scenes</b> (2007). Per fragment: the paper's six irradiance vectors per grid vertex, "
+           "compressed to a colour and a direction in twelve 16-bit 3D textures, interpolated trilinearly, "
+           "weighted by the squared components of the normal, L = rho / pi &lt;I_n, n&gt;; alone or with one "
+           "directional light (no shadows). The grid is the layer's file with the extension .ivg, or the file "
+           "named in Tools &gt; Options &gt; Decoration. With a normal map baked by 'Bake Normal Map' the grid "
+           "is evaluated with the mapped normal. Needs OpenGL 3.2 / GLSL 1.50 and 14 texture units. Shortcut "
+           "Ctrl+Alt+I.";
+}
+
+std::unique_ptr<IrradianceGridView> startIrradianceGrid(MeshModel& m, const RichParameterList& par, std::string& startLine,
+                                                       std::string& why) {
+    QElapsedTimer timer;
+    timer.start();
+    if (m.cm.fn == 0) {
+        why = "the layer has no faces (a point cloud): the decoration draws triangles";
+        return nullptr;
+    }
+    const std::string path = irradianceGridPathOf(m, par.getOpenFileName(kFile).trimmed().toStdString(), why);
+    if (path.empty()) return nullptr;
+    if (!QFileInfo::exists(QString::fromStdString(path))) {
+        why = "no irradiance vector grid '" + path + "': compute one with 'Compute Irradiance Vector Grid' (it saves "
+              "it beside the layer's file), or name a grid file in Tools > Options > Decoration";
+        return nullptr;
+    }
+    radgl::GlCapabilities caps = radgl::queryGlCapabilities();
+    radgl::capGlVersionFromEnvironment(caps);  // RADIANCE_DECORATE_MAX_GL, as the other decorations
+    auto view = std::make_unique<IrradianceGridView>();
+    std::string mapNote = "vertex normals";
+    try {
+        view->renderer = std::make_unique<radgl::NormalMapGlRenderer>(caps);
+        if (!view->renderer->shaderProblem().empty()) {
+            why = "no shaders: " + view->renderer->shaderProblem();
+            return nullptr;
+        }
+        radml::ExportChoice choice;
+        choice.quality = choice.radiance = choice.transfer = false;
+        rad::RadianceMesh plain;
+        if (!radml::exportPlainMesh(m.cm, choice, plain, why)) return nullptr;
+        std::string mapWhy;
+        const std::string description = bakedMapOf(m, mapWhy);  // normal map and diffuse map of a bake
+        std::vector<float> wedgeUv = description.empty() ? std::vector<float>(6 * plain.faceCount(), 0.0f)
+                                                         : radml::exportWedgeTexCoords(m.cm);
+        std::string problem = view->renderer->setMesh(plain.positions.data(), plain.normals.data(), plain.vertexCount(),
+                                                      plain.faces.data(), plain.faceCount(), wedgeUv.data());
+        if (!problem.empty()) {
+            why = problem;
+            return nullptr;
+        }
+        std::string colourNote = "albedo from the options";
+        bool diffuse = false;
+        if (!description.empty()) {
+            const rad::BakeDescription bake = rad::readBakeDescription(description);
+            const QDir folder = QFileInfo(QString::fromStdString(description)).absoluteDir();
+            if (!bake.diffuseMap.empty()) {
+                const std::string file = folder.filePath(QString::fromStdString(bake.diffuseMap)).toStdString();
+                try {
+                    problem = view->renderer->setDiffuseMap(rad::readImage8(file));
+                } catch (const std::exception& e) {
+                    problem = e.what();
+                }
+                diffuse = problem.empty();
+                colourNote = diffuse ? "albedo from the baked diffuse map" : "diffuse map refused (" + problem + ")";
+            }
+        }
+        if (!description.empty() && par.getEnum(kNormals) == kMappedNormals) {
+            const rad::BakeDescription bake = rad::readBakeDescription(description);
+            const QDir folder = QFileInfo(QString::fromStdString(description)).absoluteDir();
+            int width = 0, height = 0;
+            const std::vector<float> normals =
+                rad::readNormalMap(folder.filePath(QString::fromStdString(bake.normalMap)).toStdString(), width, height);
+            problem = view->renderer->setNormalMap(rad::buildNormalPyramid(normals.data(), width, height),
+                                                   bake.space == rad::NormalSpace::Tangent, bake.tangentFrame);
+            if (problem.empty()) {
+                view->normalMap = true;
+                mapNote = "the baked " + std::to_string(width) + "x" + std::to_string(height) + " normal map";
+            } else {
+                mapNote = "vertex normals (normal map refused: " + problem + ")";
+            }
+        }
+        if (!diffuse && m.hasDataMask(MeshModel::MM_VERTCOLOR) && plain.colors.size() == 4 * plain.vertexCount()) {
+            std::vector<float> rho(3 * plain.vertexCount());
+            for (std::size_t v = 0; v < plain.vertexCount(); ++v)
+                for (int c = 0; c < 3; ++c) rho[3 * v + c] = static_cast<float>(linearOf(plain.colors[4 * v + c]));
+            problem = view->renderer->setVertexColors(rho.data(), plain.vertexCount());
+            colourNote = problem.empty() ? "albedo from the vertex colours" : "albedo from the options (" + problem + ")";
+        }
+        std::string note;
+        rad::IrradianceVectorGrid grid;
+        problem = loadGrid(*view, path, note, &grid);
+        if (!problem.empty()) {
+            why = problem;
+            return nullptr;
+        }
+        char line[1024];
+        std::snprintf(line, sizeof line,
+                      "grid '%s', %d x %d x %d cells, %d bounce(s), %.1f MB of 3D textures (12 x RGB16F); %s, %s; set up "
+                      "in %.2f s; %s%s%s",
+                      path.c_str(), grid.cells[0], grid.cells[1], grid.cells[2], grid.bounces,
+                      view->renderer->irradianceGridBytes() / 1048576.0, mapNote.c_str(), colourNote.c_str(),
+                      timer.elapsed() / 1000.0, caps.describe().c_str(), note.empty() ? "" : "; ", note.c_str());
+        startLine = line;
+    } catch (const std::exception& e) {
+        why = e.what();
+        return nullptr;
+    }
+    view->vn = m.cm.vn;
+    view->fn = m.cm.fn;
+    view->vertices = m.cm.vert.empty() ? nullptr : &m.cm.vert[0];
+    view->faces = m.cm.face.empty() ? nullptr : &m.cm.face[0];
+    const std::string errors = view->renderer->takeGlErrors();
+    if (!errors.empty()) startLine += "; " + errors;
+    return view;
+}
+
+void drawIrradianceGrid(IrradianceGridView& view, MeshModel& m, const RichParameterList& par, GLLogStream& log) {
+    auto reportOnce = [&](int level, const std::string& message) {
+        if (view.reported.insert(message).second) log.Log(level, "Irradiance Vector Grid: " + message);
+    };
+    if (m.cm.vn != view.vn || m.cm.fn != view.fn || (m.cm.vert.empty() ? nullptr : &m.cm.vert[0]) != view.vertices ||
+        (m.cm.face.empty() ? nullptr : &m.cm.face[0]) != view.faces) {
+        reportOnce(GLLogStream::WARNING, "the layer changed since the decoration started: switch it off and on");
+        return;
+    }
+    // A grid file chosen in the options while the decoration is on.
+    std::string why;
+    const std::string path = irradianceGridPathOf(m, par.getOpenFileName(kFile).trimmed().toStdString(), why);
+    if (path.empty()) {
+        reportOnce(GLLogStream::WARNING, why);
+        return;
+    }
+    if (path != view.gridPath) {
+        if (path == view.failedPath) return;
+        std::string note;
+        const std::string problem = loadGrid(view, path, note, nullptr);
+        if (!problem.empty()) {
+            view.failedPath = path;
+            reportOnce(GLLogStream::WARNING, problem + "; nothing drawn");
+            return;
+        }
+        view.failedPath.clear();
+        reportOnce(GLLogStream::FILTER, "now drawing the grid '" + path + "'" + (note.empty() ? "" : "; " + note));
+    }
+
+    glPushMatrix();
+    vcg::glMultMatrix(m.cm.Tr);
+    GLdouble modelview[16];
+    glGetDoublev(GL_MODELVIEW_MATRIX, modelview);
+    const Eigen::Map<const Eigen::Matrix4d> mv(modelview);
+    const Eigen::Matrix4d inverse = mv.inverse();
+    const Eigen::Vector4d eye = inverse * Eigen::Vector4d(0, 0, 0, 1);
+    const vcg::Point3f light = par.getPoint3f(kDirection);
+    radgl::NormalMapLighting lighting;
+    lighting.indirect = par.getEnum(kLight) == kDirectAndIndirect ? radgl::IndirectLight::DirectAndIndirect
+                                                                  : radgl::IndirectLight::Indirect;
+    // Directions transform with the inverse modelview (the light is given in camera coordinates).
+    const Eigen::Vector3d l = (inverse * Eigen::Vector4d(light[0], light[1], light[2], 0.0)).head<3>();
+    lighting.lightDirection = l.norm() > 0 ? l.normalized() : Eigen::Vector3d(0, 0, 1);
+    const float intensity = par.getFloat(kIntensity);
+    lighting.lightColor = Eigen::Vector3d::Constant(std::isfinite(intensity) ? std::max(0.0f, intensity) : 1.0);
+    const QColor albedo = par.getColor(kAlbedo);
+    lighting.albedo = Eigen::Vector3d(linearOf(albedo.red()), linearOf(albedo.green()), linearOf(albedo.blue()));
+    lighting.specular.setZero();  // the grid's surfaces are diffuse (L = rho / pi <I, n>); so is the direct light
+    lighting.ambient.setZero();
+    rad::ToneMapping tm;
+    const float stops = par.getFloat(kExposure);
+    tm.exposureStops = std::isfinite(stops) ? stops : 0.0;
+    tm.curve = par.getEnum(kToneMap) == 1 ? rad::ToneCurve::Reinhard : rad::ToneCurve::Clamp;
+    const radgl::NormalMapShading mode = view.normalMap ? radgl::NormalMapShading::NormalMap : radgl::NormalMapShading::VertexNormals;
+    const std::string problem = view.renderer->draw(mode, lighting, tm, eye.head<3>() / eye[3]);
+    glPopMatrix();
+    if (!problem.empty()) reportOnce(GLLogStream::WARNING, problem);
+    const std::string errors = view.renderer->takeGlErrors();
+    if (!errors.empty()) reportOnce(GLLogStream::WARNING, errors);
+}
+
+}  // namespace raddecorate
