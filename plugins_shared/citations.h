@@ -14,6 +14,12 @@ inline constexpr const char* kCiteGranier2007WeberStamminger =
     "M. Stamminger</i>, <b>\"Stateless Level of Detail Lighting for Automotive Visualization\"</b> (Alg. 2-4, "
     "sec. 3.5), after <i>M. Olano, D. Baker</i>, \"LEAN Mapping\", I3D 2010.";
 
+inline constexpr const char* kCiteGranier2007Ivg =
+    "<br><br>Irradiance vector grid: <i>X. Granier, R. Pacanowski, C. Schlick</i>, <b>\"Managing Geometry "
+    "Complexity for Illumination Computation of Cultural Heritage Scenes\"</b> (2007), after the irradiance "
+    "vector of <i>J. Arvo</i>, \"The Irradiance Jacobian for Partially Occluded Polyhedral Sources\", SIGGRAPH "
+    "1994. Environment map as lights: <i>P. Debevec</i>, \"A Median Cut Algorithm for Light Probe Sampling\" (2005).";
+
 inline constexpr const char* kCiteMikkelsen2008 =
     "<br><br>Tangent space: <i>M. S. Mikkelsen</i>, <b>\"Simulation of wrinkled surfaces revisited\"</b>, "
     "MSc thesis, University of Copenhagen (2008) (MikkTSpace).";

@@ -3,6 +3,8 @@
 // 6 R rays go to the tracer 16 at a time.
 #include "lighting/irradiance_vector_grid_compute.h"
 
+#include "lighting/median_cut_lights.h"
+
 #include <omp.h>
 
 #include <algorithm>
@@ -49,22 +51,25 @@ void validateOptions(const IrradianceGridOptions& o) {
     if (o.threads < 0) throw std::invalid_argument("The thread count must be 0 (every core) or more.");
 }
 
-// Replaces the invalid vertices by the average of their valid 26-neighbours, wave after wave (a
-// vertex filled in one wave serves the next). Returns the count left unfilled.
+// Replaces the invalid vertices by their valid 26-neighbours, wave after wave (a vertex filled in one
+// wave serves the next). Per direction delta, the neighbours lying on delta's side (offset . delta
+// > 0) are averaged when there are any: a surface with normal ~delta next to an invalid vertex lies
+// between it and those neighbours, and sees what they see in that hemisphere (the floor's +z vectors
+// below the floor come from the vertices above it, not from beside it); otherwise all valid
+// neighbours. Returns the count left unfilled (no valid vertex in reach: set to zero).
 std::size_t repairInvalidVertices(IrradianceVectorGrid& grid, std::vector<std::uint8_t> invalid) {
     const std::array<int, 3> n = grid.vertexCounts();
-    const int F = IrradianceVectorGrid::kFloatsPerVertex;
+    const int F = IrradianceVectorGrid::kFloatsPerVertex, D = IrradianceVectorGrid::kFloatsPerDirection;
     std::vector<std::size_t> pending;
     for (std::size_t v = 0; v < invalid.size(); ++v)
         if (invalid[v]) pending.push_back(v);
-    std::vector<float> sum(F);
     while (!pending.empty()) {
         std::vector<std::size_t> filled, still;
         std::vector<float> values;
         for (std::size_t v : pending) {
             const int i = int(v % n[0]), j = int((v / n[0]) % n[1]), k = int(v / (std::size_t(n[0]) * n[1]));
-            std::fill(sum.begin(), sum.end(), 0.0f);
-            int count = 0;
+            float all[54] = {}, side[54] = {};
+            int allCount = 0, sideCount[6] = {0, 0, 0, 0, 0, 0};
             for (int dk = -1; dk <= 1; ++dk)
                 for (int dj = -1; dj <= 1; ++dj)
                     for (int di = -1; di <= 1; ++di) {
@@ -73,15 +78,24 @@ std::size_t repairInvalidVertices(IrradianceVectorGrid& grid, std::vector<std::u
                         const std::size_t u = grid.vertexIndex(a, b, c);
                         if (invalid[u]) continue;
                         const float* src = grid.vectors.data() + u * F;
-                        for (int q = 0; q < F; ++q) sum[q] += src[q];
-                        ++count;
+                        for (int q = 0; q < F; ++q) all[q] += src[q];
+                        ++allCount;
+                        const int offset[3] = {di, dj, dk};
+                        for (int d = 0; d < 6; ++d) {
+                            const int o = offset[d / 2] * (d % 2 == 0 ? 1 : -1);
+                            if (o <= 0) continue;
+                            for (int q = 0; q < D; ++q) side[d * D + q] += src[d * D + q];
+                            ++sideCount[d];
+                        }
                     }
-            if (count == 0) {
+            if (allCount == 0) {
                 still.push_back(v);
                 continue;
             }
             filled.push_back(v);
-            for (int q = 0; q < F; ++q) values.push_back(sum[q] / float(count));
+            for (int d = 0; d < 6; ++d)
+                for (int q = 0; q < D; ++q)
+                    values.push_back(sideCount[d] > 0 ? side[d * D + q] / float(sideCount[d]) : all[d * D + q] / float(allCount));
         }
         if (filled.empty()) {
             for (std::size_t v : still) std::fill(grid.vectors.begin() + v * F, grid.vectors.begin() + (v + 1) * F, 0.0f);
@@ -98,6 +112,22 @@ std::size_t repairInvalidVertices(IrradianceVectorGrid& grid, std::vector<std::u
 }
 
 }  // namespace
+
+AnalyticLighting environmentLights(const EnvironmentMap& map, int lightCount, double scale) {
+    if (lightCount < 1 || lightCount > 4096)
+        throw std::invalid_argument("The light count is " + std::to_string(lightCount) +
+                                    ": choose 1 to 4096 median-cut lights for the environment map (64 is usual).");
+    if (!(scale > 0.0) || !std::isfinite(scale))
+        throw std::invalid_argument("The environment map's intensity scale must be a positive number.");
+    int levels = 0;
+    while ((1 << levels) < lightCount) ++levels;
+    AnalyticLighting lights;
+    for (DirectionalLight l : medianCutLights(map, levels)) {
+        l.irradiance *= scale;
+        lights.directional.push_back(l);
+    }
+    return lights;
+}
 
 IrradianceVectorGrid placeIrradianceGrid(const std::array<float, 3>& boxMin, const std::array<float, 3>& boxMax,
                                          int resolution, double padding) {

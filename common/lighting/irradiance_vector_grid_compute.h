@@ -17,9 +17,11 @@
 // walls face inward) sees back faces (indirect_light_tracer.h). A vertex whose fraction of rays
 // reaching a back face first exceeds `maxBackFaceFraction` is INVALID: its vectors would be dark or
 // meaningless and trilinear interpolation would leak them onto nearby surfaces (a wall lies between
-// vertices inside and outside the room). Invalid vertices are replaced by the average of their valid
-// neighbours (the 26 around them), wave after wave so that deep ones are reached too; vertices
-// with no valid vertex in reach (a grid entirely inside an object) keep zero, counted apart.
+// vertices inside and outside the room). Invalid vertices are replaced by their valid neighbours
+// (among the 26 around them), per direction delta the average of those on delta's side when there
+// are any (a surface facing delta lies between the invalid vertex and them), else of all; wave
+// after wave so that deep ones are reached too; vertices with no valid vertex in reach (a grid
+// entirely inside an object) keep zero, counted apart.
 //
 // Grid placement: the scene's bounding box padded by `padding` times its longest side on every
 // side, `resolution` cells along the longest axis, the other axes with as many cells as keep the
@@ -27,6 +29,7 @@
 #pragma once
 
 #include "geometry/triangle_mesh.h"
+#include "lighting/environment_map.h"
 #include "lighting/indirect_light_tracer.h"
 #include "lighting/irradiance_vector_grid.h"
 #include "progress/progress_callback.h"
@@ -65,6 +68,12 @@ struct IrradianceGridReport {
     double secondsPerMillionSamples() const { return samples ? traceSeconds * 1e6 / double(samples) : 0.0; }
     std::size_t memoryBytes = 0;         // of the uncompressed grid (54 floats per vertex)
 };
+
+// The direct light of an environment map as directional lights for the tracer: Debevec's median
+// cut (median_cut_lights.h) into the smallest power of two >= lightCount regions (lightCount 1..4096,
+// std::invalid_argument otherwise), each region's light scaled by `scale` (> 0). Their summed
+// irradiance is the map's sphere integral times the scale.
+AnalyticLighting environmentLights(const EnvironmentMap& map, int lightCount, double scale = 1.0);
 
 // The cells of the grid for a box and a resolution (see the file comment), without computing.
 // Throws IrradianceVectorGridError for a resolution outside 1..512 or a bad box.

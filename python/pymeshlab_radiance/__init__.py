@@ -43,6 +43,7 @@ _FILTERS = (
     "radiance_prt_relighting_as_vertex_color",
     "bake_normal_map",
     "extract_level_of_detail_pop_buffer",
+    "compute_irradiance_vector_grid",
 )
 
 

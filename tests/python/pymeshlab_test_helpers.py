@@ -37,6 +37,7 @@ FILTERS = {
     "Radiance: PRT Relighting as Vertex Color": "radiance_prt_relighting_as_vertex_color",
     "Bake Normal Map": "bake_normal_map",
     "Extract Level of Detail (POP Buffer)": "extract_level_of_detail_pop_buffer",
+    "Compute Irradiance Vector Grid": "compute_irradiance_vector_grid",
 }
 CREATE = FILTERS["Radiance: Create Radiance Data from Analytic Material"]
 EVALUATE = FILTERS["Radiance: Evaluate Radiance toward a Viewpoint as Vertex Color"]
@@ -48,10 +49,12 @@ UNIFORM = FILTERS["Radiance: Uniform PRT Subdivision"]
 RELIGHT = FILTERS["Radiance: PRT Relighting as Vertex Color"]
 BAKE = FILTERS["Bake Normal Map"]
 POP_LEVELS = FILTERS["Extract Level of Detail (POP Buffer)"]
+IRRADIANCE_GRID = FILTERS["Compute Irradiance Vector Grid"]
 
 # The plugin files the package must load (the 2025 builds of build/pymeshlab_plugins).
 PLUGIN_FILES = ("libio_radiance.so", "libfilter_radiance_fit.so", "libfilter_radiance_simplify.so",
-                "libfilter_prt_subdivide.so", "libfilter_normal_bake.so", "libfilter_level_of_detail.so")
+                "libfilter_prt_subdivide.so", "libfilter_normal_bake.so", "libfilter_level_of_detail.so",
+                "libfilter_irradiance_grid.so")
 
 SH_BASIS = "Spherical harmonics SH(d), global frame"
 

@@ -39,6 +39,8 @@ EXPECTED_PARAMETERS = {
     h.BAKE: ["sourceMesh", "textureSize", "space", "tangentFrame", "bits", "maxDistance", "gutter", "newAtlas", "diffuse", "lean",
              "gltf", "gltfRoughness", "assign", "outputFile"],
     h.POP_LEVELS: ["levels", "correction"],
+    h.IRRADIANCE_GRID: ["resolution", "bounces", "rays", "lightSource", "envMap", "lightCount", "envScale",
+                        "lightDirection", "lightIrradiance", "outputFile"],
 }
 
 
@@ -80,6 +82,7 @@ def recorded_script(scenes, tmp_path_factory):
     ms.load_new_mesh(scenes("sphere", level=1))
     ms.apply_filter(h.BAKE, sourcemesh=0, texturesize=128, outputfile=str(work / "baked_normal.png"))
     ms.apply_filter(h.POP_LEVELS, levels="4")  # on the baked layer's texture coordinates
+    ms.apply_filter(h.IRRADIANCE_GRID, resolution=2, rays=4, lightsource=1, outputfile=str(work / "grid.ivg"))
     ms.save_filter_script(str(work / "filters.mlx"))
 
     h.run_tool("virtual_acquisition", scenes("sphere", level=2), "-o", work / "photos", "--views", 4,
