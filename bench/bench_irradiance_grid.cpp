@@ -230,8 +230,8 @@ int main(int argc, char** argv) {
             }
             char cells[32];
             std::snprintf(cells, sizeof cells, "%dx%dx%d", grid.cells[0], grid.cells[1], grid.cells[2]);
-            std::printf("%-6d %-12s %8zu %8.3f %9.3f %9zu | %8.2f%% %8.2f%% %8.2f%% | %8.2f%% %8.2f%%   (per-vertex meshes: "
-                        "%zu and %zu vertices)\n",
+            std::printf("%-6d %-12s %8zu %8.3f %9.3f %9zu | %8.2f%% %8.2f%% %8.2f%% | %8.2f%% %8.2f%%   (grid %.1f s; per-vertex meshes "
+                        "%zu and %zu vertices, the first %.1f s)\n",
                         resolution, cells, grid.vertexCount(), report.memoryBytes / 1e6, report.secondsPerMillionSamples(),
                         report.invalidVertices, 100.0 * rad::indirectImageError(paper, reference, surface.mask).relativeRmse(),
                         100.0 * rad::indirectImageError(absolute, reference, surface.mask).relativeRmse(),
