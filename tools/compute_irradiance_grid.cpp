@@ -27,7 +27,7 @@ using radtools::toInt;
 using radtools::toNumber;
 
 void usage(std::ostream& out) {
-    out << "usage: compute_irradiance_grid MESH [MESH ...] [options]   (PLY, OFF or OBJ; merged into one scene)\n"
+    out << "usage: compute_irradiance_grid MESH [MESH ...] [options]   (binary PLY, OFF or OBJ; merged into one scene)\n"
            "  -o OUT.ivg               output [first mesh's name with .ivg]\n"
            "  --resolution N           cells along the longest side of the scene's box [16]\n"
            "  --bounces B              diffuse bounces of the direct light, >= 1 [1]\n"

@@ -24,6 +24,33 @@ GRID = h.IRRADIANCE_GRID
 SUN = dict(lightsource=1, lightdirection=np.array([0.2, 0.1, 1.0]), lightirradiance=2.0)
 
 
+def floor_arrays(n):
+    xs = np.linspace(-1.0, 1.0, n + 1)
+    vertices = np.array([[x, y, 0.0] for y in xs for x in xs])
+    faces = []
+    for j in range(n):
+        for i in range(n):
+            a, b, c, d = j * (n + 1) + i, j * (n + 1) + i + 1, (j + 1) * (n + 1) + i + 1, (j + 1) * (n + 1) + i
+            faces += [(a, b, c), (a, c, d)]
+    return vertices, faces
+
+
+def red_floor_binary(path, n=8):
+    """The same floor as a binary little-endian PLY (what the project's PLY reader takes)."""
+    import struct
+    vertices, faces = floor_arrays(n)
+    with open(path, "wb") as f:
+        f.write(("ply\nformat binary_little_endian 1.0\n"
+                 f"element vertex {len(vertices)}\nproperty float x\nproperty float y\nproperty float z\n"
+                 "property uchar red\nproperty uchar green\nproperty uchar blue\n"
+                 f"element face {len(faces)}\nproperty list uchar int vertex_indices\nend_header\n").encode())
+        for v in vertices:
+            f.write(struct.pack("<fffBBB", v[0], v[1], v[2], 255, 0, 0))
+        for t in faces:
+            f.write(struct.pack("<Biii", 3, *t))
+    return path
+
+
 def red_floor(path, n=8):
     xs = np.linspace(-1.0, 1.0, n + 1)
     vertices = np.array([[x, y, 0.0] for y in xs for x in xs])
@@ -94,3 +121,19 @@ def test_layer_without_a_file_needs_an_output_path(tmp_path):
     out = tmp_path / "memory.ivg"
     ms.apply_filter(GRID, resolution=2, rays=8, outputfile=str(out), **SUN)
     assert out.is_file()
+
+
+def test_command_line_tool_writes_the_same_kind_of_grid(tmp_path):
+    mesh = red_floor_binary(str(tmp_path / "floor.ply"))
+    out = h.run_tool("compute_irradiance_grid", mesh, "--resolution", 4, "--rays", 32, "--sun", "0.2,0.1,1,2")
+    assert "grid: 4 x 4 x 1 cells" in out, out
+    assert "vertices inside objects or behind walls" in out, out
+    cells, fields, values = check_ivg.read_ivg(str(tmp_path / "floor.ivg"))
+    v = np.array(values).reshape(-1, 6, 3, 3)
+    assert cells == [4, 4, 1]
+    assert np.all(v[:, :, 1:, :] == 0.0) and np.count_nonzero(v[:, :, 0, :]) > 0
+    # No light: a usage error, no file.
+    result = __import__("subprocess").run([h.tool("compute_irradiance_grid"), mesh, "-o", str(tmp_path / "x.ivg")],
+                                          capture_output=True, text=True)
+    assert result.returncode == 2 and "no light" in result.stderr
+    assert not (tmp_path / "x.ivg").exists()
