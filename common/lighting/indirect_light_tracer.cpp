@@ -3,6 +3,8 @@
 // intersect16 and every light one occluded16, so Embree always gets packets.
 #include "lighting/indirect_light_tracer.h"
 
+#include "geometry/coordinate_range.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -40,6 +42,9 @@ IndirectLightTracer::IndirectLightTracer(const TriangleMesh& mesh, const std::ve
     const std::string problem = mesh.validate();
     if (!problem.empty()) throw IndirectLightError("The scene mesh is invalid: " + problem);
     if (mesh.faceCount() == 0) throw IndirectLightError("The scene has no faces: indirect light needs surfaces to bounce on.");
+    // Embree aborts the process on rays near 1e18: refuse such coordinates first.
+    const std::string range = coordinateRangeProblem(mesh.positions.data(), mesh.vertexCount());
+    if (!range.empty()) throw IndirectLightError(range);
     if (!albedo.empty() && albedo.size() != 3 * mesh.vertexCount())
         throw IndirectLightError("The albedo array has " + std::to_string(albedo.size()) + " values for " +
                                  std::to_string(mesh.vertexCount()) + " vertices (3 per vertex expected).");

@@ -123,6 +123,9 @@ TEST(IndirectLightTracer, RefusesScenesWithoutLightOrFaces) {
     EXPECT_THROW(rad::IndirectLightTracer(floorSquare(1.0f), {}, lights, {}), rad::IndirectLightError);
     lights.directional.push_back(rad::DirectionalLight{});
     EXPECT_THROW(rad::IndirectLightTracer(rad::TriangleMesh{}, {}, lights, {}), rad::IndirectLightError);
+    rad::TriangleMesh far = floorSquare(1.0f);
+    far.positions[0] = 1e19f;  // Embree would abort on it
+    EXPECT_THROW(rad::IndirectLightTracer(far, {}, lights, {}), rad::IndirectLightError);
     rad::DirectionalLight bad;
     bad.irradiance = rad::Rgb(-1, 0, 0);
     lights.directional.push_back(bad);
