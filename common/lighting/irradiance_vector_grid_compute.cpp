@@ -51,13 +51,9 @@ void validateOptions(const IrradianceGridOptions& o) {
     if (o.threads < 0) throw std::invalid_argument("The thread count must be 0 (every core) or more.");
 }
 
-// Replaces the invalid vertices by their valid 26-neighbours, wave after wave (a vertex filled in one
-// wave serves the next). Per direction delta, the neighbours lying on delta's side (offset . delta
-// > 0) are averaged when there are any: a surface with normal ~delta next to an invalid vertex lies
-// between it and those neighbours, and sees what they see in that hemisphere (the floor's +z vectors
-// below the floor come from the vertices above it, not from beside it); otherwise all valid
-// neighbours. Returns the count left unfilled (no valid vertex in reach: set to zero).
-std::size_t repairInvalidVertices(IrradianceVectorGrid& grid, std::vector<std::uint8_t> invalid) {
+}  // namespace
+
+std::size_t repairInvalidGridVertices(IrradianceVectorGrid& grid, std::vector<std::uint8_t> invalid) {
     const std::array<int, 3> n = grid.vertexCounts();
     const int F = IrradianceVectorGrid::kFloatsPerVertex, D = IrradianceVectorGrid::kFloatsPerDirection;
     std::vector<std::size_t> pending;
@@ -93,9 +89,32 @@ std::size_t repairInvalidVertices(IrradianceVectorGrid& grid, std::vector<std::u
                 continue;
             }
             filled.push_back(v);
-            for (int d = 0; d < 6; ++d)
+            for (int d = 0; d < 6; ++d) {
+                // Linear extrapolation along delta from the two next vertices when both are valid
+                // (the indirect light near a wall varies roughly linearly), per channel kept only
+                // when it does not flip the vector's component along delta.
+                const int axis = d / 2, step = d % 2 == 0 ? 1 : -1;
+                int p1[3] = {i, j, k}, p2[3] = {i, j, k};
+                p1[axis] += step;
+                p2[axis] += 2 * step;
+                const bool inside = p2[axis] >= 0 && p2[axis] < n[axis];
+                const std::size_t u1 = inside ? grid.vertexIndex(p1[0], p1[1], p1[2]) : 0;
+                const std::size_t u2 = inside ? grid.vertexIndex(p2[0], p2[1], p2[2]) : 0;
+                if (inside && !invalid[u1] && !invalid[u2]) {
+                    const float* a = grid.vectors.data() + u1 * F + d * D;
+                    const float* b = grid.vectors.data() + u2 * F + d * D;
+                    const float sign = step > 0 ? 1.0f : -1.0f;
+                    for (int c = 0; c < 3; ++c) {
+                        float e[3];
+                        for (int q = 0; q < 3; ++q) e[q] = 2.0f * a[3 * c + q] - b[3 * c + q];
+                        const bool flips = sign * e[axis] < 0.0f;  // a hemisphere's own component is >= 0
+                        for (int q = 0; q < 3; ++q) values.push_back(flips ? a[3 * c + q] : e[q]);
+                    }
+                    continue;
+                }
                 for (int q = 0; q < D; ++q)
                     values.push_back(sideCount[d] > 0 ? side[d * D + q] / float(sideCount[d]) : all[d * D + q] / float(allCount));
+            }
         }
         if (filled.empty()) {
             for (std::size_t v : still) std::fill(grid.vectors.begin() + v * F, grid.vectors.begin() + (v + 1) * F, 0.0f);
@@ -110,8 +129,6 @@ std::size_t repairInvalidVertices(IrradianceVectorGrid& grid, std::vector<std::u
     }
     return 0;
 }
-
-}  // namespace
 
 AnalyticLighting environmentLights(const EnvironmentMap& map, int lightCount, double scale) {
     if (lightCount < 1 || lightCount > 4096)
@@ -256,7 +273,7 @@ void computeIrradianceVectors(const IndirectLightTracer& tracer, IrradianceVecto
     if (invalidOut) *invalidOut = invalid;
     const auto repairStart = std::chrono::steady_clock::now();
     if (options.repairInvalid && report.invalidVertices > 0) {
-        report.unreachableVertices = repairInvalidVertices(grid, invalid);
+        report.unreachableVertices = repairInvalidGridVertices(grid, invalid);
         report.repairedVertices = report.invalidVertices - report.unreachableVertices;
     }
     report.repairSeconds = seconds(repairStart);

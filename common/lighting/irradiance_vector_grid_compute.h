@@ -17,11 +17,9 @@
 // walls face inward) sees back faces (indirect_light_tracer.h). A vertex whose fraction of rays
 // reaching a back face first exceeds `maxBackFaceFraction` is INVALID: its vectors would be dark or
 // meaningless and trilinear interpolation would leak them onto nearby surfaces (a wall lies between
-// vertices inside and outside the room). Invalid vertices are replaced by their valid neighbours
-// (among the 26 around them), per direction delta the average of those on delta's side when there
-// are any (a surface facing delta lies between the invalid vertex and them), else of all; wave
-// after wave so that deep ones are reached too; vertices with no valid vertex in reach (a grid
-// entirely inside an object) keep zero, counted apart.
+// vertices inside and outside the room). Invalid vertices are filled from their valid neighbours,
+// wave after wave so that deep ones are reached too (repairInvalidGridVertices below); vertices with
+// no valid vertex in reach (a grid entirely inside an object) keep zero, counted apart.
 //
 // Grid placement: the scene's bounding box padded by `padding` times its longest side on every
 // side, `resolution` cells along the longest axis, the other axes with as many cells as keep the
@@ -87,6 +85,18 @@ IrradianceVectorGrid computeIrradianceVectorGrid(const TriangleMesh& mesh, const
                                                  const AnalyticLighting& lights, const IrradianceGridOptions& options,
                                                  const ProgressCallback& progress = {},
                                                  IrradianceGridReport* report = nullptr);
+
+// Fills the vertices flagged in `invalid` (one flag per vertex, 1 = invalid) from valid ones, wave
+// after wave (a vertex filled in one wave serves the next), per direction delta:
+//  - when the next two vertices along delta (v + delta, v + 2 delta) are valid, the linear
+//    extrapolation 2 I(v + delta) - I(v + 2 delta), per channel, unless it flips the sign of the
+//    vector's component along delta (then I(v + delta)): a surface facing delta next to an invalid
+//    vertex (a wall, the floor seen from below it) lies between it and those vertices, and the
+//    indirect light near a wall varies about linearly;
+//  - else the average of the valid 26-neighbours on delta's side (offset . delta > 0), if any;
+//  - else the average of all valid 26-neighbours.
+// Returns the count left unfilled (no valid vertex in reach), set to zero.
+std::size_t repairInvalidGridVertices(IrradianceVectorGrid& grid, std::vector<std::uint8_t> invalid);
 
 // The same on a given grid geometry (cells, origin, cell size of `grid`; its vectors overwritten),
 // with an existing tracer; `invalid` (optional) receives one flag per vertex (1 = invalid before repair).

@@ -253,3 +253,49 @@ TEST(IrradianceVectorGridCompute, RefusesBadInputAndStopsWhenCancelled) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(IrradianceVectorGridCompute, RepairExtrapolatesLinearlyAlongEachDirection) {
+    // 4 x 1 x 1 cells; the +x red vector's x component grows linearly with i: 1 + i. Vertices i = 0
+    // (both j, k) invalid: +x continues the line (2 * 2 - 3 = 1); -x has nothing beyond on its side
+    // and takes the average of all valid neighbours.
+    IrradianceVectorGrid grid = IrradianceVectorGrid::covering({{0, 0, 0}}, {{4, 1, 1}}, {{4, 1, 1}});
+    std::vector<std::uint8_t> invalid(grid.vertexCount(), 0);
+    for (int k = 0; k <= 1; ++k)
+        for (int j = 0; j <= 1; ++j)
+            for (int i = 0; i <= 4; ++i) {
+                const std::size_t v = grid.vertexIndex(i, j, k);
+                grid.at(v, 0)[0] = 1.0f + i;       // +x, red, x
+                grid.at(v, 1)[0] = -(2.0f + i);    // -x, red, x
+                if (i == 0) {
+                    invalid[v] = 1;
+                    grid.at(v, 0)[0] = -100.0f;  // garbage that must not survive
+                    grid.at(v, 1)[0] = -100.0f;
+                }
+            }
+    EXPECT_EQ(rad::repairInvalidGridVertices(grid, invalid), 0u);
+    for (int k = 0; k <= 1; ++k)
+        for (int j = 0; j <= 1; ++j) {
+            const std::size_t v = grid.vertexIndex(0, j, k);
+            EXPECT_FLOAT_EQ(grid.at(v, 0)[0], 1.0f);
+            EXPECT_FLOAT_EQ(grid.at(v, 1)[0], -3.0f);  // the valid neighbours all have i = 1
+        }
+    // A line that would flip the component's sign is not followed: 2 * 0.5 - 3 < 0.
+    IrradianceVectorGrid flip = IrradianceVectorGrid::covering({{0, 0, 0}}, {{2, 1, 1}}, {{2, 1, 1}});
+    std::vector<std::uint8_t> bad(flip.vertexCount(), 0);
+    for (int k = 0; k <= 1; ++k)
+        for (int j = 0; j <= 1; ++j) {
+            flip.at(flip.vertexIndex(1, j, k), 0)[0] = 0.5f;
+            flip.at(flip.vertexIndex(2, j, k), 0)[0] = 3.0f;
+            bad[flip.vertexIndex(0, j, k)] = 1;
+        }
+    rad::repairInvalidGridVertices(flip, bad);
+    EXPECT_FLOAT_EQ(flip.at(flip.vertexIndex(0, 0, 0), 0)[0], 0.5f);
+    // Nothing valid at all: zero, counted.
+    std::vector<std::uint8_t> all(flip.vertexCount(), 1);
+    EXPECT_EQ(rad::repairInvalidGridVertices(flip, all), flip.vertexCount());
+    EXPECT_EQ(flip.at(0, 0)[0], 0.0f);
+}
+
+}  // namespace
