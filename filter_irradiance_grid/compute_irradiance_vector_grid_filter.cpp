@@ -199,8 +199,8 @@ QString ComputeIrradianceVectorGridFilter::description() const {
                "the light they reflect diffusely (albedo = vertex colour, grey 0.5 without colours), bounced up to the "
                "given number of times, is what the grid holds; rays that escape to the sky count zero. Rays are "
                "cast with Embree. Grid vertices inside closed objects or behind walls (their rays reach back faces) "
-               "are replaced by the average of their valid neighbours, so that no dark value leaks onto nearby "
-               "surfaces. The grid is written as an .ivg file (docs/irradiance-vector-grid.md), beside the current "
+               "are filled from their valid neighbours (extrapolated along each direction), so that no dark value "
+               "leaks onto nearby surfaces. The grid is written as an .ivg file (docs/irradiance-vector-grid.md), beside the current "
                "layer's file unless a path is given; the layers are not changed. A surface point p with normal n is "
                "then shaded with rho / pi &lt;I_n(p), n&gt;, the vectors interpolated trilinearly and by the squared "
                "normal components (the 'Radiance Field' decoration).") +
