@@ -4,6 +4,7 @@
 #include "lighting/irradiance_vector_grid_compute.h"
 
 #include "lighting/median_cut_lights.h"
+#include "memory/available_memory.h"
 
 #include <omp.h>
 
@@ -293,6 +294,22 @@ IrradianceVectorGrid computeIrradianceVectorGrid(const TriangleMesh& mesh, const
             lo[c] = std::min(lo[c], mesh.positions[3 * v + c]);
             hi[c] = std::max(hi[c], mesh.positions[3 * v + c]);
         }
+    // The grid's vectors are allocated at once: refuse up front what the machine cannot hold (with
+    // overcommit, a too-large allocation would succeed and the process be killed later).
+    {
+        double longest = 0.0;
+        for (int a = 0; a < 3; ++a) longest = std::max(longest, double(hi[a]) - lo[a]);
+        const double cell = longest * (1.0 + 2.0 * options.padding) / options.resolution;
+        double vertices = 1.0;
+        for (int a = 0; a < 3; ++a)  // as placeIrradianceGrid counts them
+            vertices *= std::max(1.0, std::ceil((double(hi[a]) - lo[a] + 2.0 * options.padding * longest) / cell - 1e-9)) + 1.0;
+        const double bytes = vertices * IrradianceVectorGrid::kFloatsPerVertex * sizeof(float) * 1.1;
+        const std::size_t available = availableMemoryBytes();
+        if (available > 0 && bytes > double(available))
+            throw std::invalid_argument("A grid of resolution " + std::to_string(options.resolution) + " needs about " +
+                                        describeBytes(bytes) + " and " + describeBytes(double(available)) +
+                                        " are available: choose a lower resolution.");
+    }
     IrradianceVectorGrid grid = placeIrradianceGrid(lo, hi, options.resolution, options.padding);
     IrradianceGridReport report;
     report.setupSeconds = seconds(start);
