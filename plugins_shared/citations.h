@@ -19,6 +19,11 @@ inline constexpr const char* kCiteGranier2007Lindstrom2000 =
     "C. Schlick</i>, <b>\"Managing Geometry Complexity for Illumination Computation of Cultural Heritage "
     "Scenes\"</b> (2007). Vertex clustering with quadrics: <i>P. Lindstrom</i>, <b>\"Out-of-Core Simplification "
     "of Large Polygonal Models\"</b>, SIGGRAPH 2000.";
+inline constexpr const char* kCiteGranier2007Ivg =
+    "<br><br>Irradiance vector grid: <i>X. Granier, R. Pacanowski, C. Schlick</i>, <b>\"Managing Geometry "
+    "Complexity for Illumination Computation of Cultural Heritage Scenes\"</b> (2007), after the irradiance "
+    "vector of <i>J. Arvo</i>, \"The Irradiance Jacobian for Partially Occluded Polyhedral Sources\", SIGGRAPH "
+    "1994. Environment map as lights: <i>P. Debevec</i>, \"A Median Cut Algorithm for Light Probe Sampling\" (2005).";
 
 inline constexpr const char* kCiteMikkelsen2008 =
     "<br><br>Tangent space: <i>M. S. Mikkelsen</i>, <b>\"Simulation of wrinkled surfaces revisited\"</b>, "

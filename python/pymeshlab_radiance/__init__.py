@@ -44,6 +44,7 @@ _FILTERS = (
     "bake_normal_map",
     "extract_level_of_detail_pop_buffer",
     "out_of_core_simplification_and_normal_map",
+    "compute_irradiance_vector_grid",
 )
 
 

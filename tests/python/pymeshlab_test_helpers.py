@@ -38,6 +38,7 @@ FILTERS = {
     "Bake Normal Map": "bake_normal_map",
     "Extract Level of Detail (POP Buffer)": "extract_level_of_detail_pop_buffer",
     "Out-of-Core Simplification and Normal Map": "out_of_core_simplification_and_normal_map",
+    "Compute Irradiance Vector Grid": "compute_irradiance_vector_grid",
 }
 CREATE = FILTERS["Radiance: Create Radiance Data from Analytic Material"]
 EVALUATE = FILTERS["Radiance: Evaluate Radiance toward a Viewpoint as Vertex Color"]
@@ -50,10 +51,12 @@ RELIGHT = FILTERS["Radiance: PRT Relighting as Vertex Color"]
 BAKE = FILTERS["Bake Normal Map"]
 POP_LEVELS = FILTERS["Extract Level of Detail (POP Buffer)"]
 OUT_OF_CORE = FILTERS["Out-of-Core Simplification and Normal Map"]
+IRRADIANCE_GRID = FILTERS["Compute Irradiance Vector Grid"]
 
 # The plugin files the package must load (the 2025 builds of build/pymeshlab_plugins).
 PLUGIN_FILES = ("libio_radiance.so", "libfilter_radiance_fit.so", "libfilter_radiance_simplify.so",
-                "libfilter_prt_subdivide.so", "libfilter_normal_bake.so", "libfilter_level_of_detail.so")
+                "libfilter_prt_subdivide.so", "libfilter_normal_bake.so", "libfilter_level_of_detail.so",
+                "libfilter_irradiance_grid.so")
 
 SH_BASIS = "Spherical harmonics SH(d), global frame"
 

@@ -48,6 +48,9 @@ CASES = {
     # NaN normals on every output vertex at 1e20.
     "simplify_at_1e20": Case(("radiance_1e20.rply",), "Radiance: Radiance-Aware Simplification",
                              {"targetPercentage": 0.5}, COORDINATES),
+    # Embree aborts on rays near 1e18: the grid's scene is refused first.
+    "irradiance_grid_at_1e19": Case(("sphere_1e19.ply",), "Compute Irradiance Vector Grid",
+                                    {"lightSource": 1, "rays": 4}, COORDINATES),
     # "0.00 % ray hits" and a constant map written.
     "bake_source_far_away": Case(("sphere_far.ply", "sphere.ply"), "Bake Normal Map",
                                  {"sourceMesh": 0, "maxDistance": 0.5}, "the two layers do not overlap"),
@@ -223,6 +226,23 @@ def _script(case, work):
  <filter name="{case.filter}">
   <Param type="RichPoint3f" name="viewpoint" x="0" y="0" z="5"/>
   <Param type="RichFloat" name="exposure" value="1"/>
+ </filter>
+</FilterScript>
+""")
+    elif case.filter == "Compute Irradiance Vector Grid":
+        mlx.write_text(f"""<!DOCTYPE FilterScript>
+<FilterScript>
+ <filter name="{case.filter}">
+  <Param type="RichInt" name="resolution" value="4"/>
+  <Param type="RichInt" name="bounces" value="1"/>
+  <Param type="RichInt" name="rays" value="16"/>
+  <Param type="RichEnum" name="lightSource" value="1" enum_cardinality="2" enum_val0="Environment map" enum_val1="Directional light"/>
+  <Param type="RichString" name="envMap" value=""/>
+  <Param type="RichInt" name="lightCount" value="16"/>
+  <Param type="RichFloat" name="envScale" value="1"/>
+  <Param type="RichPoint3f" name="lightDirection" x="0" y="0" z="1"/>
+  <Param type="RichFloat" name="lightIrradiance" value="1"/>
+  <Param type="RichString" name="outputFile" value="{work / 'grid.ivg'}"/>
  </filter>
 </FilterScript>
 """)

@@ -40,6 +40,8 @@ EXPECTED_PARAMETERS = {
              "gltf", "gltfRoughness", "assign", "outputFile"],
     h.POP_LEVELS: ["levels", "correction"],
     h.OUT_OF_CORE: ["plyFile", "targetFaces", "textureSize", "gutter", "bits", "outputFile"],
+    h.IRRADIANCE_GRID: ["resolution", "bounces", "rays", "lightSource", "envMap", "lightCount", "envScale",
+                        "lightDirection", "lightIrradiance", "outputFile"],
 }
 
 
@@ -83,6 +85,7 @@ def recorded_script(scenes, tmp_path_factory):
     ms.apply_filter(h.POP_LEVELS, levels="4")  # on the baked layer's texture coordinates
     ms.apply_filter(h.OUT_OF_CORE, plyfile=scenes("sphere", level=3), targetfaces=200, texturesize=256,
                     outputfile=str(work / "ooc"))
+    ms.apply_filter(h.IRRADIANCE_GRID, resolution=2, rays=4, lightsource=1, outputfile=str(work / "grid.ivg"))
     ms.save_filter_script(str(work / "filters.mlx"))
 
     h.run_tool("virtual_acquisition", scenes("sphere", level=2), "-o", work / "photos", "--views", 4,
