@@ -197,8 +197,8 @@ int main(int argc, char** argv) {
             rad::IrradianceVectorGrid grid = rad::placeIrradianceGrid(lo, hi, resolution, options.padding);
             rad::IrradianceGridReport report;
             rad::computeIrradianceVectors(tracer, grid, options, {}, report);
-            const rad::ImageF paper = rad::renderIndirectFromGrid(grid, surface, rad::GridDirectionalWeights::PaperSquared);
-            const rad::ImageF absolute = rad::renderIndirectFromGrid(grid, surface, rad::GridDirectionalWeights::Absolute);
+            const rad::ImageF paper = rad::renderIndirectFromGrid(grid, surface, rad::DirectionalWeights::Squared);
+            const rad::ImageF absolute = rad::renderIndirectFromGrid(grid, surface, rad::DirectionalWeights::Absolute);
             // The paper's GPU compression, evaluated per pixel.
             const std::vector<float> compressed = rad::gpuCompressed(grid);
             rad::ImageF compressedImage(surface.width, surface.height);

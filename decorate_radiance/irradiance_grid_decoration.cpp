@@ -37,6 +37,7 @@ const char* const kDirection = "MeshLab::Decoration::IrradianceGridLightDirectio
 const char* const kIntensity = "MeshLab::Decoration::IrradianceGridLightIntensity";
 const char* const kExposure = "MeshLab::Decoration::IrradianceGridExposure";
 const char* const kToneMap = "MeshLab::Decoration::IrradianceGridToneMap";
+const char* const kWeights = "MeshLab::Decoration::IrradianceGridDirectionalWeights";
 enum { kIndirectOnly = 0, kDirectAndIndirect = 1 };
 enum { kMappedNormals = 0, kVertexNormals = 1 };
 
@@ -73,6 +74,13 @@ void addIrradianceGridParameters(RichParameterList& par) {
                           "Irradiance grid normals",
                           "The normal the grid is evaluated with: the normal map baked by 'Bake Normal Map' (the "
                           "scan's detail on a simplified mesh, Granier et al. 2007), or the mesh's vertex normals."));
+    par.addParam(RichEnum(kWeights, 0,
+                          QStringList() << "n_a^2 (Granier et al. 2007)" << "|n_a| (exact under uniform light)",
+                          "Irradiance grid directional weights",
+                          "How the three vectors chosen by the normal's signs are blended. The paper's squared "
+                          "components n_a^2 are exact on the axes but give 1/sqrt(3) of the light under a uniform "
+                          "sky on a diagonal normal; |n_a| is exact under uniform light for every normal and equal "
+                          "on the axes (README: the image error of both)."));
     par.addParam(RichColor(kAlbedo, QColor(200, 200, 200), "Irradiance grid albedo",
                            "Diffuse colour rho of a layer without vertex colours (a layer with colours uses them)."));
     par.addParam(RichPoint3f(kDirection, vcg::Point3f(0.4f, 0.5f, 1.0f), "Irradiance grid direct light direction",
@@ -90,7 +98,7 @@ QString irradianceGridInfo() {
            "Pacanowski, C. Schlick</i>, <b>Managing Geometry Complexity for Illumination Computation of Cultural "
            "Heritage Scenes</b> (2007). Per fragment: the paper's six irradiance vectors per grid vertex, "
            "compressed to a colour and a direction in twelve 16-bit 3D textures, interpolated trilinearly, "
-           "weighted by the squared components of the normal, L = rho / pi &lt;I_n, n&gt;; alone or with one "
+           "weighted by the squared components of the normal (or their absolute values), L = rho / pi &lt;I_n, n&gt;; alone or with one "
            "directional light (no shadows). The grid is the layer's file with the extension .ivg, or the file "
            "named in Tools &gt; Options &gt; Decoration. With a normal map baked by 'Bake Normal Map' the grid "
            "is evaluated with the mapped normal. Needs OpenGL 3.2 / GLSL 1.50 and 14 texture units. Shortcut "
@@ -249,6 +257,7 @@ void drawIrradianceGrid(IrradianceGridView& view, MeshModel& m, const RichParame
     lighting.lightColor = Eigen::Vector3d::Constant(std::isfinite(intensity) ? std::max(0.0f, intensity) : 1.0);
     const QColor albedo = par.getColor(kAlbedo);
     lighting.albedo = Eigen::Vector3d(linearOf(albedo.red()), linearOf(albedo.green()), linearOf(albedo.blue()));
+    lighting.gridAbsoluteWeights = par.getEnum(kWeights) == 1;
     lighting.specular.setZero();  // the grid's surfaces are diffuse (L = rho / pi <I, n>); so is the direct light
     lighting.ambient.setZero();
     rad::ToneMapping tm;

@@ -13,6 +13,7 @@ uniform sampler3D uIvgDirection0, uIvgDirection1, uIvgDirection2, uIvgDirection3
 uniform vec3 uIvgOrigin;
 uniform vec3 uIvgCellSize;
 uniform vec3 uIvgVertexCounts;
+uniform int uIvgAbsoluteWeights;  // 0: n_a^2 (Granier et al. 2007), 1: |n_a| (irradiance_vector_grid.h)
 
 void ivgAdd(float weight, vec3 colour, vec3 direction, inout vec3 Ir, inout vec3 Ig, inout vec3 Ib) {
     Ir += weight * colour.r * direction;
@@ -26,13 +27,14 @@ vec3 ivgReflected(vec3 p, vec3 normal, vec3 rho) {
     if (!(len > 0.0)) return vec3(0.0);
     vec3 n = normal / len;
     vec3 tc = ((p - uIvgOrigin) / uIvgCellSize + vec3(0.5)) / uIvgVertexCounts;
+    vec3 w = uIvgAbsoluteWeights != 0 ? abs(n) : n * n;
     vec3 Ir = vec3(0.0), Ig = vec3(0.0), Ib = vec3(0.0);
-    if (n.x >= 0.0) ivgAdd(n.x * n.x, textureLod(uIvgColor0, tc, 0.0).rgb, textureLod(uIvgDirection0, tc, 0.0).rgb, Ir, Ig, Ib);
-    else ivgAdd(n.x * n.x, textureLod(uIvgColor1, tc, 0.0).rgb, textureLod(uIvgDirection1, tc, 0.0).rgb, Ir, Ig, Ib);
-    if (n.y >= 0.0) ivgAdd(n.y * n.y, textureLod(uIvgColor2, tc, 0.0).rgb, textureLod(uIvgDirection2, tc, 0.0).rgb, Ir, Ig, Ib);
-    else ivgAdd(n.y * n.y, textureLod(uIvgColor3, tc, 0.0).rgb, textureLod(uIvgDirection3, tc, 0.0).rgb, Ir, Ig, Ib);
-    if (n.z >= 0.0) ivgAdd(n.z * n.z, textureLod(uIvgColor4, tc, 0.0).rgb, textureLod(uIvgDirection4, tc, 0.0).rgb, Ir, Ig, Ib);
-    else ivgAdd(n.z * n.z, textureLod(uIvgColor5, tc, 0.0).rgb, textureLod(uIvgDirection5, tc, 0.0).rgb, Ir, Ig, Ib);
+    if (n.x >= 0.0) ivgAdd(w.x, textureLod(uIvgColor0, tc, 0.0).rgb, textureLod(uIvgDirection0, tc, 0.0).rgb, Ir, Ig, Ib);
+    else ivgAdd(w.x, textureLod(uIvgColor1, tc, 0.0).rgb, textureLod(uIvgDirection1, tc, 0.0).rgb, Ir, Ig, Ib);
+    if (n.y >= 0.0) ivgAdd(w.y, textureLod(uIvgColor2, tc, 0.0).rgb, textureLod(uIvgDirection2, tc, 0.0).rgb, Ir, Ig, Ib);
+    else ivgAdd(w.y, textureLod(uIvgColor3, tc, 0.0).rgb, textureLod(uIvgDirection3, tc, 0.0).rgb, Ir, Ig, Ib);
+    if (n.z >= 0.0) ivgAdd(w.z, textureLod(uIvgColor4, tc, 0.0).rgb, textureLod(uIvgDirection4, tc, 0.0).rgb, Ir, Ig, Ib);
+    else ivgAdd(w.z, textureLod(uIvgColor5, tc, 0.0).rgb, textureLod(uIvgDirection5, tc, 0.0).rgb, Ir, Ig, Ib);
     return max(rho * 0.318309886183790672 * vec3(dot(Ir, n), dot(Ig, n), dot(Ib, n)), vec3(0.0));
 }
 )GLSL";

@@ -95,6 +95,7 @@ void NormalMapGlRenderer::buildProgram() {
     u_.gridOrigin = loc("uIvgOrigin");
     u_.gridCellSize = loc("uIvgCellSize");
     u_.gridVertexCounts = loc("uIvgVertexCounts");
+    u_.gridAbsoluteWeights = loc("uIvgAbsoluteWeights");
     for (int d = 0; d < 6; ++d) {
         u_.gridSamplers[2 * d] = loc(irradianceGridColourSampler(d));
         u_.gridSamplers[2 * d + 1] = loc(irradianceGridDirectionSampler(d));
@@ -499,6 +500,7 @@ std::string NormalMapGlRenderer::draw(NormalMapShading mode, const NormalMapLigh
     // the draw fail, even when the shader never reads them.
     for (int t = 0; t < IrradianceGridTextures::kTextures; ++t) glUniform1i(u_.gridSamplers[t], kGridFirstUnit + t);
     glUniform1i(u_.indirect, static_cast<int>(lighting.indirect));
+    glUniform1i(u_.gridAbsoluteWeights, lighting.gridAbsoluteWeights ? 1 : 0);
     glUniform1i(u_.vertexAlbedo, colorBuffer_ ? 1 : 0);
     glUniform1i(u_.diffuseMap, kDiffuseUnit);
     glUniform1i(u_.useDiffuseMap, diffuseTexture_ ? 1 : 0);

@@ -49,6 +49,8 @@ struct NormalMapLighting {
     // Indirect light from the grid set by setIrradianceGrid (ignored, with draw() saying so, when
     // there is none).
     IndirectLight indirect = IndirectLight::None;
+    // The grid's directional weights (lighting/irradiance_vector_grid.h): the paper's n_a^2 or |n_a|.
+    bool gridAbsoluteWeights = false;
 };
 
 class NormalMapGlRenderer {
@@ -157,7 +159,8 @@ private:
         int normalMap = -1, moments = -1, mode = -1, tangentSpace = -1, mikkTSpace = -1, textureSize = -1, eye = -1,
             lightDirection = -1, lightColor = -1, albedo = -1, specular = -1, ambient = -1, shininess = -1,
             exposureScale = -1, toneCurve = -1, popLevel = -1, popCorrection = -1, boxMin = -1, boxExtent = -1,
-            indirect = -1, vertexAlbedo = -1, diffuseMap = -1, useDiffuseMap = -1, gridOrigin = -1, gridCellSize = -1, gridVertexCounts = -1;
+            indirect = -1, vertexAlbedo = -1, diffuseMap = -1, useDiffuseMap = -1, gridOrigin = -1, gridCellSize = -1, gridVertexCounts = -1,
+            gridAbsoluteWeights = -1;
         int gridSamplers[IrradianceGridTextures::kTextures] = {-1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1};
     } u_;
     // The mesh's vertex of every uploaded corner (for setVertexColors), in upload order.

@@ -45,6 +45,10 @@ inline void trilinear(const float* data, std::size_t stride, std::size_t offset,
     }
 }
 
+inline float directionalWeight(float component, DirectionalWeights weights) {
+    return weights == DirectionalWeights::Squared ? component * component : std::fabs(component);
+}
+
 bool unitNormal(const float normal[3], float n[3]) {
     const float length = std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
     if (!(length > 0.0f) || !std::isfinite(length)) return false;
@@ -102,7 +106,8 @@ std::array<float, 3> gridDirection(int direction) {
     return d;
 }
 
-void interpolateIrradianceVector(const IrradianceVectorGrid& grid, const float point[3], const float normal[3], float out[9]) {
+void interpolateIrradianceVector(const IrradianceVectorGrid& grid, const float point[3], const float normal[3], float out[9],
+                                 DirectionalWeights weights) {
     for (int c = 0; c < 9; ++c) out[c] = 0.0f;
     float n[3];
     if (!unitNormal(normal, n)) return;
@@ -110,7 +115,7 @@ void interpolateIrradianceVector(const IrradianceVectorGrid& grid, const float p
     float fraction[3];
     for (int a = 0; a < 3; ++a) locate(point[a], grid.origin[a], grid.cellSize[a], grid.cells[a], index[a], fraction[a]);
     for (int a = 0; a < 3; ++a) {
-        const float weight = n[a] * n[a];
+        const float weight = directionalWeight(n[a], weights);
         if (weight == 0.0f) continue;
         const int direction = 2 * a + (n[a] >= 0.0f ? 0 : 1);
         float v[9];
@@ -122,9 +127,9 @@ void interpolateIrradianceVector(const IrradianceVectorGrid& grid, const float p
 }
 
 void reflectedRadiance(const IrradianceVectorGrid& grid, const float point[3], const float normal[3], const float albedo[3],
-                       float outRgb[3]) {
+                       float outRgb[3], DirectionalWeights weights) {
     float vectors[9];
-    interpolateIrradianceVector(grid, point, normal, vectors);
+    interpolateIrradianceVector(grid, point, normal, vectors, weights);
     float n[3] = {0, 0, 0};
     unitNormal(normal, n);
     for (int c = 0; c < 3; ++c) {
@@ -152,7 +157,7 @@ std::vector<float> gpuCompressed(const IrradianceVectorGrid& grid) {
 }
 
 void reflectedRadianceCompressed(const IrradianceVectorGrid& grid, const std::vector<float>& compressed, const float point[3],
-                                 const float normal[3], const float albedo[3], float outRgb[3]) {
+                                 const float normal[3], const float albedo[3], float outRgb[3], DirectionalWeights weights) {
     outRgb[0] = outRgb[1] = outRgb[2] = 0.0f;
     float n[3];
     if (!unitNormal(normal, n)) return;
@@ -165,7 +170,7 @@ void reflectedRadianceCompressed(const IrradianceVectorGrid& grid, const std::ve
     // rebuilds I_c = colour_c * direction; the same here.
     float vectors[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
     for (int a = 0; a < 3; ++a) {
-        const float weight = n[a] * n[a];
+        const float weight = directionalWeight(n[a], weights);
         if (weight == 0.0f) continue;
         const int direction = 2 * a + (n[a] >= 0.0f ? 0 : 1);
         float slot[6];

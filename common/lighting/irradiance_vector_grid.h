@@ -84,15 +84,21 @@ struct IrradianceVectorGrid {
 // Unit direction of index 0..5 (+x, -x, +y, -y, +z, -z).
 std::array<float, 3> gridDirection(int direction);
 
+// Step 2's weights. Squared is the paper's n_a^2. Under a uniform incident radiance L it gives
+// <I_n, n> = pi L sum_a |n_a|^3, exact on the axes but 1/sqrt(3) of pi L on a diagonal normal;
+// Absolute (|n_a|) gives pi L sum_a n_a^2 = pi L for every normal, and equals Squared on the axes.
+enum class DirectionalWeights { Squared, Absolute };
+
 // Step 1 and 2 above: I_n(p) per channel, out[9] = R xyz, G xyz, B xyz. Points outside the grid's
 // box take the value at the nearest point of the box (clamped). `normal` need not be unit length
 // (it is normalised; a zero normal gives zero vectors).
-void interpolateIrradianceVector(const IrradianceVectorGrid& grid, const float point[3], const float normal[3], float out[9]);
+void interpolateIrradianceVector(const IrradianceVectorGrid& grid, const float point[3], const float normal[3], float out[9],
+                                 DirectionalWeights weights = DirectionalWeights::Squared);
 
 // Step 3: rho_d / pi <I_n(p), n> per channel (albedo per channel in [0, 1]; radiance never negative:
 // a negative dot product, possible with interpolated vectors, gives 0).
 void reflectedRadiance(const IrradianceVectorGrid& grid, const float point[3], const float normal[3], const float albedo[3],
-                       float outRgb[3]);
+                       float outRgb[3], DirectionalWeights weights = DirectionalWeights::Squared);
 
 // The paper's GPU form: per vertex and direction 6 floats, colour (|I_R|, |I_G|, |I_B|) then the
 // unit direction of I_R + I_G + I_B (zero when that sum is zero). Size vertexCount() * 6 * 6.
@@ -101,7 +107,8 @@ std::vector<float> gpuCompressed(const IrradianceVectorGrid& grid);
 // reflectedRadiance() evaluated from gpuCompressed() data (what a shader using the paper's
 // compression computes), for the same grid geometry.
 void reflectedRadianceCompressed(const IrradianceVectorGrid& grid, const std::vector<float>& compressed, const float point[3],
-                                 const float normal[3], const float albedo[3], float outRgb[3]);
+                                 const float normal[3], const float albedo[3], float outRgb[3],
+                                 DirectionalWeights weights = DirectionalWeights::Squared);
 
 // Atomic write (temporary file beside `path`, renamed when complete); std::runtime_error when the
 // file cannot be written (no file left behind). Validates the grid first.

@@ -147,7 +147,7 @@ ImageF renderIndirectReference(const IndirectLightTracer& tracer, const VisibleS
 }
 
 ImageF renderIndirectFromGrid(const IrradianceVectorGrid& grid, const VisibleSurface& surface,
-                              GridDirectionalWeights weights) {
+                              DirectionalWeights weights) {
     ImageF image(surface.width, surface.height);
     const std::size_t n = std::size_t(surface.width) * surface.height;
 #pragma omp parallel for schedule(static)
@@ -157,22 +157,7 @@ ImageF renderIndirectFromGrid(const IrradianceVectorGrid& grid, const VisibleSur
         const float* nn = &surface.normals[3 * i];
         const float* rho = &surface.albedo[3 * i];
         float* out = &image.rgb[3 * i];
-        if (weights == GridDirectionalWeights::PaperSquared) {
-            reflectedRadiance(grid, p, nn, rho, out);
-            continue;
-        }
-        // Each axis's vector alone (an axis normal selects it with weight 1), then |n_a| weights.
-        float sum[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-        for (int a = 0; a < 3; ++a) {
-            if (nn[a] == 0.0f) continue;
-            float axis[3] = {0, 0, 0};
-            axis[a] = nn[a] > 0.0f ? 1.0f : -1.0f;
-            float v[9];
-            interpolateIrradianceVector(grid, p, axis, v);
-            for (int q = 0; q < 9; ++q) sum[q] += std::fabs(nn[a]) * v[q];
-        }
-        for (int c = 0; c < 3; ++c)
-            out[c] = std::max(0.0f, rho[c] / kPi * (sum[3 * c] * nn[0] + sum[3 * c + 1] * nn[1] + sum[3 * c + 2] * nn[2]));
+        reflectedRadiance(grid, p, nn, rho, out, weights);
     }
     return image;
 }

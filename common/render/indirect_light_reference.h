@@ -43,9 +43,9 @@ VisibleSurface traceVisibleSurface(const IndirectLightTracer& tracer, const Pinh
 ImageF renderIndirectReference(const IndirectLightTracer& tracer, const VisibleSurface& surface, int raysPerPixel,
                                std::uint64_t seed = 1, const ProgressCallback& progress = {}, int threads = 0);
 
-enum class GridDirectionalWeights { PaperSquared, Absolute };
+// The grid's image, with the paper's directional weights or |n_a| (irradiance_vector_grid.h).
 ImageF renderIndirectFromGrid(const IrradianceVectorGrid& grid, const VisibleSurface& surface,
-                              GridDirectionalWeights weights = GridDirectionalWeights::PaperSquared);
+                              DirectionalWeights weights = DirectionalWeights::Squared);
 
 // E_ind (RGB, 3 per vertex) at the vertices of `mesh` (positions and unit normals required), each
 // from raysPerVertex cosine-distributed rays leaving position + offset * normal, offset =

@@ -102,7 +102,8 @@ using Hit = std::function<bool(const Eigen::Vector3d& ray, Eigen::Vector3d& poin
 Comparison compare(const std::vector<std::uint8_t>& picture, const rad::PinholeCamera& camera, const Hit& hit,
                    const rad::IrradianceVectorGrid& grid, const Eigen::Vector3d& albedo,
                    const std::function<Eigen::Vector3d(const Eigen::Vector3d&, const Eigen::Vector3d&)>& extra = {},
-                   const rad::ToneMapping& tm = {}) {
+                   const rad::ToneMapping& tm = {},
+                   rad::DirectionalWeights weights = rad::DirectionalWeights::Squared) {
     const std::vector<float> compressed = rad::gpuCompressed(grid);
     Comparison out;
     double sum = 0;
@@ -114,7 +115,7 @@ Comparison compare(const std::vector<std::uint8_t>& picture, const rad::PinholeC
             const float normal[3] = {float(n.x()), float(n.y()), float(n.z())};
             const float rho[3] = {float(albedo.x()), float(albedo.y()), float(albedo.z())};
             float rgb[3];
-            rad::reflectedRadianceCompressed(grid, compressed, point, normal, rho, rgb);
+            rad::reflectedRadianceCompressed(grid, compressed, point, normal, rho, rgb, weights);
             Eigen::Vector3d linear(rgb[0], rgb[1], rgb[2]);
             if (extra) linear += extra(p, n);
             const Eigen::Vector3d display = rad::toneMap(tm, linear);
@@ -304,6 +305,46 @@ TEST(IrradianceGridGl, LinearFieldOnATiltedPlaneAndASphereMatchesTheCpu) {
     const Comparison wrong = compare(render(r, NormalMapShading::VertexNormals, camera, indirectOnly(rho)), camera,
                                      sphereHit(camera, 0.8), other, rho);
     EXPECT_GT(wrong.meanDiff, 10.0);
+}
+
+// The |n_a| directional weights: the shader against the CPU on the linear field, and exact (rho L
+// everywhere) under a uniform sky.
+TEST(IrradianceGridGl, AbsoluteWeightsMatchTheCpuAndAreExactUnderAUniformSky) {
+    radgl::NormalMapGlRenderer r(capabilities());
+    upload(r, sphereMesh(0.8));
+    const rad::PinholeCamera camera = sphereCamera();
+    const Eigen::Vector3d rho(0.7, 0.5, 0.6);
+    radgl::NormalMapLighting lighting = indirectOnly(rho);
+    lighting.gridAbsoluteWeights = true;
+    std::string note;
+    const rad::IrradianceVectorGrid field = gridFrom(linearField(), {{4, 3, 5}});
+    ASSERT_EQ(r.setIrradianceGrid(field, note), "");
+    const std::vector<std::uint8_t> picture = render(r, NormalMapShading::VertexNormals, camera, lighting);
+    const Comparison c = compare(picture, camera, sphereHit(camera, 0.8), field, rho, {}, {}, rad::DirectionalWeights::Absolute);
+    report("linear field, sphere, |n| weights", c);
+    EXPECT_GT(c.pixels, 3000);
+    EXPECT_LE(c.maxDiff, 2);
+    EXPECT_LT(c.meanDiff, 0.5);
+    // The same picture is not the paper's weights' picture.
+    const Comparison paper = compare(picture, camera, sphereHit(camera, 0.8), field, rho);
+    EXPECT_GT(paper.maxDiff, 5);
+
+    const Eigen::Vector3d L(0.9, 0.7, 0.5);
+    ASSERT_EQ(r.setIrradianceGrid(gridFrom(uniformSky(L), {{3, 4, 2}}), note), "");
+    const std::vector<std::uint8_t> sky = render(r, NormalMapShading::VertexNormals, camera, lighting);
+    int checked = 0, worst = 0;
+    const Hit hit = sphereHit(camera, 0.8);
+    for (int y = 0; y < kHeight; y += 7)
+        for (int x = 0; x < kWidth; x += 7) {
+            Eigen::Vector3d p, n;
+            if (!hit(camera.rayDirection(x + 0.5, y + 0.5), p, n)) continue;
+            for (int ch = 0; ch < 3; ++ch)
+                worst = std::max(worst, std::abs(int(sky[3 * (y * kWidth + x) + ch]) - int(rad::toSrgb8(rho[ch] * L[ch]))));
+            ++checked;
+        }
+    std::printf("[ivg-gl] uniform sky, sphere, |n| weights vs rho L: %d pixels, max %d codes\n", checked, worst);
+    EXPECT_GT(checked, 50);
+    EXPECT_LE(worst, 2);
 }
 
 TEST(IrradianceGridGl, DirectPlusIndirectAddsTheLambertTermAndExposureApplies) {

@@ -52,8 +52,8 @@ TEST(IndirectLightReference, InsideALitSphereEveryImageMatchesTheClosedForm) {
     options.raysPerDirection = 64;
     options.light = setup;
     const rad::IrradianceVectorGrid grid = rad::computeIrradianceVectorGrid(sphere, albedo, lights, options);
-    const rad::ImageF paper = rad::renderIndirectFromGrid(grid, surface, rad::GridDirectionalWeights::PaperSquared);
-    const rad::ImageF absolute = rad::renderIndirectFromGrid(grid, surface, rad::GridDirectionalWeights::Absolute);
+    const rad::ImageF paper = rad::renderIndirectFromGrid(grid, surface, rad::DirectionalWeights::Squared);
+    const rad::ImageF absolute = rad::renderIndirectFromGrid(grid, surface, rad::DirectionalWeights::Absolute);
     for (std::size_t i = 0; i < 24 * 16; ++i) {
         const float* n = &surface.normals[3 * i];
         const double cubes = std::pow(std::fabs(n[0]), 3) + std::pow(std::fabs(n[1]), 3) + std::pow(std::fabs(n[2]), 3);

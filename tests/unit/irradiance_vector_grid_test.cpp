@@ -72,6 +72,25 @@ TEST(IrradianceVectorGrid, UniformSkyFollowsThePapersDirectionalInterpolation) {
     }
 }
 
+// The |n_a| weights are exact under a uniform sky for every normal: rho L.
+TEST(IrradianceVectorGrid, AbsoluteWeightsAreExactUnderAUniformSky) {
+    const float radiance[3] = {1.0f, 0.5f, 2.0f};
+    const auto grid = uniformSky(radiance);
+    const auto compressed = rad::gpuCompressed(grid);
+    const float albedo[3] = {0.8f, 0.6f, 0.4f};
+    const float point[3] = {0.7f, 0.3f, 0.9f};
+    const float normals[][3] = {{1, 0, 0}, {0, -1, 0}, {1, 1, 1}, {-1, 2, 0.5f}, {0.2f, -0.3f, -0.9f}};
+    for (const auto& normal : normals) {
+        float rgb[3], gpu[3];
+        rad::reflectedRadiance(grid, point, normal, albedo, rgb, rad::DirectionalWeights::Absolute);
+        rad::reflectedRadianceCompressed(grid, compressed, point, normal, albedo, gpu, rad::DirectionalWeights::Absolute);
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_NEAR(rgb[c], albedo[c] * radiance[c], 1e-5) << c;
+            EXPECT_NEAR(gpu[c], albedo[c] * radiance[c], 1e-5) << c;
+        }
+    }
+}
+
 // Trilinear in space: vectors that are affine in position are reproduced exactly inside the cells.
 TEST(IrradianceVectorGrid, AffineFieldIsReproducedByTrilinearInterpolation) {
     auto grid = IrradianceVectorGrid::covering({{0, 0, 0}}, {{3, 2, 1}}, {{3, 2, 1}});
