@@ -201,7 +201,7 @@ NormalBakeResult bakeNormalMap(const TriangleMesh& target, const float* targetWe
     t0 = Clock::now();
     const std::size_t texels = std::size_t(width) * std::size_t(height);
     result.normals.assign(3 * texels, 0.0f);
-    result.tangents.assign(3 * texels, 0.0f);
+    if (options.keepTangents) result.tangents.assign(3 * texels, 0.0f);
     if (options.bakeColor) result.colors.assign(3 * texels, 0.0f);
     if (alsoMikk) result.mikkTSpaceNormals.assign(3 * texels, 0.0f);
     result.chart.assign(texels, 0);
@@ -345,12 +345,13 @@ NormalBakeResult bakeNormalMap(const TriangleMesh& target, const float* targetWe
                     const float sign = corner[3] + corner[7] + corner[11] < 0.0f ? -1.0f : 1.0f;
                     const Eigen::Vector3f Nm = tile.normalLength[i] * N;
                     const Eigen::Vector3f Bm = sign * Nm.cross(Tm);
-                    Eigen::Matrix3f frameMatrix;
-                    frameMatrix << Tm, Bm, Nm;
-                    const float det = frameMatrix.determinant();
-                    const float scale = Tm.norm() * Bm.norm() * Nm.norm();
+                    // The inverse of the matrix with columns (T, B, N) has the rows B x N, N x T,
+                    // T x B over its determinant; the common factor goes with the normalisation.
+                    const Eigen::Vector3f bn = Bm.cross(Nm), nt = Nm.cross(Tm), tb = Tm.cross(Bm);
+                    const float det = Tm.dot(bn);
+                    const float scale = std::sqrt(Tm.squaredNorm() * Bm.squaredNorm() * Nm.squaredNorm());
                     if (!(std::isfinite(det) && std::fabs(det) > 1e-6f * scale && scale > 0.0f)) return false;
-                    Eigen::Vector3f local = frameMatrix.inverse() * n;
+                    Eigen::Vector3f local = Eigen::Vector3f(bn.dot(n), nt.dot(n), tb.dot(n)) / det;
                     const float localLength = local.norm();
                     if (!(localLength > 0.0f && std::isfinite(localLength))) return false;
                     local /= localLength;
@@ -389,10 +390,12 @@ NormalBakeResult bakeNormalMap(const TriangleMesh& target, const float* targetWe
                         outMikk[2] = n.dot(N);
                     }
                 }
-                float* outTangent = result.tangents.data() + 3 * t;
-                outTangent[0] = T.x();
-                outTangent[1] = T.y();
-                outTangent[2] = T.z();
+                if (options.keepTangents) {
+                    float* outTangent = result.tangents.data() + 3 * t;
+                    outTangent[0] = T.x();
+                    outTangent[1] = T.y();
+                    outTangent[2] = T.z();
+                }
                 if (options.bakeColor) {
                     float* outColor = result.colors.data() + 3 * t;
                     for (int k = 0; k < 3; ++k)
@@ -432,14 +435,20 @@ NormalBakeResult bakeNormalMap(const TriangleMesh& target, const float* targetWe
     return result;
 }
 
+// std::lround of a value v >= 0 without the library call: the whole part plus one when the
+// fraction (exact: v - trunc(v) loses nothing) is at least a half.
 std::uint8_t encodeNormal8(float component) {
     const float x = std::isfinite(component) ? std::clamp(component, -1.0f, 1.0f) : 0.0f;
-    return std::uint8_t(std::lround((x + 1.0f) * 0.5f * 255.0f));
+    const float v = (x + 1.0f) * 0.5f * 255.0f;
+    const std::uint32_t whole = std::uint32_t(v);
+    return std::uint8_t(whole + (v - float(whole) >= 0.5f ? 1u : 0u));
 }
 
 std::uint16_t encodeNormal16(float component) {
     const float x = std::isfinite(component) ? std::clamp(component, -1.0f, 1.0f) : 0.0f;
-    return std::uint16_t(std::lround((double(x) + 1.0) * 0.5 * 65535.0));
+    const double v = (double(x) + 1.0) * 0.5 * 65535.0;
+    const std::uint32_t whole = std::uint32_t(v);
+    return std::uint16_t(whole + (v - double(whole) >= 0.5 ? 1u : 0u));
 }
 
 float decodeNormal8(std::uint8_t code) { return float(code) * (2.0f / 255.0f) - 1.0f; }

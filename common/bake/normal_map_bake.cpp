@@ -81,11 +81,13 @@ void writeNormalPng(const std::string& path, const std::vector<float>& normals, 
     const std::size_t count = std::size_t(width) * height * 3;
     if (bits == 16) {
         std::vector<std::uint16_t> codes(count);
-        for (std::size_t i = 0; i < count; ++i) codes[i] = encodeNormal16(normals[i]);
+#pragma omp parallel for schedule(static)
+        for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(count); ++i) codes[i] = encodeNormal16(normals[i]);
         writePng16(path, width, height, 3, codes.data());
     } else {
         Image8 image(width, height);
-        for (std::size_t i = 0; i < count; ++i) image.rgb[i] = encodeNormal8(normals[i]);
+#pragma omp parallel for schedule(static)
+        for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(count); ++i) image.rgb[i] = encodeNormal8(normals[i]);
         writePng(path, image);
     }
 }
@@ -215,6 +217,7 @@ NormalMapBakeReport bakeNormalMapFiles(const NormalMapBakeRequest& request) {
     const bool gltfFromSecondMap = request.writeGltf && !(request.space == NormalSpace::Tangent &&
                                                           request.tangentFrame == TangentFrame::MikkTSpace);
     options.alsoMikkTSpace = gltfFromSecondMap;
+    options.keepTangents = withLean;
     options.progress = progressRange(request.progress, 0.0, 0.75);
     Clock::time_point phase = Clock::now();
     NormalBakeResult baked = bakeNormalMap(*request.target, report.wedgeUv.data(), *request.source,
@@ -275,7 +278,9 @@ NormalMapBakeReport bakeNormalMapFiles(const NormalMapBakeRequest& request) {
         report.gltfFile = request.outputBase + ".glb";
         const std::vector<float>& tangentMap = gltfFromSecondMap ? baked.mikkTSpaceNormals : baked.normals;
         Image8 normalImage(size, size);
-        for (std::size_t i = 0; i < normalImage.rgb.size(); ++i) normalImage.rgb[i] = encodeNormal8(tangentMap[i]);
+#pragma omp parallel for schedule(static)
+        for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(normalImage.rgb.size()); ++i)
+            normalImage.rgb[i] = encodeNormal8(tangentMap[i]);
         GltfMesh mesh;
         mesh.positions = request.target->positions.data();
         mesh.normals = request.target->normals.data();
