@@ -11,8 +11,9 @@
 # Error (bench/blender/evaluate_bake.py): every texel centre inside a UV triangle; the truth is the
 # analytic normal where the texel's ray meets the exact sphere / torus, and for the scan the high
 # mesh's interpolated normal where the ray meets it, found by Blender's mathutils BVH tree
-# (bench/blender/scan_reference.py, every 4th row and column at 2048^2, every 8th at 4096^2), plus the
-# two bakers' agreement with each other. Time: the bake alone (Blender: bpy.ops.object.bake; ours:
+# (bench/blender/scan_reference.py, every 4th row and column at 2048^2, every 8th at 4096^2): at the
+# nearer hit along +/- the normal (our rule; rows "blender", "ours") and at the first hit from the
+# cage inwards (Cycles' rule; rows ".../cage-rule"), plus the two bakers' agreement with each other. Time: the bake alone (Blender: bpy.ops.object.bake; ours:
 # the filter's own "in X s", which includes filling the gutters and writing the PNG) and each
 # program's wall time.
 # Then the render comparison (bench/blender/render_compare.py): Cycles renders of the high mesh and of
@@ -108,6 +109,13 @@ for size in "${SIZES[@]}"; do
       row "$shape" "$size" "$space" ours "$mean" "$median" "$p95" "$max" "$bake" "$wall"
       grep -o "(bake [^)]*)" "$base.log" | head -1 | sed 's/^/                 ours: /' >&2
       if [ "$shape" = scan ]; then
+        # The same two maps against the cage rule's reference, and against each other.
+        for baker in blender ours; do
+          map="$out"
+          [ $baker = ours ] && map="${base}_normal.png"
+          stats < <("$PYTHON" "$REPO/bench/blender/evaluate_bake.py" "reference-cage:$ref" "$space" "$WORK/${shape}_low.corners" "$map")
+          row "$shape" "$size" "$space" "$baker/cage-rule" "$mean" "$median" "$p95" "$max" - -
+        done
         stats < <("$PYTHON" "$REPO/bench/blender/evaluate_bake.py" agree "$space" "$WORK/${shape}_low.corners" "${base}_normal.png" "$out")
         row "$shape" "$size" "$space" "ours-vs-blender" "$mean" "$median" "$p95" "$max" - -
       fi

@@ -9,7 +9,8 @@ The truth:
                   where the texel's ray meets it, found by Blender's BVH tree, neither baker's code).
 
 Usage: evaluate_bake.py sphere|torus tangent|object LOW.corners MAP
-       evaluate_bake.py reference:REF.npz tangent|object LOW.corners MAP
+       evaluate_bake.py reference:REF.npz tangent|object LOW.corners MAP    (nearest-hit rule)
+       evaluate_bake.py reference-cage:REF.npz tangent|object LOW.corners MAP   (Cycles' cage rule)
        evaluate_bake.py agree tangent|object LOW.corners MAP1 MAP2     (angle between two maps)
 MAP: .png 8/16 bit or .npy float, rows top to bottom, code = (n + 1) / 2.
 Prints: texels, mean, median, p95, max in degrees.
@@ -121,13 +122,13 @@ def main():
     decoded = decode(image, texels, space)
     if truth_kind == "agree":
         e = angles(decoded, decode(read_map(sys.argv[5]), texels, space))
-    elif truth_kind.startswith("reference:"):
+    elif truth_kind.startswith("reference"):
         ref = np.load(truth_kind.split(":", 1)[1])
         assert int(ref["size"]) == size, "the reference was made for %d^2 texels" % int(ref["size"])
         keys = texels["rows"].astype(np.int64) * size + texels["cols"]
         order = np.argsort(keys)
         where = order[np.searchsorted(keys[order], ref["rows"].astype(np.int64) * size + ref["cols"])]
-        e = angles(decoded[where], ref["normals"])
+        e = angles(decoded[where], ref["normals_cage" if truth_kind.startswith("reference-cage:") else "normals"])
     else:
         n = texels["n"] / np.linalg.norm(texels["n"], axis=1, keepdims=True)
         e = angles(decoded, exact_normal(truth_kind, texels["p"], n))
