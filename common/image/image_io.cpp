@@ -57,11 +57,11 @@ void writePng16(const std::string& path, int width, int height, int channels, co
     if (width <= 0 || height <= 0 || channels < 1 || channels > 4 || !samples)
         throw ImageFileError("cannot write 16-bit PNG image '" + path + "': bad size " + std::to_string(width) + " x " +
                              std::to_string(height) + " x " + std::to_string(channels) + " (1 to 4 channels)");
-    // Normal maps compress poorly anyway: the fastest zlib level, on every thread
-    // (image/parallel_png_encoder.h).
+    // 16-bit maps compress poorly anyway: the fastest zlib level, run lengths only, on every
+    // thread (image/parallel_png_encoder.h).
     std::vector<unsigned char> bytes;
     try {
-        bytes = encodePngParallel(samples, width, height, channels, 16, 1);
+        bytes = encodePngParallel(samples, width, height, channels, 16, 1, PngCompression::RunLength);
     } catch (const std::exception& e) {
         throw ImageFileError("cannot write 16-bit PNG image '" + path + "': " + e.what());
     }

@@ -63,10 +63,11 @@ void filterRows(const void* samples, int width, int channels, int bitDepth, int 
 
 // Raw deflate of one band; the last band ends the stream (Z_FINISH), the others end on a byte
 // boundary with an empty stored block (Z_SYNC_FLUSH) so that the next band's data can follow.
-std::string deflateBand(const std::vector<unsigned char>& in, int level, bool last, std::vector<unsigned char>& out) {
+std::string deflateBand(const std::vector<unsigned char>& in, int level, int strategy, bool last,
+                        std::vector<unsigned char>& out) {
     z_stream stream;
     std::memset(&stream, 0, sizeof stream);
-    if (deflateInit2(&stream, level, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK) return "deflateInit2 failed";
+    if (deflateInit2(&stream, level, Z_DEFLATED, -15, 8, strategy) != Z_OK) return "deflateInit2 failed";
     out.resize(deflateBound(&stream, static_cast<uLong>(in.size())) + 64);
     stream.next_in = const_cast<unsigned char*>(in.data());
     stream.avail_in = static_cast<uInt>(in.size());
@@ -93,7 +94,7 @@ std::string deflateBand(const std::vector<unsigned char>& in, int level, bool la
 }  // namespace
 
 std::vector<unsigned char> encodePngParallel(const void* samples, int width, int height, int channels, int bitDepth,
-                                             int zlibLevel) {
+                                             int zlibLevel, PngCompression compression) {
     if (width <= 0 || height <= 0 || channels < 1 || channels > 4 || !samples)
         throw std::invalid_argument("PNG encoding: bad image " + std::to_string(width) + " x " + std::to_string(height) +
                                     " x " + std::to_string(channels) + " (1 to 4 channels)");
@@ -120,7 +121,8 @@ std::vector<unsigned char> encodePngParallel(const void* samples, int width, int
             filterRows(samples, width, channels, bitDepth, row0, row1, filtered);
             adler[std::size_t(b)] = adler32(adler32(0L, Z_NULL, 0), filtered.data(), static_cast<uInt>(filtered.size()));
             length[std::size_t(b)] = static_cast<uLong>(filtered.size());
-            problems[std::size_t(b)] = deflateBand(filtered, zlibLevel, b == bands - 1, compressed[std::size_t(b)]);
+            const int strategy = compression == PngCompression::RunLength ? Z_RLE : Z_DEFAULT_STRATEGY;
+            problems[std::size_t(b)] = deflateBand(filtered, zlibLevel, strategy, b == bands - 1, compressed[std::size_t(b)]);
         }
     }
     for (const std::string& problem : problems)

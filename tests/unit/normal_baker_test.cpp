@@ -333,6 +333,25 @@ TEST(NormalBaker, MikkTSpaceBakeOnAPerTriangleAtlasDecodesToTheAnalyticNormal) {
     EXPECT_LT(mean / double(texels), 0.5);
 }
 
+TEST(NormalBaker, WithoutKeptTangentsTheMapIsTheSameAndNoTangentArrayIsMade) {
+    // A tangent-space bake without LEAN has no use for the per-texel tangents (normal_map_bake.cpp
+    // turns them off): the map must not change with them.
+    const double R = 1.0, r = 0.35;
+    const rad::TriangleMesh source = rad::makeTorus(float(R), float(r), 128, 64), target = rad::makeTorus(float(R), float(r), 24, 12);
+    const std::vector<float> uv = torusUv(target, R);
+    rad::NormalBakeOptions options;
+    options.width = options.height = 128;
+    options.space = rad::NormalSpace::Tangent;
+    const rad::NormalBakeResult kept = rad::bakeNormalMap(target, uv.data(), source, nullptr, options);
+    options.keepTangents = false;
+    const rad::NormalBakeResult dropped = rad::bakeNormalMap(target, uv.data(), source, nullptr, options);
+    EXPECT_EQ(kept.tangents.size(), 3u * 128 * 128);
+    EXPECT_TRUE(dropped.tangents.empty());
+    EXPECT_EQ(kept.normals, dropped.normals);
+    EXPECT_EQ(kept.valid, dropped.valid);
+    EXPECT_GT(dropped.rayHits, 5000u);
+}
+
 TEST(NormalBaker, ClosestPointFallbackWhereTheSourceHasAHole) {
     // Source: a sphere without its cap z > 0.8; rays of at most 0.05 from the target (a coarse
     // sphere) cannot reach anything from the middle of the missing cap.
@@ -519,6 +538,20 @@ TEST(NormalBaker, EncodingMapsMinusOneToOneOntoTheCodeRangeAndBack) {
         EXPECT_LE(std::fabs(rad::decodeNormal8(rad::encodeNormal8(x)) - x), 1.0f / 255.0f + 1e-6f);
         EXPECT_LE(std::fabs(rad::decodeNormal16(rad::encodeNormal16(x)) - x), 1.0f / 65535.0f + 1e-6f);
     }
+    // Round to nearest with halves up, as std::lround of the scaled value, also right at and next
+    // to every half code (where a cheaper rounding could slip by one).
+    for (int k = 0; k < 255; ++k) {
+        const float half = float((k + 0.5) / 255.0 * 2.0 - 1.0);
+        for (const float x : {std::nextafter(half, -2.0f), half, std::nextafter(half, 2.0f)})
+            EXPECT_EQ(rad::encodeNormal8(x), std::lround((x + 1.0f) * 0.5f * 255.0f)) << x;
+    }
+    for (int k = 0; k < 65535; k += 3) {
+        const float half = float((k + 0.5) / 65535.0 * 2.0 - 1.0);
+        for (const float x : {std::nextafter(half, -2.0f), half, std::nextafter(half, 2.0f)})
+            EXPECT_EQ(rad::encodeNormal16(x), std::lround((double(x) + 1.0) * 0.5 * 65535.0)) << x;
+    }
+    EXPECT_EQ(rad::encodeNormal8(std::nanf("")), 128);
+    EXPECT_EQ(rad::encodeNormal16(std::numeric_limits<float>::infinity()), 32768);
     for (int c = 0; c < 256; ++c) EXPECT_EQ(rad::encodeNormal8(rad::decodeNormal8(std::uint8_t(c))), c);
     for (int c = 0; c < 65536; c += 7) EXPECT_EQ(rad::encodeNormal16(rad::decodeNormal16(std::uint16_t(c))), c);
 }

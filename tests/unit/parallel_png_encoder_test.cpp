@@ -49,7 +49,8 @@ std::vector<unsigned char> inflateIdat(const std::vector<unsigned char>& png, st
     return raw;
 }
 
-void checkRoundTrip(int width, int height, int channels, int depth, int level, unsigned seed) {
+void checkRoundTrip(int width, int height, int channels, int depth, int level, unsigned seed,
+                    rad::PngCompression compression = rad::PngCompression::Full) {
     SCOPED_TRACE(std::to_string(width) + " x " + std::to_string(height) + " x " + std::to_string(channels) + ", " +
                  std::to_string(depth) + " bit, level " + std::to_string(level));
     std::mt19937 random(seed);
@@ -62,7 +63,7 @@ void checkRoundTrip(int width, int height, int channels, int depth, int level, u
         samples8[i] = std::uint8_t(random() & 0xff);
     }
     const void* samples = depth == 16 ? static_cast<const void*>(samples16.data()) : samples8.data();
-    const std::vector<unsigned char> png = rad::encodePngParallel(samples, width, height, channels, depth, level);
+    const std::vector<unsigned char> png = rad::encodePngParallel(samples, width, height, channels, depth, level, compression);
 
     // zlib: the scanlines, each "up"-filtered, undone here.
     const std::size_t rowBytes = std::size_t(width) * channels * (depth / 8);
@@ -108,6 +109,8 @@ TEST(ParallelPngEncoder, ManyBandsDecodeExactlyWithZlibAndStb) {
     checkRoundTrip(1000, 700, 3, 16, 9, 2);
     checkRoundTrip(777, 1500, 4, 8, 6, 3);   // 8-bit RGBA, 2 bands
     checkRoundTrip(513, 2100, 2, 16, 3, 4);  // grey + alpha, 2 bands
+    checkRoundTrip(1000, 700, 3, 16, 1, 10, rad::PngCompression::RunLength);
+    checkRoundTrip(777, 1500, 4, 8, 1, 11, rad::PngCompression::RunLength);
 }
 
 TEST(ParallelPngEncoder, TinyAndSingleBandImages) {
