@@ -14,8 +14,9 @@
 # (bench/blender/scan_reference.py, every 4th row and column at 2048^2, every 8th at 4096^2): at the
 # nearer hit along +/- the normal (our rule; rows "blender", "ours") and at the first hit from the
 # cage inwards (Cycles' rule; rows ".../cage-rule"), plus the two bakers' agreement with each other. Time: the bake alone (Blender: bpy.ops.object.bake; ours:
-# the filter's own "in X s", which includes filling the gutters and writing the PNG) and each
-# program's wall time.
+# the filter's own "in X s", which includes filling the gutters and writing the PNG), its processor
+# time (all threads; with other programs on the cores it varies far less than the wall time) and
+# each program's wall time.
 # Then the render comparison (bench/blender/render_compare.py): Cycles renders of the high mesh and of
 # the low mesh with our .glb (imported by Blender's glTF add-on), our 16-bit map, Blender's map (float
 # and rounded to 8 bits), image error of each low render against the high one.
@@ -64,9 +65,9 @@ fi
 
 now() { date +%s.%N; }
 stats() { read -r _ texels _ mean _ median _ p95 _ max; }
-row() { printf '%-6s %5s %-7s %-8s %9s %9s %9s %8s %10s %10s\n' "$@"; }
+row() { printf '%-6s %5s %-7s %-8s %9s %9s %9s %8s %10s %10s %10s\n' "$@"; }
 echo "load average before: $(cut -d' ' -f1-3 /proc/loadavg), $(nproc) cores"
-row shape size space baker "mean deg" median p95 max "bake s" "wall s"
+row shape size space baker "mean deg" median p95 max "bake s" "cpu s" "wall s"
 for size in "${SIZES[@]}"; do
   for shape in "${SHAPE_LIST[@]}"; do
     distance="$D"
@@ -89,8 +90,9 @@ for size in "${SIZES[@]}"; do
         "$shape" "$size" "$distance" "$out" "$space"
       wall=$(awk -v a="$(now)" -v b="$t0" 'BEGIN {printf "%.2f", a - b}')
       bake=$(awk '/^BLENDER_BAKE_SECONDS/ {printf "%.2f", $2}' "$WORK/blender_${shape}_${size}_${space}.log")
+      cpu=$(awk '/^BLENDER_BAKE_CPU_SECONDS/ {printf "%.2f", $2}' "$WORK/blender_${shape}_${size}_${space}.log")
       stats < <("$PYTHON" "$REPO/bench/blender/evaluate_bake.py" "$truth" "$space" "$WORK/${shape}_low.corners" "$out")
-      row "$shape" "$size" "$space" blender "$mean" "$median" "$p95" "$max" "$bake" "$wall"
+      row "$shape" "$size" "$space" blender "$mean" "$median" "$p95" "$max" "$bake" "$cpu" "$wall"
 
       # Ours, 16 bit, LEAN off, through meshlabserver.
       base="$WORK/ours_${shape}_${size}_${space}"
@@ -105,8 +107,9 @@ for size in "${SIZES[@]}"; do
       wall=$(awk -v a="$(now)" -v b="$t0" 'BEGIN {printf "%.2f", a - b}')
       grep -q "per-vertex texture coordinates" "$base.log" || { echo "our bake did not use the low mesh's UVs" >&2; exit 1; }
       bake=$(grep -o "faces) in [0-9.]* s" "$base.log" | head -1 | awk '{print $3}')
+      cpu=$(grep -o "processor time [0-9.]* s" "$base.log" | head -1 | awk '{print $3}')
       stats < <("$PYTHON" "$REPO/bench/blender/evaluate_bake.py" "$truth" "$space" "$WORK/${shape}_low.corners" "${base}_normal.png")
-      row "$shape" "$size" "$space" ours "$mean" "$median" "$p95" "$max" "$bake" "$wall"
+      row "$shape" "$size" "$space" ours "$mean" "$median" "$p95" "$max" "$bake" "$cpu" "$wall"
       grep -o "(bake [^)]*)" "$base.log" | head -1 | sed 's/^/                 ours: /' >&2
       if [ "$shape" = scan ]; then
         # The same two maps against the cage rule's reference, and against each other.
@@ -114,10 +117,10 @@ for size in "${SIZES[@]}"; do
           map="$out"
           [ $baker = ours ] && map="${base}_normal.png"
           stats < <("$PYTHON" "$REPO/bench/blender/evaluate_bake.py" "reference-cage:$ref" "$space" "$WORK/${shape}_low.corners" "$map")
-          row "$shape" "$size" "$space" "$baker/cage-rule" "$mean" "$median" "$p95" "$max" - -
+          row "$shape" "$size" "$space" "$baker/cage-rule" "$mean" "$median" "$p95" "$max" - - -
         done
         stats < <("$PYTHON" "$REPO/bench/blender/evaluate_bake.py" agree "$space" "$WORK/${shape}_low.corners" "${base}_normal.png" "$out")
-        row "$shape" "$size" "$space" "ours-vs-blender" "$mean" "$median" "$p95" "$max" - -
+        row "$shape" "$size" "$space" "ours-vs-blender" "$mean" "$median" "$p95" "$max" - - -
       fi
     done
   done

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -191,6 +192,7 @@ void checkNormalMapBakeRequest(const NormalMapBakeRequest& request) {
 
 NormalMapBakeReport bakeNormalMapFiles(const NormalMapBakeRequest& request) {
     const Clock::time_point start = Clock::now();
+    const std::clock_t cpuStart = std::clock();
     checkNormalMapBakeRequest(request);
     NormalMapBakeReport report;
     const int size = request.textureSize;
@@ -374,6 +376,7 @@ NormalMapBakeReport bakeNormalMapFiles(const NormalMapBakeRequest& request) {
     baked.mikkTSpaceNormals.shrink_to_fit();
     report.bake = std::move(baked);
     report.totalSeconds = secondsSince(start);
+    report.cpuSeconds = double(std::clock() - cpuStart) / CLOCKS_PER_SEC;
     if (request.progress) request.progress(1.0, "done");
     return report;
 }
