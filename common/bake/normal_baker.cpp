@@ -10,7 +10,8 @@
 //
 // The texture is walked in 4 x 4 texel tiles (OpenMP, dynamic schedule over rows of tiles); a
 // tile's rays are cast as Embree packets of 16 (RayScene::intersect16), coherent because the
-// texels of a tile are neighbours on one chart.
+// texels of a tile are neighbours on one chart. Most texels need one ray, not two: see the tile
+// loop ("The nearer hit along +n or -n").
 #include "bake/normal_baker.h"
 
 #include "bake/texel_coverage.h"
@@ -227,6 +228,7 @@ NormalBakeResult bakeNormalMap(const TriangleMesh& target, const float* targetWe
         TileTexels tile;
         RayPacket16 packet;
         RayHit forward[16], backward[16];
+        float side = 1.0f;  // where the source was found last along the normal (+1: ahead, -1: behind)
         for (int tileX = 0; tileX < tilesX; ++tileX) {
             // Set-up: the target point and normal of each covered texel of the tile.
             tile.count = 0;
@@ -269,26 +271,66 @@ NormalBakeResult bakeNormalMap(const TriangleMesh& target, const float* targetWe
             }
             if (tile.count == 0) continue;
 
-            // Rays along +n, then -n up to the +n hit (the nearer hit wins).
+            // The nearer hit along +n or -n within the distance D. First one ray over the whole
+            // segment, from its end on the side away from where the surface was last found
+            // (`side`): when its first hit lies on the far half (or it meets nothing), that hit
+            // is the nearest one on that side and nothing lies on the other, so one ray settles
+            // the texel. Otherwise the surface is (also) on the near side, and the two rays from
+            // the texel decide: +n, then -n up to the +n hit (the nearer hit wins, ties to +n).
             const std::uint32_t active = tile.count == 16 ? 0xffffu : ((1u << tile.count) - 1u);
             for (int i = 0; i < tile.count; ++i) {
-                packet.originX[i] = tile.point[i].x();
-                packet.originY[i] = tile.point[i].y();
-                packet.originZ[i] = tile.point[i].z();
-                packet.directionX[i] = tile.normal[i].x();
-                packet.directionY[i] = tile.normal[i].y();
-                packet.directionZ[i] = tile.normal[i].z();
+                const Eigen::Vector3f direction = side * tile.normal[i];
+                const Eigen::Vector3f origin = tile.point[i] - maxDistance * direction;
+                packet.originX[i] = origin.x();
+                packet.originY[i] = origin.y();
+                packet.originZ[i] = origin.z();
+                packet.directionX[i] = direction.x();
+                packet.directionY[i] = direction.y();
+                packet.directionZ[i] = direction.z();
                 packet.tNear[i] = 0.0f;
-                packet.tFar[i] = maxDistance;
+                packet.tFar[i] = 2.0f * maxDistance;
             }
             scene.intersect16(packet, active, forward);
+            std::uint32_t unsettled = 0;
             for (int i = 0; i < tile.count; ++i) {
-                packet.directionX[i] = -tile.normal[i].x();
-                packet.directionY[i] = -tile.normal[i].y();
-                packet.directionZ[i] = -tile.normal[i].z();
-                packet.tFar[i] = forward[i].hit ? forward[i].distance : maxDistance;
+                RayHit first = forward[i];
+                forward[i] = RayHit();
+                backward[i] = RayHit();
+                if (!first.hit) continue;  // nothing within D either way: the closest point below
+                if (first.distance < maxDistance) {
+                    unsettled |= 1u << i;
+                    continue;
+                }
+                first.distance -= maxDistance;
+                (side > 0.0f ? forward[i] : backward[i]) = first;
             }
-            scene.intersect16(packet, active, backward);
+            if (unsettled) {
+                for (int i = 0; i < tile.count; ++i) {
+                    packet.originX[i] = tile.point[i].x();
+                    packet.originY[i] = tile.point[i].y();
+                    packet.originZ[i] = tile.point[i].z();
+                    packet.directionX[i] = tile.normal[i].x();
+                    packet.directionY[i] = tile.normal[i].y();
+                    packet.directionZ[i] = tile.normal[i].z();
+                    packet.tFar[i] = maxDistance;
+                }
+                RayHit nearForward[16], nearBackward[16];
+                scene.intersect16(packet, unsettled, nearForward);
+                for (int i = 0; i < tile.count; ++i) {
+                    packet.directionX[i] = -tile.normal[i].x();
+                    packet.directionY[i] = -tile.normal[i].y();
+                    packet.directionZ[i] = -tile.normal[i].z();
+                    packet.tFar[i] = nearForward[i].hit ? nearForward[i].distance : maxDistance;
+                }
+                scene.intersect16(packet, unsettled, nearBackward);
+                for (int i = 0; i < tile.count; ++i) {
+                    if (!((unsettled >> i) & 1u)) continue;
+                    forward[i] = nearForward[i];
+                    backward[i] = nearBackward[i];
+                }
+                // Most of this tile's surface was on the other side: start from there next time.
+                if (2 * __builtin_popcount(unsettled) > tile.count) side = -side;
+            }
 
             // Source normal (and colour) at the hit, or at the closest point.
             for (int i = 0; i < tile.count; ++i) {
