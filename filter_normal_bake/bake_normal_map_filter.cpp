@@ -251,7 +251,7 @@ private:
         const rad::NormalBakeResult& stats = report.bake;
         const double chart = std::max<double>(1.0, double(stats.chartTexels));
         ctx.log(formatLine("Bake Normal Map: %s %dx%d, %d bit, %s, from '%s' (%zu faces) onto '%s' (%zu faces) in %.2f s "
-            "(bake %.2f, fill %.2f, LEAN %.2f, write %.2f)",
+            "(bake %.2f: coverage %.2f, scene %.2f, rays %.2f; fill %.2f, LEAN %.2f, write %.2f; processor time %.2f s)",
             request.space == rad::NormalSpace::Object ? "object space"
             : request.tangentFrame == rad::TangentFrame::MikkTSpace ? "tangent space (MikkTSpace, Mikkelsen 2008, +Y up)"
                                                                     : "tangent space (per-face dP/du frame, +Y up)",
@@ -260,8 +260,9 @@ private:
             report.atlasGenerated ? qUtf8Printable(QString("per-triangle atlas (cells of %1 texels)").arg(report.atlasCellSize))
                                   : uvKind,
             qUtf8Printable(source->label()), sourceMesh.faceCount(), qUtf8Printable(target->label()),
-            targetMesh.faceCount(), report.totalSeconds, report.bakeSeconds, report.fillSeconds, report.leanSeconds,
-            report.writeSeconds));
+            targetMesh.faceCount(), report.totalSeconds, report.bakeSeconds, report.bake.coverageSeconds,
+            report.bake.sceneSeconds, report.bake.raySeconds, report.fillSeconds, report.leanSeconds,
+            report.writeSeconds, report.cpuSeconds));
         ctx.log(formatLine("Bake Normal Map: %zu chart texels: %.2f %% ray hits, %.2f %% closest-point fallbacks, %zu holes filled by "
             "pull-push; %zu gutter texels dilated; max ray distance %g",
             stats.chartTexels, 100.0 * stats.rayHits / chart, 100.0 * stats.closestPointFallbacks / chart,

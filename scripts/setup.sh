@@ -26,7 +26,7 @@ APT_PACKAGES=(
   libeigen3-dev                # Debian removed MeshLab's bundled Eigen; vcglib and our cores use it
   libembree-dev                # ray casting (visibility, PRT transfer, baking)
   libstb-dev                   # stb_image / stb_image_write: JPEG and PNG photographs, PNG output, Radiance .hdr maps
-  libpng-dev                   # libpng: 16-bit PNG normal maps (stb_image_write writes only 8-bit PNG)
+  zlib1g-dev                   # zlib: 16-bit PNG normal maps (our encoder; stb_image_write writes only 8-bit PNG)
   libopenexr-dev               # OpenEXR: the HDR environment maps (.exr) used for lighting
   libgtest-dev                 # unit tests
   cmake g++ make dpkg-dev      # build, and apt-get source

@@ -1,16 +1,19 @@
-# Run inside Blender: blender -b OUT_DIR/pairs.blend -P cycles_bake.py -- SHAPE SIZE DISTANCE OUT.npy
-# Cycles "Selected to Active" tangent-space normal bake of <SHAPE>_high onto <SHAPE>_low (CPU, one
+# Run inside Blender: blender -b OUT_DIR/pairs.blend -P cycles_bake.py -- SHAPE SIZE DISTANCE OUT.npy [SPACE]
+# Cycles "Selected to Active" normal bake (SPACE: tangent, the default, or object) of <SHAPE>_high onto <SHAPE>_low (CPU, one
 # sample per texel, cage extrusion = DISTANCE and max ray distance = 2 x DISTANCE, so that the rays
 # search DISTANCE on either side of the low surface, as ours do with a maximum distance DISTANCE).
 # Writes the float image (rows top to bottom, RGB = (n + 1) / 2) as .npy and prints the seconds
-# bpy.ops.object.bake took.
+# bpy.ops.object.bake took, wall and processor time (all threads).
 import sys
 import time
 
 import bpy
 import numpy as np
 
-shape, size, distance, out = sys.argv[sys.argv.index("--") + 1:]
+args = sys.argv[sys.argv.index("--") + 1:]
+shape, size, distance, out = args[:4]
+space = args[4] if len(args) > 4 else "tangent"
+assert space in ("tangent", "object"), space
 size, distance = int(size), float(distance)
 scene = bpy.context.scene
 scene.render.engine = "CYCLES"
@@ -35,10 +38,11 @@ for obj in bpy.context.view_layer.objects:
 high.select_set(True)
 low.select_set(True)
 bpy.context.view_layer.objects.active = low
-start = time.time()
-bpy.ops.object.bake(type="NORMAL", normal_space="TANGENT", use_selected_to_active=True, cage_extrusion=distance,
+start, cpu_start = time.time(), time.process_time()
+bpy.ops.object.bake(type="NORMAL", normal_space=space.upper(), use_selected_to_active=True, cage_extrusion=distance,
                     max_ray_distance=2 * distance, margin=4, target="IMAGE_TEXTURES")
-seconds = time.time() - start
+seconds, cpu_seconds = time.time() - start, time.process_time() - cpu_start
 pixels = np.array(image.pixels[:], dtype=np.float32).reshape(size, size, 4)[::-1, :, :3]
 np.save(out, pixels)
 print("BLENDER_BAKE_SECONDS %.3f" % seconds)
+print("BLENDER_BAKE_CPU_SECONDS %.3f" % cpu_seconds)

@@ -1,11 +1,18 @@
-"""Angular error of a tangent-space normal map against the exact normals of the analytic surface
-(bench/bake_vs_blender.sh). Every texel whose centre lies inside a UV triangle of the low mesh is
-decoded the MikkTSpace way (Mikkelsen 2008): T and N interpolated from the corners (Blender's
-tangents, equal to ours within 1e-6: tests/blender), B = sign N x T, n = normalize(x T + y B + z N);
-the truth is the exact surface's normal where the ray from the texel's point along +/- N meets it
-(the nearer hit), which is what both bakers aim at.
+"""Angular error of a baked normal map (bench/bake_vs_blender.sh). Every texel whose centre lies
+inside a UV triangle of the low mesh is decoded: in tangent space the MikkTSpace way (Mikkelsen
+2008): T and N interpolated from the corners (Blender's tangents, equal to ours within 1e-6:
+tests/blender), B = sign N x T, n = normalize(x T + y B + z N); in object space n = normalize(x, y, z).
+The truth:
+  sphere, torus   the exact surface's normal where the ray from the texel's point along +/- N meets
+                  it (the nearer hit), which is what both bakers aim at;
+  reference       a table made by scan_reference.py (a real scan: the high mesh's interpolated normal
+                  where the texel's ray meets it, found by Blender's BVH tree, neither baker's code).
 
-Usage: evaluate_bake.py sphere|torus LOW.corners MAP(.png 8/16 bit or .npy float, rows top to bottom)
+Usage: evaluate_bake.py sphere|torus tangent|object LOW.corners MAP
+       evaluate_bake.py reference:REF.npz tangent|object LOW.corners MAP    (nearest-hit rule)
+       evaluate_bake.py reference-cage:REF.npz tangent|object LOW.corners MAP   (Cycles' cage rule)
+       evaluate_bake.py agree tangent|object LOW.corners MAP1 MAP2     (angle between two maps)
+MAP: .png 8/16 bit or .npy float, rows top to bottom, code = (n + 1) / 2.
 Prints: texels, mean, median, p95, max in degrees.
 """
 import os
@@ -13,7 +20,7 @@ import sys
 
 import numpy as np
 
-sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "tests", "integration"))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tests", "integration"))
 import png_reader  # noqa: E402
 
 R, r = 1.0, 0.35
@@ -57,12 +64,11 @@ def exact_normal(shape, p, n):
     return torus_normal(p + t[:, None] * n)
 
 
-def main():
-    shape, corners_path, map_path = sys.argv[1:4]
+def chart_texels(corners_path, size, stride=1):
+    """The texels whose centre is inside a UV triangle (rows and columns multiples of `stride`):
+    rows, cols, and per texel the interpolated point p, normal n (not normalised), tangent t and sign."""
     c = np.loadtxt(corners_path).reshape(-1, 3, 12)
-    image = read_map(map_path) * 2 - 1
-    size = image.shape[0]
-    errors = []
+    out = {k: [] for k in ("rows", "cols", "p", "n", "t", "sign")}
     for face in c:
         pos, nor, uv, tan, sign = face[:, 0:3], face[:, 3:6], face[:, 6:8], face[:, 8:11], face[0, 11]
         x = uv[:, 0] * size
@@ -70,8 +76,9 @@ def main():
         area = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0])
         if abs(area) < 1e-9:
             continue
-        cols = np.arange(max(0, int(x.min())), min(size, int(x.max()) + 1))
-        rows = np.arange(max(0, int(y.min())), min(size, int(y.max()) + 1))
+        c0, r0 = max(0, int(x.min())), max(0, int(y.min()))
+        cols = np.arange(c0 + (-c0) % stride, min(size, int(x.max()) + 1), stride)
+        rows = np.arange(r0 + (-r0) % stride, min(size, int(y.max()) + 1), stride)
         cc, rr = np.meshgrid(cols, rows)
         cc, rr = cc.ravel(), rr.ravel()
         cx, cy = cc + 0.5, rr + 0.5
@@ -82,14 +89,49 @@ def main():
         if not inside.any():
             continue
         w = np.stack([b0, b1, b2], 1)[inside]
-        p, n, t = w @ pos, w @ nor, w @ tan
-        b = sign * np.cross(n, t)
-        code = image[rr[inside], cc[inside]]
+        out["rows"].append(rr[inside])
+        out["cols"].append(cc[inside])
+        out["p"].append(w @ pos)
+        out["n"].append(w @ nor)
+        out["t"].append(w @ tan)
+        out["sign"].append(np.full(int(inside.sum()), sign))
+    return {k: np.concatenate(v) for k, v in out.items()}
+
+
+def decode(image, texels, space):
+    code = image[texels["rows"], texels["cols"]] * 2 - 1
+    if space == "object":
+        decoded = code
+    else:
+        n, t = texels["n"], texels["t"]
+        b = texels["sign"][:, None] * np.cross(n, t)
         decoded = code[:, :1] * t + code[:, 1:2] * b + code[:, 2:3] * n
-        decoded /= np.linalg.norm(decoded, axis=1, keepdims=True)
-        truth = exact_normal(shape, p, n / np.linalg.norm(n, axis=1, keepdims=True))
-        errors.append(np.degrees(np.arctan2(np.linalg.norm(np.cross(decoded, truth), axis=1), (decoded * truth).sum(1))))
-    e = np.concatenate(errors)
+    return decoded / np.linalg.norm(decoded, axis=1, keepdims=True)
+
+
+def angles(a, b):
+    return np.degrees(np.arctan2(np.linalg.norm(np.cross(a, b), axis=1), (a * b).sum(1)))
+
+
+def main():
+    truth_kind, space, corners_path = sys.argv[1:4]
+    assert space in ("tangent", "object"), space
+    image = read_map(sys.argv[4])
+    size = image.shape[0]
+    texels = chart_texels(corners_path, size)
+    decoded = decode(image, texels, space)
+    if truth_kind == "agree":
+        e = angles(decoded, decode(read_map(sys.argv[5]), texels, space))
+    elif truth_kind.startswith("reference"):
+        ref = np.load(truth_kind.split(":", 1)[1])
+        assert int(ref["size"]) == size, "the reference was made for %d^2 texels" % int(ref["size"])
+        keys = texels["rows"].astype(np.int64) * size + texels["cols"]
+        order = np.argsort(keys)
+        where = order[np.searchsorted(keys[order], ref["rows"].astype(np.int64) * size + ref["cols"])]
+        e = angles(decoded[where], ref["normals_cage" if truth_kind.startswith("reference-cage:") else "normals"])
+    else:
+        n = texels["n"] / np.linalg.norm(texels["n"], axis=1, keepdims=True)
+        e = angles(decoded, exact_normal(truth_kind, texels["p"], n))
     print("texels %d mean %.4f median %.4f p95 %.4f max %.3f" % (e.size, e.mean(), np.median(e), np.percentile(e, 95), e.max()))
 
 

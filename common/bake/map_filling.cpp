@@ -159,43 +159,91 @@ std::size_t dilateValidTexels(float* values, int channels, int width, int height
     if (width <= 0 || height <= 0 || channels <= 0 || rings <= 0) return 0;
     const std::size_t texels = std::size_t(width) * height;
     if (valid.size() != texels) valid.resize(texels, 0);
-    std::vector<std::uint8_t> before(texels);
-    std::size_t total = 0;
-    for (int ring = 0; ring < rings; ++ring) {
-        // Reads only texels valid before the pass, writes only texels invalid before it: in place.
-        std::memcpy(before.data(), valid.data(), texels);
-        std::size_t filled = 0;
-#pragma omp parallel for schedule(static) reduction(+ : filled)
+    // ring[t]: the pass that made texel t valid (0: valid on entry), kQueued while it waits in the
+    // next pass's list, kNever otherwise. Pass k reads only texels with ring < k and writes only
+    // its own candidates, so each pass is the old whole-image sweep restricted to the texels it
+    // can change: the frontier, found once by a sweep and then grown from the texels just filled
+    // (a map with a large background no longer costs `rings` sweeps of the whole image).
+    constexpr std::uint8_t kQueued = 254, kNever = 255;
+    std::vector<std::uint8_t> ring(texels);
+    for (std::size_t t = 0; t < texels; ++t) ring[t] = valid[t] ? 0 : kNever;
+    const auto neighbours = [&](std::size_t t, auto&& visit) {
+        const int y = int(t / std::size_t(width)), x = int(t % std::size_t(width));
+        const int ya = std::max(y - 1, 0), yb = std::min(y + 1, height - 1);
+        const int xa = std::max(x - 1, 0), xb = std::min(x + 1, width - 1);
+        for (int yy = ya; yy <= yb; ++yy)
+            for (int xx = xa; xx <= xb; ++xx) visit(std::size_t(yy) * width + xx);
+    };
+    // The first pass's candidates: invalid texels next to a valid one, in row order.
+    std::vector<std::size_t> candidates;
+    {
+        std::vector<std::vector<std::size_t>> perRow(static_cast<std::size_t>(height));
+#pragma omp parallel for schedule(static)
         for (int y = 0; y < height; ++y) {
+            for (int x = 0; x < width; ++x) {
+                const std::size_t t = std::size_t(y) * width + x;
+                if (ring[t] == 0) continue;
+                bool touches = false;
+                neighbours(t, [&](std::size_t n) { touches = touches || ring[n] == 0; });
+                if (touches) perRow[std::size_t(y)].push_back(t);
+            }
+        }
+        for (const auto& row : perRow) candidates.insert(candidates.end(), row.begin(), row.end());
+    }
+    for (const std::size_t t : candidates) ring[t] = kQueued;
+
+    std::size_t total = 0;
+    std::vector<std::uint8_t> filledNow;
+    std::vector<float> averaged;
+    for (int pass = 1; pass <= rings && !candidates.empty(); ++pass) {
+        const std::uint8_t k = std::uint8_t(std::min(pass, 253));
+        filledNow.assign(candidates.size(), 0);
+        averaged.resize(candidates.size() * std::size_t(channels));
+#pragma omp parallel for schedule(static)
+        for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(candidates.size()); ++i) {
             float sum[16];
             std::vector<float> big;
             float* acc = channels <= 16 ? sum : (big.resize(std::size_t(channels)), big.data());
-            const int ya = std::max(y - 1, 0), yb = std::min(y + 1, height - 1);
-            for (int x = 0; x < width; ++x) {
-                const std::size_t t = std::size_t(y) * width + x;
-                if (before[t]) continue;
-                const int xa = std::max(x - 1, 0), xb = std::min(x + 1, width - 1);
-                int count = 0;
-                for (int yy = ya; yy <= yb; ++yy)
-                    for (int xx = xa; xx <= xb; ++xx) {
-                        const std::size_t n = std::size_t(yy) * width + xx;
-                        if (!before[n]) continue;  // also skips t itself
-                        const float* v = values + n * channels;
-                        if (count == 0) std::copy(v, v + channels, acc);
-                        else
-                            for (int c = 0; c < channels; ++c) acc[c] += v[c];
-                        ++count;
-                    }
-                if (!count) continue;
-                const float inv = 1.0f / float(count);
-                float* out = values + t * channels;
-                for (int c = 0; c < channels; ++c) out[c] = acc[c] * inv;
-                valid[t] = 1;
-                ++filled;
+            int count = 0;
+            neighbours(candidates[std::size_t(i)], [&](std::size_t n) {
+                if (ring[n] >= k) return;  // not valid before this pass (also the texel itself)
+                const float* v = values + n * channels;
+                if (count == 0) std::copy(v, v + channels, acc);
+                else
+                    for (int c = 0; c < channels; ++c) acc[c] += v[c];
+                ++count;
+            });
+            if (!count) continue;
+            const float inv = 1.0f / float(count);
+            float* out = averaged.data() + std::size_t(i) * channels;
+            for (int c = 0; c < channels; ++c) out[c] = acc[c] * inv;
+            filledNow[std::size_t(i)] = 1;
+        }
+        // Commit, then queue the still invalid neighbours of the texels just filled.
+        std::vector<std::size_t> next;
+        std::size_t filled = 0;
+        for (std::size_t i = 0; i < candidates.size(); ++i) {
+            const std::size_t t = candidates[i];
+            if (!filledNow[i]) {
+                ring[t] = kNever;
+                continue;
             }
+            std::copy(averaged.data() + i * channels, averaged.data() + (i + 1) * channels, values + t * channels);
+            ring[t] = k;
+            valid[t] = 1;
+            ++filled;
+        }
+        for (std::size_t i = 0; i < candidates.size(); ++i) {
+            if (!filledNow[i]) continue;
+            neighbours(candidates[i], [&](std::size_t n) {
+                if (ring[n] != kNever) return;
+                ring[n] = kQueued;
+                next.push_back(n);
+            });
         }
         total += filled;
-        if (!filled) break;  // nothing left to grow into (or no valid texel at all)
+        if (!filled) break;
+        candidates.swap(next);
     }
     return total;
 }

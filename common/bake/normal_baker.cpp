@@ -10,7 +10,8 @@
 //
 // The texture is walked in 4 x 4 texel tiles (OpenMP, dynamic schedule over rows of tiles); a
 // tile's rays are cast as Embree packets of 16 (RayScene::intersect16), coherent because the
-// texels of a tile are neighbours on one chart.
+// texels of a tile are neighbours on one chart. Most texels need one ray, not two: see the tile
+// loop ("The nearer hit along +n or -n").
 #include "bake/normal_baker.h"
 
 #include "bake/texel_coverage.h"
@@ -137,7 +138,11 @@ NormalBakeResult bakeNormalMap(const TriangleMesh& target, const float* targetWe
 
     // Source scene, normals, ray length.
     t0 = Clock::now();
-    const RayScene scene(source.positions.data(), source.vertexCount(), source.faces.data(), source.faceCount());
+    // Medium BVH quality: a bake casts a few rays per source triangle (a million-face scan onto a
+    // 2048^2 map: ~2 each), too few to repay High's spatial-split build, which took as long as all
+    // the rays there; the ray time itself did not change measurably (README, Blender section).
+    const RayScene scene(source.positions.data(), source.vertexCount(), source.faces.data(), source.faceCount(),
+                         SceneBuildQuality::Medium);
     std::vector<float> computedNormals;
     const std::vector<float>* sourceNormals = &source.normals;
     if (!source.hasNormals()) {
@@ -201,7 +206,7 @@ NormalBakeResult bakeNormalMap(const TriangleMesh& target, const float* targetWe
     t0 = Clock::now();
     const std::size_t texels = std::size_t(width) * std::size_t(height);
     result.normals.assign(3 * texels, 0.0f);
-    result.tangents.assign(3 * texels, 0.0f);
+    if (options.keepTangents) result.tangents.assign(3 * texels, 0.0f);
     if (options.bakeColor) result.colors.assign(3 * texels, 0.0f);
     if (alsoMikk) result.mikkTSpaceNormals.assign(3 * texels, 0.0f);
     result.chart.assign(texels, 0);
@@ -223,6 +228,7 @@ NormalBakeResult bakeNormalMap(const TriangleMesh& target, const float* targetWe
         TileTexels tile;
         RayPacket16 packet;
         RayHit forward[16], backward[16];
+        float side = 1.0f;  // where the source was found last along the normal (+1: ahead, -1: behind)
         for (int tileX = 0; tileX < tilesX; ++tileX) {
             // Set-up: the target point and normal of each covered texel of the tile.
             tile.count = 0;
@@ -265,26 +271,66 @@ NormalBakeResult bakeNormalMap(const TriangleMesh& target, const float* targetWe
             }
             if (tile.count == 0) continue;
 
-            // Rays along +n, then -n up to the +n hit (the nearer hit wins).
+            // The nearer hit along +n or -n within the distance D. First one ray over the whole
+            // segment, from its end on the side away from where the surface was last found
+            // (`side`): when its first hit lies on the far half (or it meets nothing), that hit
+            // is the nearest one on that side and nothing lies on the other, so one ray settles
+            // the texel. Otherwise the surface is (also) on the near side, and the two rays from
+            // the texel decide: +n, then -n up to the +n hit (the nearer hit wins, ties to +n).
             const std::uint32_t active = tile.count == 16 ? 0xffffu : ((1u << tile.count) - 1u);
             for (int i = 0; i < tile.count; ++i) {
-                packet.originX[i] = tile.point[i].x();
-                packet.originY[i] = tile.point[i].y();
-                packet.originZ[i] = tile.point[i].z();
-                packet.directionX[i] = tile.normal[i].x();
-                packet.directionY[i] = tile.normal[i].y();
-                packet.directionZ[i] = tile.normal[i].z();
+                const Eigen::Vector3f direction = side * tile.normal[i];
+                const Eigen::Vector3f origin = tile.point[i] - maxDistance * direction;
+                packet.originX[i] = origin.x();
+                packet.originY[i] = origin.y();
+                packet.originZ[i] = origin.z();
+                packet.directionX[i] = direction.x();
+                packet.directionY[i] = direction.y();
+                packet.directionZ[i] = direction.z();
                 packet.tNear[i] = 0.0f;
-                packet.tFar[i] = maxDistance;
+                packet.tFar[i] = 2.0f * maxDistance;
             }
             scene.intersect16(packet, active, forward);
+            std::uint32_t unsettled = 0;
             for (int i = 0; i < tile.count; ++i) {
-                packet.directionX[i] = -tile.normal[i].x();
-                packet.directionY[i] = -tile.normal[i].y();
-                packet.directionZ[i] = -tile.normal[i].z();
-                packet.tFar[i] = forward[i].hit ? forward[i].distance : maxDistance;
+                RayHit first = forward[i];
+                forward[i] = RayHit();
+                backward[i] = RayHit();
+                if (!first.hit) continue;  // nothing within D either way: the closest point below
+                if (first.distance < maxDistance) {
+                    unsettled |= 1u << i;
+                    continue;
+                }
+                first.distance -= maxDistance;
+                (side > 0.0f ? forward[i] : backward[i]) = first;
             }
-            scene.intersect16(packet, active, backward);
+            if (unsettled) {
+                for (int i = 0; i < tile.count; ++i) {
+                    packet.originX[i] = tile.point[i].x();
+                    packet.originY[i] = tile.point[i].y();
+                    packet.originZ[i] = tile.point[i].z();
+                    packet.directionX[i] = tile.normal[i].x();
+                    packet.directionY[i] = tile.normal[i].y();
+                    packet.directionZ[i] = tile.normal[i].z();
+                    packet.tFar[i] = maxDistance;
+                }
+                RayHit nearForward[16], nearBackward[16];
+                scene.intersect16(packet, unsettled, nearForward);
+                for (int i = 0; i < tile.count; ++i) {
+                    packet.directionX[i] = -tile.normal[i].x();
+                    packet.directionY[i] = -tile.normal[i].y();
+                    packet.directionZ[i] = -tile.normal[i].z();
+                    packet.tFar[i] = nearForward[i].hit ? nearForward[i].distance : maxDistance;
+                }
+                scene.intersect16(packet, unsettled, nearBackward);
+                for (int i = 0; i < tile.count; ++i) {
+                    if (!((unsettled >> i) & 1u)) continue;
+                    forward[i] = nearForward[i];
+                    backward[i] = nearBackward[i];
+                }
+                // Most of this tile's surface was on the other side: start from there next time.
+                if (2 * __builtin_popcount(unsettled) > tile.count) side = -side;
+            }
 
             // Source normal (and colour) at the hit, or at the closest point.
             for (int i = 0; i < tile.count; ++i) {
@@ -345,12 +391,13 @@ NormalBakeResult bakeNormalMap(const TriangleMesh& target, const float* targetWe
                     const float sign = corner[3] + corner[7] + corner[11] < 0.0f ? -1.0f : 1.0f;
                     const Eigen::Vector3f Nm = tile.normalLength[i] * N;
                     const Eigen::Vector3f Bm = sign * Nm.cross(Tm);
-                    Eigen::Matrix3f frameMatrix;
-                    frameMatrix << Tm, Bm, Nm;
-                    const float det = frameMatrix.determinant();
-                    const float scale = Tm.norm() * Bm.norm() * Nm.norm();
+                    // The inverse of the matrix with columns (T, B, N) has the rows B x N, N x T,
+                    // T x B over its determinant; the common factor goes with the normalisation.
+                    const Eigen::Vector3f bn = Bm.cross(Nm), nt = Nm.cross(Tm), tb = Tm.cross(Bm);
+                    const float det = Tm.dot(bn);
+                    const float scale = std::sqrt(Tm.squaredNorm() * Bm.squaredNorm() * Nm.squaredNorm());
                     if (!(std::isfinite(det) && std::fabs(det) > 1e-6f * scale && scale > 0.0f)) return false;
-                    Eigen::Vector3f local = frameMatrix.inverse() * n;
+                    Eigen::Vector3f local = Eigen::Vector3f(bn.dot(n), nt.dot(n), tb.dot(n)) / det;
                     const float localLength = local.norm();
                     if (!(localLength > 0.0f && std::isfinite(localLength))) return false;
                     local /= localLength;
@@ -389,10 +436,12 @@ NormalBakeResult bakeNormalMap(const TriangleMesh& target, const float* targetWe
                         outMikk[2] = n.dot(N);
                     }
                 }
-                float* outTangent = result.tangents.data() + 3 * t;
-                outTangent[0] = T.x();
-                outTangent[1] = T.y();
-                outTangent[2] = T.z();
+                if (options.keepTangents) {
+                    float* outTangent = result.tangents.data() + 3 * t;
+                    outTangent[0] = T.x();
+                    outTangent[1] = T.y();
+                    outTangent[2] = T.z();
+                }
                 if (options.bakeColor) {
                     float* outColor = result.colors.data() + 3 * t;
                     for (int k = 0; k < 3; ++k)
@@ -432,14 +481,20 @@ NormalBakeResult bakeNormalMap(const TriangleMesh& target, const float* targetWe
     return result;
 }
 
+// std::lround of a value v >= 0 without the library call: the whole part plus one when the
+// fraction (exact: v - trunc(v) loses nothing) is at least a half.
 std::uint8_t encodeNormal8(float component) {
     const float x = std::isfinite(component) ? std::clamp(component, -1.0f, 1.0f) : 0.0f;
-    return std::uint8_t(std::lround((x + 1.0f) * 0.5f * 255.0f));
+    const float v = (x + 1.0f) * 0.5f * 255.0f;
+    const std::uint32_t whole = std::uint32_t(v);
+    return std::uint8_t(whole + (v - float(whole) >= 0.5f ? 1u : 0u));
 }
 
 std::uint16_t encodeNormal16(float component) {
     const float x = std::isfinite(component) ? std::clamp(component, -1.0f, 1.0f) : 0.0f;
-    return std::uint16_t(std::lround((double(x) + 1.0) * 0.5 * 65535.0));
+    const double v = (double(x) + 1.0) * 0.5 * 65535.0;
+    const std::uint32_t whole = std::uint32_t(v);
+    return std::uint16_t(whole + (v - double(whole) >= 0.5 ? 1u : 0u));
 }
 
 float decodeNormal8(std::uint8_t code) { return float(code) * (2.0f / 255.0f) - 1.0f; }

@@ -47,6 +47,9 @@ struct NormalBakeOptions {
     // Also fill `mikkTSpaceNormals` (a MikkTSpace tangent-space map next to the requested one: the
     // glTF export of an object-space bake needs both).
     bool alsoMikkTSpace = false;
+    // Fill `tangents` (LEAN needs them). Off, the array stays empty: 12 bytes per texel neither
+    // allocated nor written (a tangent-space bake without LEAN has no use for them).
+    bool keepTangents = true;
     // progress/progress_callback.h; may be called from several threads, never concurrently. A
     // stop request makes the bake throw OperationCancelled.
     ProgressCallback progress;
@@ -55,7 +58,7 @@ struct NormalBakeOptions {
 struct NormalBakeResult {
     int width = 0, height = 0;
     std::vector<float> normals;        // 3 per texel, unit, in the requested space; 0 where not valid
-    std::vector<float> tangents;       // 3 per texel, object-space unit T of the frame above (LEAN needs it); 0 where not valid
+    std::vector<float> tangents;       // 3 per texel, object-space unit T of the frame above (LEAN needs it); 0 where not valid; empty without keepTangents
     std::vector<float> colors;         // 3 per texel when bakeColor (source colour units), else empty
     std::vector<float> mikkTSpaceNormals;  // 3 per texel when alsoMikkTSpace, else empty
     // MikkTSpace bakes (and alsoMikkTSpace): the per-corner tangents used (4 per corner: x, y, z,

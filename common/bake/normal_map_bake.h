@@ -64,6 +64,9 @@ struct NormalMapBakeReport {
     std::size_t holesFilled = 0, gutterTexelsDilated = 0, backgroundTexelsFilled = 0;
     int leanLevels = 0;
     double bakeSeconds = 0, fillSeconds = 0, leanSeconds = 0, writeSeconds = 0, totalSeconds = 0;
+    // Processor time of the whole job, all threads (std::clock): with other programs competing for
+    // the cores it varies far less than the wall time.
+    double cpuSeconds = 0;
 };
 
 // Throws BakeInputError (nothing written) for: no target or no faces, source equal to the target

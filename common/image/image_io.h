@@ -3,8 +3,9 @@
 // for exactly this, with no further dependency.
 //
 // 16-bit PNG (normal maps: 8 bits quantise a unit normal's components in steps of 2/255, up to
-// ~0.45 degrees; 16 bits in steps of 2/65535): read with stb_image's 16-bit loader, written with
-// libpng (Debian's libpng-dev), because stb_image_write has no 16-bit PNG writer.
+// ~0.45 degrees; 16 bits in steps of 2/65535): read with stb_image's 16-bit loader, written by
+// our encoder on zlib (image/parallel_png_encoder.h), because stb_image_write has no 16-bit PNG
+// writer.
 #pragma once
 #include "image/rgb_image.h"
 

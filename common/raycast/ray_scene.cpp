@@ -142,7 +142,8 @@ std::uint32_t fillRayPacket(const RayPacket16& rays, std::uint32_t activeMask, R
 
 }  // namespace
 
-RayScene::RayScene(const float* positions, std::size_t vertexCount, const std::uint32_t* faces, std::size_t faceCount)
+RayScene::RayScene(const float* positions, std::size_t vertexCount, const std::uint32_t* faces, std::size_t faceCount,
+                   SceneBuildQuality quality)
     : faceCount_(faceCount) {
     RTCDevice device = rtcNewDevice(nullptr);
     if (!device) throw RayCastError("Embree could not create a device");
@@ -154,7 +155,7 @@ RayScene::RayScene(const float* positions, std::size_t vertexCount, const std::u
         throw RayCastError("Embree could not create a scene: " + why);
     }
     scene_ = scene;
-    rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+    rtcSetSceneBuildQuality(scene, quality == SceneBuildQuality::High ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
     // Robust traversal: without it rays aimed exactly at a shared vertex or edge can slip between
     // the triangles (light leaking into shadows, vertices "seen" through a closed surface);
     // ray_scene_test measures the leak. Costs ~10-15 % per query.

@@ -44,11 +44,16 @@ struct RayCastError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
+// Embree's BVH build: High (spatial splits, the fastest traversal) pays off when many rays are
+// cast per triangle; Medium builds several times faster, for scenes that see few rays.
+enum class SceneBuildQuality { Medium, High };
+
 class RayScene {
 public:
     // positions: 3 * vertexCount floats; faces: 3 * faceCount indices (validated by the caller).
     // Throws RayCastError when Embree cannot create the device or the scene.
-    RayScene(const float* positions, std::size_t vertexCount, const std::uint32_t* faces, std::size_t faceCount);
+    RayScene(const float* positions, std::size_t vertexCount, const std::uint32_t* faces, std::size_t faceCount,
+             SceneBuildQuality quality = SceneBuildQuality::High);
     ~RayScene();
     RayScene(const RayScene&) = delete;
     RayScene& operator=(const RayScene&) = delete;

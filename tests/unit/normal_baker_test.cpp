@@ -333,6 +333,73 @@ TEST(NormalBaker, MikkTSpaceBakeOnAPerTriangleAtlasDecodesToTheAnalyticNormal) {
     EXPECT_LT(mean / double(texels), 0.5);
 }
 
+// Two parallel 2 x 2 squares at heights zUp > 0 and zDown < 0, each with its own constant vertex
+// normal; the target is the unit square z = 0 with normal +z, UVs = (x, y) in [0, 1].
+void twoSheets(float zUp, const Eigen::Vector3f& nUp, float zDown, const Eigen::Vector3f& nDown,
+               rad::TriangleMesh& source, rad::TriangleMesh& target, std::vector<float>& uv) {
+    source = rad::TriangleMesh();
+    for (const auto& [z, n] : {std::make_pair(zUp, nUp), std::make_pair(zDown, nDown)}) {
+        const std::uint32_t base = std::uint32_t(source.vertexCount());
+        for (const auto& [x, y] : {std::make_pair(-0.5f, -0.5f), std::make_pair(1.5f, -0.5f), std::make_pair(1.5f, 1.5f),
+                                   std::make_pair(-0.5f, 1.5f)}) {
+            source.positions.insert(source.positions.end(), {x, y, z});
+            source.normals.insert(source.normals.end(), {n.x(), n.y(), n.z()});
+        }
+        source.faces.insert(source.faces.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+    }
+    target = rad::TriangleMesh();
+    target.positions = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+    target.normals = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+    target.faces = {0, 1, 2, 0, 2, 3};
+    uv = {0, 0, 1, 0, 1, 1, 0, 0, 1, 1, 0, 1};
+}
+
+TEST(NormalBaker, TheNearerOfTheSurfacesAheadAndBehindIsBakedWhicheverSideItIsOn) {
+    // The nearer sheet wins, whether it lies ahead of the target (+n) or behind it, and a sheet
+    // beyond the ray distance is ignored: the one-ray-per-texel shortcut must not change the rule.
+    const Eigen::Vector3f a = Eigen::Vector3f(0.3f, 0.0f, 1.0f).normalized(), b = Eigen::Vector3f(0.0f, -0.4f, 1.0f).normalized();
+    struct Case {
+        float zUp, zDown, distance;
+        Eigen::Vector3f expected;
+    };
+    for (const Case& c : {Case{0.02f, -0.03f, 0.1f, a}, Case{0.03f, -0.02f, 0.1f, b}, Case{0.05f, -0.2f, 0.1f, a},
+                          Case{0.2f, -0.05f, 0.1f, b}}) {
+        rad::TriangleMesh source, target;
+        std::vector<float> uv;
+        twoSheets(c.zUp, a, c.zDown, b, source, target, uv);
+        rad::NormalBakeOptions options;
+        options.width = options.height = 32;
+        options.space = rad::NormalSpace::Object;
+        options.maxRayDistance = c.distance;
+        const rad::NormalBakeResult r = rad::bakeNormalMap(target, uv.data(), source, nullptr, options);
+        ASSERT_GT(r.chartTexels, 900u);
+        EXPECT_EQ(r.rayHits, r.chartTexels) << c.zUp << " " << c.zDown;
+        for (std::size_t t = 0; t < r.valid.size(); ++t) {
+            if (!r.valid[t]) continue;
+            EXPECT_LT(angleDegrees(at(r.normals, t), c.expected.cast<double>()), 1e-3) << c.zUp << " " << c.zDown << " " << t;
+        }
+    }
+}
+
+TEST(NormalBaker, WithoutKeptTangentsTheMapIsTheSameAndNoTangentArrayIsMade) {
+    // A tangent-space bake without LEAN has no use for the per-texel tangents (normal_map_bake.cpp
+    // turns them off): the map must not change with them.
+    const double R = 1.0, r = 0.35;
+    const rad::TriangleMesh source = rad::makeTorus(float(R), float(r), 128, 64), target = rad::makeTorus(float(R), float(r), 24, 12);
+    const std::vector<float> uv = torusUv(target, R);
+    rad::NormalBakeOptions options;
+    options.width = options.height = 128;
+    options.space = rad::NormalSpace::Tangent;
+    const rad::NormalBakeResult kept = rad::bakeNormalMap(target, uv.data(), source, nullptr, options);
+    options.keepTangents = false;
+    const rad::NormalBakeResult dropped = rad::bakeNormalMap(target, uv.data(), source, nullptr, options);
+    EXPECT_EQ(kept.tangents.size(), 3u * 128 * 128);
+    EXPECT_TRUE(dropped.tangents.empty());
+    EXPECT_EQ(kept.normals, dropped.normals);
+    EXPECT_EQ(kept.valid, dropped.valid);
+    EXPECT_GT(dropped.rayHits, 5000u);
+}
+
 TEST(NormalBaker, ClosestPointFallbackWhereTheSourceHasAHole) {
     // Source: a sphere without its cap z > 0.8; rays of at most 0.05 from the target (a coarse
     // sphere) cannot reach anything from the middle of the missing cap.
@@ -519,6 +586,20 @@ TEST(NormalBaker, EncodingMapsMinusOneToOneOntoTheCodeRangeAndBack) {
         EXPECT_LE(std::fabs(rad::decodeNormal8(rad::encodeNormal8(x)) - x), 1.0f / 255.0f + 1e-6f);
         EXPECT_LE(std::fabs(rad::decodeNormal16(rad::encodeNormal16(x)) - x), 1.0f / 65535.0f + 1e-6f);
     }
+    // Round to nearest with halves up, as std::lround of the scaled value, also right at and next
+    // to every half code (where a cheaper rounding could slip by one).
+    for (int k = 0; k < 255; ++k) {
+        const float half = float((k + 0.5) / 255.0 * 2.0 - 1.0);
+        for (const float x : {std::nextafter(half, -2.0f), half, std::nextafter(half, 2.0f)})
+            EXPECT_EQ(rad::encodeNormal8(x), std::lround((x + 1.0f) * 0.5f * 255.0f)) << x;
+    }
+    for (int k = 0; k < 65535; k += 3) {
+        const float half = float((k + 0.5) / 65535.0 * 2.0 - 1.0);
+        for (const float x : {std::nextafter(half, -2.0f), half, std::nextafter(half, 2.0f)})
+            EXPECT_EQ(rad::encodeNormal16(x), std::lround((double(x) + 1.0) * 0.5 * 65535.0)) << x;
+    }
+    EXPECT_EQ(rad::encodeNormal8(std::nanf("")), 128);
+    EXPECT_EQ(rad::encodeNormal16(std::numeric_limits<float>::infinity()), 32768);
     for (int c = 0; c < 256; ++c) EXPECT_EQ(rad::encodeNormal8(rad::decodeNormal8(std::uint8_t(c))), c);
     for (int c = 0; c < 65536; c += 7) EXPECT_EQ(rad::encodeNormal16(rad::decodeNormal16(std::uint16_t(c))), c);
 }
