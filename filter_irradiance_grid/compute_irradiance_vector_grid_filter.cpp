@@ -118,7 +118,7 @@ public:
 private:
     void compute(FilterContext& ctx) const {
         const RichParameterList& par = ctx.parameters;
-        MeshModel& current = ctx.mesh;
+        MeshModel& current = ctx.mesh();
         // Output path first: a refusal costs nothing.
         QString output = par.getString("outputFile").trimmed();
         if (output.isEmpty()) {

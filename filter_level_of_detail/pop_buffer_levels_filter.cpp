@@ -91,7 +91,7 @@ public:
 
     void apply(FilterContext& ctx) const override {
         MeshDocument& md = ctx.document;
-        MeshModel& layer = ctx.mesh;
+        MeshModel& layer = ctx.mesh();
         const std::vector<int> levels = parseLevels(ctx.parameters.getString("levels"));
         const bool correct = ctx.parameters.getBool("correction");
 

@@ -48,11 +48,16 @@ class OutOfCoreSimplificationFilter : public Filter {
 public:
     QString name() const override { return "Out-of-Core Simplification and Normal Map"; }
     QString description() const override;
-    // Remeshing and Texture: a new simplified layer with a texture.
-    int filterClass() const override { return 0x00004 | 0x02000; }
+    // MeshLab's "Create New Mesh Layer" class (MeshCreation) alone: the only class whose filters the
+    // GUI offers in an empty document, which is where a scan too large to open is simplified.
+    int filterClass() const override { return 0x00020; }
     int postconditions() const override { return MeshModel::MM_NONE; }
+    bool needsCurrentLayer() const override { return false; }
 
-    RichParameterList parameters(const MeshDocument&, const MeshModel&) const override {
+    RichParameterList parameters(const MeshDocument& md, const MeshModel&) const override {
+        return parametersWithoutLayer(md);
+    }
+    RichParameterList parametersWithoutLayer(const MeshDocument&) const override {
         RichParameterList par;
         addOpenFileParameter(par, "plyFile", "", QStringList() << "*.ply", "PLY scan",
                              "The full-resolution scan, a PLY file (ASCII or binary, triangles or polygons, with or "
@@ -124,6 +129,9 @@ private:
         out.normals = report.mesh.normals;
         out.faces = report.mesh.faces;
         MeshModel* added = addLayer(ctx.document, QFileInfo(plyPath).completeBaseName() + "_ooc");
+        // In an empty document the new layer becomes the current one (pymeshlab's current_mesh(),
+        // meshlabserver's -o); otherwise the current layer stays current, as with the other filters.
+        if (ctx.current == nullptr) ctx.document.setCurrentMesh(added->id());
         enableLoadedData(*added, importPlainMesh(out, added->cm));
         added->updateDataMask(MeshModel::MM_WEDGTEXCOORD);
         std::size_t f = 0;
@@ -174,7 +182,8 @@ QString OutOfCoreSimplificationFilter::description() const {
                "average their points, and the empty ones are filled by pull-push diffusion (Granier et al. 2007). "
                "The map is object space, written like 'Bake Normal Map' writes it (&lt;base&gt;_normal.png and "
                "_bake.txt), and the simplified mesh is added as a new layer with the map as its texture. The "
-               "current layer is neither read nor changed (MeshLab needs one open to run a filter). Malformed "
+               "current layer, if any, is neither read nor changed: the filter is under Filters > Create New Mesh "
+               "Layer and runs in an empty document (or on an empty pymeshlab MeshSet). Malformed "
                "files (truncated, wrong counts, indices out of range, NaN coordinates) are refused with the byte "
                "offset of the problem.") +
            kCiteGranier2007Lindstrom2000;

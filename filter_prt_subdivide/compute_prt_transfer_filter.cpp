@@ -98,7 +98,7 @@ public:
 private:
     void compute(FilterContext& ctx) const {
         const RichParameterList& par = ctx.parameters;
-        MeshModel& m = ctx.mesh;
+        MeshModel& m = ctx.mesh();
         QElapsedTimer timer;
         timer.start();
         const int order = par.getInt("order");

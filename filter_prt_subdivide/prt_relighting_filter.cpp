@@ -60,7 +60,7 @@ public:
         const RichParameterList& par = ctx.parameters;
         StoredTransfer stored;
         std::string why;
-        if (!gatherTransfer(ctx.mesh.cm, stored, why)) throw Refusal(why);
+        if (!gatherTransfer(ctx.mesh().cm, stored, why)) throw Refusal(why);
         const int degree = stored.field.degree;
         const float exposure = par.getFloat("exposure");
         if (!(exposure >= 0.0f) || !std::isfinite(exposure))
@@ -98,7 +98,7 @@ public:
         const std::size_t n = stored.field.vertexCount();
         const std::vector<float> rgb =
             rad::relightVertices(stored.field.values.data(), n, degree, stored.field.channels, lighting, degree);
-        setShading(ctx.mesh, rgb, exposure);
+        setShading(ctx.mesh(), rgb, exposure);
         ctx.progress(100, "Done");
         ctx.log(formatLine("Relit %zu vertices from SH order %d transfer (Sloan et al. 2002) under the %s", n,
                            degree + 1, description.c_str()));

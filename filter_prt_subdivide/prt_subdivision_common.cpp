@@ -117,7 +117,7 @@ const char* measureCitation(const RichParameterList& par) {
 }
 
 PrtSubdivisionInput prepareSubdivision(FilterContext& ctx) {
-    MeshModel& m = ctx.mesh;
+    MeshModel& m = ctx.mesh();
     PrtSubdivisionInput input;
     std::string why;
     if (!gatherTransfer(m.cm, input.stored, why)) throw Refusal(why);
@@ -161,7 +161,7 @@ PrtSubdivisionInput prepareSubdivision(FilterContext& ctx) {
 rad::SubdivisionResult subdivideWithRayCasting(
     FilterContext& ctx, const PrtSubdivisionInput& input,
     const std::function<rad::SubdivisionResult(const rad::TransferOracle&)>& subdivide) {
-    const OccluderScene occluders = collectOccluders(ctx.document, ctx.mesh, input.stored.allVisibleLayers);
+    const OccluderScene occluders = collectOccluders(ctx.document, ctx.mesh(), input.stored.allVisibleLayers);
     ctx.progress(1, "Building the ray-tracing scene");
     const rad::RayScene scene(occluders.positions.data(), occluders.positions.size() / 3, occluders.faces.data(),
                               occluders.faces.size() / 3);
@@ -181,7 +181,7 @@ rad::SubdivisionResult subdivideWithRayCasting(
 
 void replaceWithSubdivision(FilterContext& ctx, const PrtSubdivisionInput& input,
                             const rad::SubdivisionResult& result) {
-    MeshModel& m = ctx.mesh;
+    MeshModel& m = ctx.mesh();
     ctx.progress.setPhase(96, 100, "Updating the layer");
     rad::RadianceMesh out;
     out.positions = result.mesh.positions;

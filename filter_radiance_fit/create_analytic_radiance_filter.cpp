@@ -109,7 +109,7 @@ public:
 
     void apply(FilterContext& ctx) const override {
         const RichParameterList& par = ctx.parameters;
-        MeshModel& m = ctx.mesh;
+        MeshModel& m = ctx.mesh();
         QElapsedTimer timer;
         timer.start();
         rad::MaterialRadianceOptions options;

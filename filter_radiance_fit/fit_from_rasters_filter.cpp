@@ -95,7 +95,7 @@ public:
     void apply(FilterContext& ctx) const override {
         const RichParameterList& par = ctx.parameters;
         MeshDocument& md = ctx.document;
-        MeshModel& m = ctx.mesh;
+        MeshModel& m = ctx.mesh();
         QElapsedTimer timer;
         timer.start();
 

@@ -40,15 +40,15 @@ public:
     void apply(FilterContext& ctx) const override {
         rad::RadianceField field;
         std::string why;
-        if (!gatherRadiance(ctx.mesh.cm, field, why)) throw Refusal(why);
-        const VertexArrays vertices = collectVertexArrays(ctx.mesh.cm);
+        if (!gatherRadiance(ctx.mesh().cm, field, why)) throw Refusal(why);
+        const VertexArrays vertices = collectVertexArrays(ctx.mesh().cm);
         const Eigen::Vector3d eye = pointParameter(ctx.parameters, "viewpoint");
         const double eyeArray[3] = {eye[0], eye[1], eye[2]};
         ctx.progress(10, "Evaluating radiance");
         std::vector<float> rgb(vertices.positions.size());
         rad::radianceTowardViewpoint(field, vertices.positions.data(), eyeArray,
                                      float(ctx.parameters.getFloat("exposure")), rgb.data());
-        setVertexColorsFromLinear(ctx.mesh, rgb);
+        setVertexColorsFromLinear(ctx.mesh(), rgb);
         ctx.progress(100, "Done");
         ctx.log(formatLine("Evaluated %s radiance toward (%g, %g, %g) on %zu vertices", field.basis.name().c_str(),
                            eye[0], eye[1], eye[2], vertices.count()));

@@ -59,11 +59,13 @@ private:
 // Everything a filter body may use.
 struct FilterContext {
     MeshDocument& document;
-    MeshModel& mesh;  // the current layer
+    MeshModel* current;  // the current layer; null only for filters that need none (Filter::needsCurrentLayer)
     const RichParameterList& parameters;
     FilterProgress& progress;
     std::function<void(const std::string&)> log;      // an information line in MeshLab's log
     std::function<void(const std::string&)> warning;  // a warning line
+    // The current layer (runFilter has checked that there is one for the filters that need it).
+    MeshModel& mesh() const { return *current; }
 };
 
 class Filter {
@@ -80,6 +82,12 @@ public:
     virtual bool readsOtherLayers() const { return false; }
     virtual int postconditions() const = 0;
     virtual RichParameterList parameters(const MeshDocument& document, const MeshModel& current) const = 0;
+    // False for a filter that reads its input from a file and adds a layer (MeshLab's "Create New
+    // Mesh Layer" class): it runs in an empty document too (the GUI offers it there, pymeshlab on an
+    // empty MeshSet), where its parameters come from parametersWithoutLayer and context.current is
+    // null.
+    virtual bool needsCurrentLayer() const { return true; }
+    virtual RichParameterList parametersWithoutLayer(const MeshDocument&) const { return {}; }
     virtual void apply(FilterContext& context) const = 0;
 };
 

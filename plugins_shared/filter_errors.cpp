@@ -35,10 +35,10 @@ std::string runFilter(const Filter* filter, MeshDocument& md, const RichParamete
                       const std::function<void(const std::string&)>& warning) {
     if (filter == nullptr) return "Unknown filter.";
     MeshModel* current = md.mm();
-    if (current == nullptr) return "There is no current mesh: open or select a layer first.";
+    if (current == nullptr && filter->needsCurrentLayer()) return "There is no current mesh: open or select a layer first.";
     if (const std::string problem = parameterProblem(par); !problem.empty()) return problem;
     FilterProgress progress(cb);
-    FilterContext context{md, *current, par, progress, log, warning};
+    FilterContext context{md, current, par, progress, log, warning};
     try {
         filter->apply(context);
         return {};

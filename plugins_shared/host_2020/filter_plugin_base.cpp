@@ -37,6 +37,7 @@ int FilterPluginBase::getPreConditions(QAction* action) const {
 
 MeshFilterInterface::FILTER_ARITY FilterPluginBase::filterArity(QAction* action) const {
     const Filter* f = filterOf(ID(action));
+    if (f && !f->needsCurrentLayer()) return NONE;
     return f && f->readsOtherLayers() ? FIXED : SINGLE_MESH;
 }
 
@@ -53,8 +54,9 @@ void FilterPluginBase::initParameterSet(QAction* action, MeshModel& m, RichParam
 
 void FilterPluginBase::initParameterSet(QAction* action, MeshDocument& md, RichParameterList& par) {
     const Filter* f = filterOf(ID(action));
-    if (f == nullptr || md.mm() == nullptr) return;
-    par.join(f->parameters(md, *md.mm()));
+    if (f == nullptr) return;
+    if (md.mm() != nullptr) par.join(f->parameters(md, *md.mm()));
+    else if (!f->needsCurrentLayer()) par.join(f->parametersWithoutLayer(md));
 }
 
 bool FilterPluginBase::applyFilter(QAction* action, MeshDocument& md, const RichParameterList& par,

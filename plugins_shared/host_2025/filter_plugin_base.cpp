@@ -37,6 +37,7 @@ int FilterPluginBase::getPreConditions(const QAction* action) const {
 
 FilterPlugin::FilterArity FilterPluginBase::filterArity(const QAction* action) const {
     const Filter* f = filterOf(ID(action));
+    if (f && !f->needsCurrentLayer()) return NONE;
     return f && f->readsOtherLayers() ? FIXED : SINGLE_MESH;
 }
 
@@ -53,8 +54,9 @@ RichParameterList FilterPluginBase::initParameterList(const QAction*, const Mesh
 
 RichParameterList FilterPluginBase::initParameterList(const QAction* action, const MeshDocument& md) {
     const Filter* f = filterOf(ID(action));
-    if (f == nullptr || md.mm() == nullptr) return {};
-    return f->parameters(md, *md.mm());
+    if (f == nullptr) return {};
+    if (md.mm() != nullptr) return f->parameters(md, *md.mm());
+    return f->needsCurrentLayer() ? RichParameterList() : f->parametersWithoutLayer(md);
 }
 
 std::map<std::string, QVariant> FilterPluginBase::applyFilter(const QAction* action, const RichParameterList& par,

@@ -3,7 +3,7 @@
 # (make_scene, 20,480 triangles, radius 1) named by path is simplified into a NEW layer, saved with
 # the project (-w) as an OBJ with its wedge texture coordinates and its texture; the map and its
 # description are written beside it. Checked: the new layer's size and that its vertices lie on the
-# sphere; the current layer saved unchanged. Then the refusals: a truncated PLY and a PLY whose face
+# sphere; the current layer saved unchanged. The same in an empty document (no input mesh). Then the refusals: a truncated PLY and a PLY whose face
 # uses a vertex that does not exist (no file written, the layer unchanged).
 source "$(dirname "$0")/lib.sh"
 FILTER="Out-of-Core Simplification and Normal Map"
@@ -42,6 +42,21 @@ for x, y, z in zip(v["x"], v["y"], v["z"]):
     r = (x * x + y * y + z * z) ** 0.5
     assert abs(r - 1.0) < 0.05, r
 print("new layer: %d faces, vertices on the sphere" % n)
+PY
+
+# An empty document (no -i): the filter needs no open layer; the new layer is the one saved by -o.
+ooc_mlx "$WORK/empty.mlx" "$WORK/scan.ply" "$WORK/empty_scan"
+run_meshlabserver "$WORK/empty.log" -s "$WORK/empty.mlx" -o "$WORK/empty_result.ply" \
+    || { cat "$WORK/empty.log" >&2; fail "the filter failed in an empty document"; }
+[ -s "$WORK/empty_scan_normal.png" ] || { cat "$WORK/empty.log" >&2; fail "no map from the empty document"; }
+python3 - "$WORK/empty_result.ply" <<'PY' || fail "the layer made in an empty document is wrong"
+import sys
+sys.path.insert(0, __import__("os").environ["RADIANCE_SOURCE_DIR"] + "/tests/integration")
+import ply_reader
+ply = ply_reader.read_ply(sys.argv[1])
+n = len(ply.data["face"]["vertex_indices"])
+assert 250 <= n <= 550, n
+print("empty document: new layer of %d faces saved" % n)
 PY
 
 # Refusals: the current layer is saved unchanged and no map is written.

@@ -22,9 +22,23 @@ def run(ms, ply, work, target=400, size=256):
     ms.apply_filter(OOC, plyfile=str(ply), targetfaces=target, texturesize=size, outputfile=str(work / "scan"))
 
 
+def test_runs_on_an_empty_meshset(scenes, tmp_path):
+    # The scan too large to open is the reason for the filter: no layer is needed.
+    import pymeshlab
+    ms = pymeshlab.MeshSet()
+    h.keep_alive(ms)
+    run(ms, scenes("sphere", level=5), tmp_path)
+    assert ms.mesh_number() == 1
+    layer = ms.current_mesh()
+    assert 250 <= layer.face_number() <= 550, layer.face_number()
+    assert np.all(np.abs(np.linalg.norm(layer.vertex_matrix(), axis=1) - 1.0) < 0.05)
+    assert layer.has_wedge_tex_coord() and layer.texture_number() == 1
+    assert (tmp_path / "scan_normal.png").exists()
+
+
 def test_new_layer_with_texture_and_a_map_of_the_sphere(scenes, tmp_path):
     scan = scenes("sphere", level=5)  # 20,480 triangles, radius 1
-    ms = h.load(scenes("sphere", level=1))  # MeshLab needs a current layer; it is left alone
+    ms = h.load(scenes("sphere", level=1))  # a current layer, left alone
     h.keep_alive(ms)
     before = ms.current_mesh().vertex_matrix().copy()
     run(ms, scan, tmp_path)
