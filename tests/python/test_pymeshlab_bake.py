@@ -331,3 +331,32 @@ def test_per_vertex_texture_coordinates_are_kept(meshes, tmp_path):
     mesh = ms.current_mesh()
     expected = uv[mesh.face_matrix()].reshape(-1, 2)
     assert np.allclose(mesh.wedge_tex_coord_matrix(), expected, atol=1e-6), "the per-vertex layout was not kept"
+
+
+def test_a_chart_atlas_made_by_meshlab_is_baked_into(meshes, tmp_path):
+    """The help text's advice for a layout with charts: MeshLab's own 'Parametrization: Voronoi
+    Atlas' first, then the bake keeps those charts (no per-triangle atlas) and fills them with the
+    ellipsoid's normals."""
+    ms = scan_and_target(meshes)
+    ms.apply_filter("generate_voronoi_atlas_parametrization", regionnum=8, overlapflag=False)
+    ms.set_current_mesh(ms.mesh_number() - 1)  # MeshLab puts the parametrized copy in a new layer
+    atlas = ms.current_mesh()
+    assert atlas.has_wedge_tex_coord(), "MeshLab's atlas gave the layer no wedge coordinates"
+    before = atlas.wedge_tex_coord_matrix().copy()
+    out = tmp_path / "voronoi"
+    out.mkdir()
+    ms.apply_filter(h.BAKE, **bake_parameters(outputfile=str(out / "atlas_normal.png"), diffuse=False, lean=False,
+                                               texturesize=512))
+    assert "uv = target's wedge coordinates" in (out / "atlas_bake.txt").read_text().splitlines()
+    mesh = ms.current_mesh()
+    uv = mesh.wedge_tex_coord_matrix()
+    assert np.array_equal(uv, before), "the charts were replaced"
+    normal_map, _ = h.read_png(out / "atlas_normal.png")
+    errors = []
+    positions, faces, normals = mesh.vertex_matrix(), mesh.face_matrix(), mesh.vertex_normal_matrix()
+    for f, col, row, point, normal in h.texels_inside_faces(positions, faces, uv, normals, 512, 512):
+        _, exact = exact_on_ellipsoid(point, h.normalized(normal))
+        errors.append(h.angle_degrees(exact, normal_map[row, col] * 2 - 1))
+    errors = np.concatenate(errors)
+    assert errors.size > 10000
+    assert errors.mean() <= 0.5, f"mean {errors.mean():.3f} degrees from the ellipsoid's normals"
