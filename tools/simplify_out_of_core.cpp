@@ -34,7 +34,8 @@ void usage(std::ostream& out) {
            "  --cell-size H     the clustering grid's cell edge instead (model units)\n"
            "  --texture-size S  normal map size, a power of two (default 4096)\n"
            "  --bits B          8 or 16 bits per channel (default 16)\n"
-           "  --gutter G        empty texels between the atlas's triangles (default 4)\n"
+           "  --gutter G        empty texels between the atlas's triangles, 0 to 64 (default 4; 0 packs\n"
+           "                    them edge to edge: about 1.34 M triangles in 4096^2)\n"
            "  --quiet           no progress lines\n";
 }
 

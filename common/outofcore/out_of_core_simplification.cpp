@@ -24,8 +24,9 @@ void checkOutOfCoreRequest(const OutOfCoreRequest& request) {
     if (!sizeProblem.empty()) throw BakeInputError(sizeProblem);
     if (request.bits != 8 && request.bits != 16)
         throw BakeInputError("The normal map is written with 8 or 16 bits per channel, not " + std::to_string(request.bits) + ".");
-    if (request.gutterTexels < 1 || request.gutterTexels > 64)
-        throw BakeInputError("The gutter must be 1 to 64 texels wide (4 keeps two MIP levels clean).");
+    if (request.gutterTexels < 0 || request.gutterTexels > 64)
+        throw BakeInputError("The gutter must be 0 to 64 texels wide (4 keeps two MIP levels clean; 0 packs the "
+                             "triangles edge to edge, about twice as many as 1).");
     if (!(request.cellSize >= 0.0) || !std::isfinite(request.cellSize))
         throw BakeInputError("The cell size must be 0 (use the target triangle count) or a positive distance.");
     if (request.cellSize == 0.0 && request.targetTriangles < 4)

@@ -24,7 +24,7 @@ struct OutOfCoreRequest {
     double cellSize = 0.0;                  // > 0: the grid's cell edge, in model units
     int textureSize = 4096;                 // power of two in [16, 16384]
     int bits = 16;                          // 8 or 16
-    int gutterTexels = 4;                   // empty texels between charts of the atlas
+    int gutterTexels = 4;                   // empty texels between charts of the atlas (0 to 64; 0: no texel shared, none empty)
     std::string outputBase;                 // B: writes B_normal.png and B_bake.txt
     ProgressCallback progress;
 };

@@ -8,11 +8,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -43,6 +46,29 @@ std::string writePly(const fs::path& path, const rad::TriangleMesh& mesh) {
     return path.string();
 }
 
+// Mean angle, in degrees, between the written map at each face's UV centroid and the unit sphere's
+// normal at the face's centroid (the direction from the centre); infinite when the map's size is
+// not `size`.
+double meanDegreesFromTheSphereAtUvCentroids(const rad::OutOfCoreReport& report, int size) {
+    int width = 0, height = 0;
+    const std::vector<float> map = rad::readNormalMap(report.normalMapFile, width, height);
+    if (width != size || height != size) return std::numeric_limits<double>::infinity();
+    double sum = 0;
+    for (std::size_t f = 0; f < report.mesh.faceCount(); ++f) {
+        float u = 0, v = 0, p[3] = {0, 0, 0};
+        for (int k = 0; k < 3; ++k) {
+            u += report.wedgeUv[6 * f + 2 * k] / 3;
+            v += report.wedgeUv[6 * f + 2 * k + 1] / 3;
+            for (int a = 0; a < 3; ++a) p[a] += report.mesh.positions[3 * report.mesh.faces[3 * f + k] + a] / 3;
+        }
+        const int column = std::min(width - 1, int(u * width)), row = std::min(height - 1, int((1 - v) * height));
+        const float* n = &map[3 * (std::size_t(row) * width + column)];
+        const float length = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+        sum += std::acos(std::min(1.0f, (n[0] * p[0] + n[1] * p[1] + n[2] * p[2]) / length)) * 180.0 / 3.14159265;
+    }
+    return sum / double(report.mesh.faceCount());
+}
+
 TEST(OutOfCoreSimplification, SphereFileGivesASimplifiedMeshAndAMap) {
     const Folder folder("radiance_ooc_sphere");
     rad::OutOfCoreRequest request;
@@ -60,26 +86,53 @@ TEST(OutOfCoreSimplification, SphereFileGivesASimplifiedMeshAndAMap) {
     const rad::BakeDescription description = rad::readBakeDescription(report.descriptionFile);
     EXPECT_EQ(description.space, rad::NormalSpace::Object);
     EXPECT_EQ(description.size, 256);
-    int width = 0, height = 0;
-    const std::vector<float> map = rad::readNormalMap(report.normalMapFile, width, height);
-    ASSERT_EQ(width, 256);
     // The map at each face's UV centroid is the sphere's normal at the face's centroid (within the
     // faceting of the points' normals: area-weighted normals of a level-5 icosphere).
-    double sum = 0;
-    for (std::size_t f = 0; f < report.mesh.faceCount(); ++f) {
-        float u = 0, v = 0, p[3] = {0, 0, 0};
-        for (int k = 0; k < 3; ++k) {
-            u += report.wedgeUv[6 * f + 2 * k] / 3;
-            v += report.wedgeUv[6 * f + 2 * k + 1] / 3;
-            for (int a = 0; a < 3; ++a) p[a] += report.mesh.positions[3 * report.mesh.faces[3 * f + k] + a] / 3;
-        }
-        const int column = std::min(width - 1, int(u * width)), row = std::min(height - 1, int((1 - v) * height));
-        const float* n = &map[3 * (std::size_t(row) * width + column)];
-        const float length = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
-        sum += std::acos(std::min(1.0f, (n[0] * p[0] + n[1] * p[1] + n[2] * p[2]) / length)) * 180.0 / 3.14159265;
-    }
-    EXPECT_LT(sum / double(report.mesh.faceCount()), 2.0);
+    EXPECT_LT(meanDegreesFromTheSphereAtUvCentroids(report, 256), 2.0);
     EXPECT_EQ(folder.files(), 3u);  // sphere.ply, out_normal.png, out_bake.txt: no temporary left
+}
+
+// Gutter 0 packs the atlas's triangles edge to edge: 64^2 texels hold 288 triangles (cells of 5
+// texels) where a 1-texel gutter holds 162 (cells of 7), so a target of 200 is refused with 1 and
+// baked with 0; no texel is covered by two triangles, and the map still gives the sphere's normals.
+TEST(OutOfCoreSimplification, GutterZeroFitsTwiceAsManyTrianglesWithoutSharedTexels) {
+    const Folder folder("radiance_ooc_gutter0");
+    rad::OutOfCoreRequest request;
+    request.plyPath = writePly(folder.path / "sphere.ply", rad::makeIcosphere(5));
+    request.targetTriangles = 200;
+    request.textureSize = 64;
+    request.outputBase = (folder.path / "out").string();
+    request.gutterTexels = 1;
+    EXPECT_THROW(rad::simplifyOutOfCore(request), rad::BakeInputError);
+    request.gutterTexels = -1;
+    EXPECT_THROW(rad::simplifyOutOfCore(request), rad::BakeInputError);
+    request.gutterTexels = 0;
+    const rad::OutOfCoreReport report = rad::simplifyOutOfCore(request);
+    ASSERT_GT(report.mesh.faceCount(), 162u);
+    // Texel centres covered by each triangle (corners on texel centres: centres on an edge count);
+    // no centre is covered by two triangles.
+    std::vector<int> owner(64 * 64, -1);
+    std::size_t shared = 0;
+    for (std::size_t f = 0; f < report.mesh.faceCount(); ++f) {
+        const float* uv = &report.wedgeUv[6 * f];
+        for (int y = 0; y < 64; ++y)
+            for (int x = 0; x < 64; ++x) {
+                const double px = (x + 0.5) / 64, py = (y + 0.5) / 64;
+                double d[3];
+                for (int k = 0; k < 3; ++k) {
+                    const float* a = uv + 2 * k;
+                    const float* b = uv + 2 * ((k + 1) % 3);
+                    d[k] = (b[0] - a[0]) * (py - a[1]) - (b[1] - a[1]) * (px - a[0]);
+                }
+                const double eps = 1e-9;
+                const bool inside = (d[0] >= -eps && d[1] >= -eps && d[2] >= -eps) || (d[0] <= eps && d[1] <= eps && d[2] <= eps);
+                if (!inside) continue;
+                if (owner[y * 64 + x] >= 0) ++shared;
+                owner[y * 64 + x] = int(f);
+            }
+    }
+    EXPECT_EQ(shared, 0u);
+    EXPECT_LT(meanDegreesFromTheSphereAtUvCentroids(report, 64), 3.0);
 }
 
 TEST(OutOfCoreSimplification, RefusalsAndCancelLeaveNoFile) {
