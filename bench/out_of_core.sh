@@ -3,10 +3,11 @@
 # (tens of minutes, several GB of disk).
 #   bench/out_of_core.sh [big|compare|meshlab|all]      (default all)
 #   big      the CGAL armadillo (52,000 triangles) with every triangle cut into 44 x 44 = 100.7 M
-#            triangles, written STREAMING as a binary PLY (~2.5 GB) into $WORK, reduced to ~500 k
-#            triangles with a 4096^2 normal map (1-texel gutter: 1 M triangles do not fit a
-#            4096^2 per-triangle atlas, docs/out-of-core.md) by tools/simplify_out_of_core under /usr/bin/time -v
-#            (peak RSS, wall time, M triangles/s); the PLY is deleted afterwards.
+#            triangles, written STREAMING as a binary PLY (~2.5 GB) into $WORK, reduced to about
+#            BIG_TARGET (default 1,000,000) triangles with a 4096^2 normal map and a BIG_GUTTER-texel
+#            gutter (default 0: the triangles edge to edge, the only gutter with which 1 M triangles
+#            fit a 4096^2 per-triangle atlas, docs/out-of-core.md) by tools/simplify_out_of_core
+#            under /usr/bin/time -v (peak RSS, wall time, M triangles/s); the PLY is deleted afterwards.
 #   compare  the same scan cut 8 x 8 (3.3 M triangles): the streamed map vs the in-core bake
 #            (bakeNormalMapFiles, object space, the same simplified mesh and UVs): mean / p95 degrees
 #            over the texels whose centre is inside a triangle (bench_out_of_core compare).
@@ -33,9 +34,11 @@ if [ "$WHAT" = big ] || [ "$WHAT" = all ]; then
     echo "== 100 M triangles: generate (streaming)"
     timed "$BENCH" generate "$ARMADILLO" 44 "$WORK/armadillo_100M.ply"
     ls -l "$WORK/armadillo_100M.ply"
-    echo "== 100 M triangles -> 500 k, 4096^2 map, 1-texel gutter"
-    /usr/bin/time -v "$TOOL" "$WORK/armadillo_100M.ply" "$WORK/big" --target 500000 --texture-size 4096 --gutter 1 --quiet \
-        2>"$WORK/big.time" || { cat "$WORK/big.time"; rm -f "$WORK/armadillo_100M.ply"; exit 1; }
+    BIG_TARGET="${BIG_TARGET:-1000000}"
+    BIG_GUTTER="${BIG_GUTTER:-0}"
+    echo "== 100 M triangles -> $BIG_TARGET, 4096^2 map, $BIG_GUTTER-texel gutter"
+    /usr/bin/time -v "$TOOL" "$WORK/armadillo_100M.ply" "$WORK/big" --target "$BIG_TARGET" --texture-size 4096 \
+        --gutter "$BIG_GUTTER" --quiet 2>"$WORK/big.time" || { cat "$WORK/big.time"; rm -f "$WORK/armadillo_100M.ply"; exit 1; }
     grep -E "Maximum resident|Elapsed \(wall|Percent of CPU" "$WORK/big.time"
     rm -f "$WORK/armadillo_100M.ply"
 fi
