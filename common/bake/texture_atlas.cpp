@@ -46,6 +46,12 @@ std::string textureSizeProblem(int size, int minSize, int maxSize) {
     return {};
 }
 
+std::size_t perTriangleAtlasCapacity(int textureSize, int gutterTexels) {
+    if (gutterTexels < 1 || gutterTexels > 64 || textureSize <= 0) return 0;
+    const std::size_t perSide = std::size_t(textureSize / (kMinLegTexels + 1 + 2 * gutterTexels));
+    return 2 * perSide * perSide;
+}
+
 PerTriangleAtlas makePerTriangleAtlas(std::size_t faceCount, int textureSize, int gutterTexels) {
     if (faceCount == 0) throw BakeInputError("the mesh has no faces: there is nothing to lay out in a texture");
     const std::string sizeProblem = textureSizeProblem(textureSize);

@@ -38,6 +38,10 @@ struct PerTriangleAtlas {
 // 2 texels along its legs (the message gives the smallest texture size that would do).
 PerTriangleAtlas makePerTriangleAtlas(std::size_t faceCount, int textureSize, int gutterTexels = 4);
 
+// The largest face count makePerTriangleAtlas lays out in a textureSize^2 texture with this gutter
+// (0 when not even one cell fits or the gutter is outside 1..64).
+std::size_t perTriangleAtlasCapacity(int textureSize, int gutterTexels);
+
 struct UvLayoutReport {
     std::size_t faceCount = 0;
     std::size_t nonFiniteFaces = 0;      // a coordinate is NaN or infinite

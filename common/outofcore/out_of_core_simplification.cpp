@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <sstream>
 
 namespace rad {
 
@@ -16,6 +17,29 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+// The atlas is made with gutter + 1 (texture_atlas.h counts the texel distance between charts, the
+// request the empty texels between them). Refused in the request's own terms, with what would fit.
+void checkAtlasCapacity(std::size_t triangles, const OutOfCoreRequest& request, const char* whose) {
+    const std::size_t capacity = perTriangleAtlasCapacity(request.textureSize, request.gutterTexels + 1);
+    if (triangles <= capacity) return;
+    int size = request.textureSize;
+    while (size < 16384 && perTriangleAtlasCapacity(size, request.gutterTexels + 1) < triangles) size *= 2;
+    int gutter = request.gutterTexels;
+    while (gutter > 0 && perTriangleAtlasCapacity(request.textureSize, gutter + 1) < triangles) --gutter;
+    std::ostringstream s;
+    s << "A " << request.textureSize << " x " << request.textureSize << " map holds at most " << capacity
+      << " triangles in the per-triangle atlas with a " << request.gutterTexels << "-texel gutter, and "
+      << triangles << " are needed (" << whose << "); ";
+    if (perTriangleAtlasCapacity(size, request.gutterTexels + 1) >= triangles)
+        s << "use a texture of " << size << " x " << size;
+    else
+        s << "even 16384 x 16384 is too small: lower the target";
+    if (perTriangleAtlasCapacity(request.textureSize, gutter + 1) >= triangles)
+        s << ", or a gutter of " << gutter;
+    s << ", or a target of at most " << capacity * 4 / 5;
+    throw BakeInputError(s.str());
+}
 
 }  // namespace
 
@@ -44,9 +68,8 @@ void checkOutOfCoreRequest(const OutOfCoreRequest& request) {
                              "(reconstruct a surface from the point cloud first).");
     // The atlas must fit the map for the mesh the target gives (up to 25 % more triangles than asked
     // for: refused now rather than after a pass over the whole file).
-    if (request.cellSize == 0.0)
-        makePerTriangleAtlas(request.targetTriangles + request.targetTriangles / 4, request.textureSize,
-                             request.gutterTexels + 1);
+    if (request.cellSize == 0.0) checkAtlasCapacity(request.targetTriangles + request.targetTriangles / 4, request,
+                                                     "the target plus up to 25 %");
 }
 
 OutOfCoreReport simplifyOutOfCore(const OutOfCoreRequest& request) {
@@ -81,6 +104,7 @@ OutOfCoreReport simplifyOutOfCore(const OutOfCoreRequest& request) {
                              "triangle count or lower the cell size.");
     reportProgress(request.progress, 0.5, "laying out the texture");
 
+    checkAtlasCapacity(report.mesh.faceCount(), request, "the simplified mesh");
     PerTriangleAtlas atlas = makePerTriangleAtlas(report.mesh.faceCount(), request.textureSize, request.gutterTexels + 1);
     report.wedgeUv = std::move(atlas.wedgeUv);
 

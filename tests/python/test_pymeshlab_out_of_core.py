@@ -104,10 +104,39 @@ def test_bad_texture_size_is_refused(scenes, tmp_path):
 
 
 def test_a_target_too_large_for_the_atlas_is_refused_before_reading_and_the_gutter_helps(scenes, tmp_path):
-    """1500 triangles (+25 %) with a 4-texel gutter need more than 256^2; with a 1-texel gutter they fit."""
+    """1500 triangles (+25 % = 1875) with a 4-texel gutter need more than 256^2; with a 1-texel gutter
+    they fit. Cells of two triangles are 2 + 1 + 2 (gutter + 1) texels wide (docs/out-of-core.md): 13
+    with gutter 4, 19 x 19 cells, 722 triangles; 7 with gutter 1, 36 x 36 cells, 2592; 9 with gutter
+    2, 28 x 28, 1568: gutter 1 is the widest that fits, and 512^2 the smallest texture (39 x 39
+    cells, 3042)."""
     ms = h.load(scenes("sphere", level=1))
-    h.expect_refusal(ms, OOC, "too small for a per-triangle atlas", plyfile=scenes("sphere", level=5),
-                     targetfaces=1500, texturesize=256, gutter=4, outputfile=str(tmp_path / "out"))
+    message = h.expect_refusal(ms, OOC, "holds at most 722 triangles in the per-triangle atlas with a 4-texel gutter",
+                               plyfile=scenes("sphere", level=5), targetfaces=1500, texturesize=256, gutter=4,
+                               outputfile=str(tmp_path / "out"))
+    assert "1875 are needed" in message and "texture of 512 x 512" in message and "a gutter of 1" in message, message
     ms.apply_filter(OOC, plyfile=scenes("sphere", level=5), targetfaces=1500, texturesize=256, gutter=1,
                     outputfile=str(tmp_path / "out"))
     assert ms.mesh_number() == 2
+
+
+def test_the_new_layer_feeds_the_radiance_pipeline(scenes, tmp_path):
+    """The simplified layer goes on unchanged: radiance functions are created on it and the
+    radiance-aware simplification runs on it (vertex clustering may leave non-manifold spots on
+    real scans; on this sphere it must not, and the simplification must accept it)."""
+    import pymeshlab
+    ms = pymeshlab.MeshSet()
+    h.keep_alive(ms)
+    run(ms, scenes("sphere", level=5), tmp_path, target=800, size=512)
+    faces = ms.current_mesh().face_number()
+    ms.apply_filter(h.CREATE, basis=0, degree=2, reflected=False, albedo=pymeshlab.Color(200, 120, 80),
+                    specularcolor=pymeshlab.Color(255, 255, 255), specular=0.5, shininess=30.0, stripes=False,
+                    stripeaxis=1, lighttype=0, light=np.array([0.3, 0.5, 1.0]), lightintensity=2.0, ambient=0.05,
+                    setcolor=True)
+    ms.apply_filter(h.SIMPLIFY, metric=0, collapse=0, targetfaces=faces // 2, targetpercentage=0.0, lodlevels="",
+                    geometryweight=0.01, attributeweight=0.99, preserveboundary=True, minvalence=0, maxvalence=0,
+                    maxnormalchange=90.0, lazy=True, progressivefile="")
+    simplified = ms.current_mesh()
+    assert abs(simplified.face_number() - faces // 2) <= 4, (faces, simplified.face_number())
+    out = tmp_path / "pipeline.rply"
+    ms.save_current_mesh(str(out))
+    assert out.stat().st_size > 0

@@ -272,3 +272,22 @@ TEST(TextureAtlas, OutOfRangeNonFiniteAndDegenerateCoordinatesAreReported) {
 }
 
 }  // namespace
+
+// perTriangleAtlasCapacity is exactly the largest face count makePerTriangleAtlas accepts; and at
+// 4096^2 with the smallest gutter it is 2 x 819^2 (cells of 2 + 1 + 2 = 5 texels).
+TEST(TextureAtlas, CapacityIsTheLargestFaceCountThatIsLaidOut) {
+    EXPECT_EQ(rad::perTriangleAtlasCapacity(4096, 1), 2u * 819u * 819u);
+    EXPECT_EQ(rad::perTriangleAtlasCapacity(4096, 0), 0u);
+    for (const int size : {16, 64, 256, 1024}) {
+        for (const int gutter : {1, 2, 3, 5}) {
+            const std::size_t capacity = rad::perTriangleAtlasCapacity(size, gutter);
+            if (capacity == 0) {
+                EXPECT_THROW(rad::makePerTriangleAtlas(1, size, gutter), rad::BakeInputError);
+                continue;
+            }
+            EXPECT_NO_THROW(rad::makePerTriangleAtlas(capacity, size, gutter)) << size << " " << gutter;
+            EXPECT_THROW(rad::makePerTriangleAtlas(capacity + 1, size, gutter), rad::BakeInputError)
+                << size << " " << gutter;
+        }
+    }
+}
