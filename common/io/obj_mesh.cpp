@@ -1,5 +1,7 @@
 #include "io/obj_mesh.h"
 
+#include "io/atomic_file.h"
+
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -261,6 +263,19 @@ ObjMesh readObj(const std::string& path) {
     return result;
 }
 
+namespace {
+
+// Whole or not at all (io/atomic_file.h): a reader never sees half an OBJ or MTL.
+void writeWholeFile(const std::string& path, const std::string& text, const char* what) {
+    try {
+        writeFileAtomically(path, {{text.data(), text.size()}});
+    } catch (const AtomicFileError& e) {
+        throw ObjWriteError(std::string("cannot write ") + what + ": " + e.what());
+    }
+}
+
+}  // namespace
+
 void writeObj(const std::string& path, const TriangleMesh& mesh, const std::vector<float>& wedgeUv,
               const std::string& textureName) {
     const std::string problem = mesh.validate();
@@ -281,11 +296,9 @@ void writeObj(const std::string& path, const TriangleMesh& mesh, const std::vect
             base.resize(base.size() - 4);
         mtlName = base + ".mtl";
         mtlPath = folderOf(path) + mtlName;
-        std::ofstream mtl(mtlPath, std::ios::binary);
-        mtl << "# written by radiance_tools\nnewmtl material_0\nKa 0.2 0.2 0.2\nKd 1 1 1\nKs 0 0 0\nillum 1\nmap_Kd "
-            << textureName << "\n";
-        mtl.close();
-        if (!mtl) throw ObjWriteError("cannot write the material library '" + mtlPath + "'");
+        const std::string mtl = "# written by radiance_tools\nnewmtl material_0\nKa 0.2 0.2 0.2\nKd 1 1 1\nKs 0 0 0\n"
+                                "illum 1\nmap_Kd " + textureName + "\n";
+        writeWholeFile(mtlPath, mtl, "the material library");
     }
 
     std::string out;
@@ -323,11 +336,7 @@ void writeObj(const std::string& path, const TriangleMesh& mesh, const std::vect
         }
         out += '\n';
     }
-    std::ofstream file(path, std::ios::binary);
-    if (!file) throw ObjWriteError("cannot write '" + path + "': cannot create the file");
-    file.write(out.data(), std::streamsize(out.size()));
-    file.close();
-    if (!file) throw ObjWriteError("cannot write '" + path + "': write error");
+    writeWholeFile(path, out, "the mesh");
 }
 
 }  // namespace rad

@@ -5,8 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <random>
 #include <string>
 
@@ -162,6 +165,27 @@ TEST(ObjMesh, WriterRefusesInconsistentInput) {
     mesh.faces[0] = 99;
     EXPECT_THROW(rad::writeObj(tmpPath("bad_face.obj"), mesh, {}), rad::ObjWriteError);
     EXPECT_THROW(rad::writeObj(tmpPath("no_dir/x.obj"), randomMesh(4, 2, false, 1), {}), rad::ObjWriteError);
+}
+
+// The OBJ and its MTL replace older files whole, and no temporary is left beside them.
+TEST(ObjMesh, WriterReplacesFilesWholeAndLeavesNoTemporary) {
+    const std::filesystem::path folder = std::filesystem::path(RADIANCE_TEST_TMPDIR) / "obj_mesh_atomic";
+    std::filesystem::remove_all(folder);
+    std::filesystem::create_directories(folder);
+    const std::string path = (folder / "mesh.obj").string();
+    { std::ofstream(path) << "an older, longer file that must not leave a tail behind\n" << std::string(100000, 'x'); }
+    const rad::TriangleMesh mesh = randomMesh(6, 4, false, 3);
+    rad::writeObj(path, mesh, std::vector<float>(6 * mesh.faceCount(), 0.25f), "mesh_normal.png");
+    std::vector<std::string> names;
+    for (const auto& entry : std::filesystem::directory_iterator(folder)) names.push_back(entry.path().filename().string());
+    std::sort(names.begin(), names.end());
+    EXPECT_EQ(names, (std::vector<std::string>{"mesh.mtl", "mesh.obj"}));
+    EXPECT_EQ(readError(path), "");
+    std::ifstream in(path);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(text.find("older"), std::string::npos);
+    EXPECT_EQ(text.find("xxxx"), std::string::npos);
+    std::filesystem::remove_all(folder);
 }
 
 }  // namespace
