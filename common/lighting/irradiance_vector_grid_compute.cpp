@@ -5,6 +5,7 @@
 
 #include "lighting/median_cut_lights.h"
 #include "memory/available_memory.h"
+#include "sampling/radical_inverse.h"
 
 #include <omp.h>
 
@@ -26,15 +27,6 @@ constexpr int kMaxRays = 1 << 20;
 
 double seconds(std::chrono::steady_clock::time_point since) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
-}
-
-double radicalInverse2(std::uint32_t i) {
-    i = (i << 16) | (i >> 16);
-    i = ((i & 0x00ff00ffu) << 8) | ((i & 0xff00ff00u) >> 8);
-    i = ((i & 0x0f0f0f0fu) << 4) | ((i & 0xf0f0f0f0u) >> 4);
-    i = ((i & 0x33333333u) << 2) | ((i & 0xccccccccu) >> 2);
-    i = ((i & 0x55555555u) << 1) | ((i & 0xaaaaaaaau) >> 1);
-    return i * (1.0 / 4294967296.0);
 }
 
 void validateOptions(const IrradianceGridOptions& o) {

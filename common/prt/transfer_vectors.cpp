@@ -21,6 +21,7 @@
 #include "radiance/basis.h"
 #include "radiance/sh_rotation.h"
 #include "radiance/spherical_harmonics.h"
+#include "sampling/radical_inverse.h"
 
 #include <Eigen/Core>
 #include <omp.h>
@@ -39,16 +40,6 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr int kPacket = RayPacket16::kSize;
 constexpr int kRowAlignment = 8;  // floats: one AVX register, two SSE registers
-
-// Van der Corput radical inverse in base 2: the bits of i mirrored about the binary point.
-double radicalInverse2(std::uint32_t i) {
-    i = (i << 16) | (i >> 16);
-    i = ((i & 0x00ff00ffu) << 8) | ((i & 0xff00ff00u) >> 8);
-    i = ((i & 0x0f0f0f0fu) << 4) | ((i & 0xf0f0f0f0u) >> 4);
-    i = ((i & 0x33333333u) << 2) | ((i & 0xccccccccu) >> 2);
-    i = ((i & 0x55555555u) << 1) | ((i & 0xaaaaaaaau) >> 1);
-    return i * (1.0 / 4294967296.0);
-}
 
 // Shirley & Chiu, "A low distortion map between disk and square", JGT 2(3) 1997: the square
 // [0,1]^2 onto the unit disc, area-preserving up to a constant (so uniform points stay uniform and

@@ -3,6 +3,7 @@
 #include "render/indirect_light_reference.h"
 
 #include "raycast/ray_scene.h"
+#include "sampling/radical_inverse.h"
 
 #include <omp.h>
 
@@ -17,15 +18,6 @@ namespace {
 
 constexpr float kPi = 3.14159265358979323846f;
 constexpr int kLanes = RayPacket16::kSize;
-
-double radicalInverse2(std::uint32_t i) {
-    i = (i << 16) | (i >> 16);
-    i = ((i & 0x00ff00ffu) << 8) | ((i & 0xff00ff00u) >> 8);
-    i = ((i & 0x0f0f0f0fu) << 4) | ((i & 0xf0f0f0f0u) >> 4);
-    i = ((i & 0x33333333u) << 2) | ((i & 0xccccccccu) >> 2);
-    i = ((i & 0x55555555u) << 1) | ((i & 0xaaaaaaaau) >> 1);
-    return i * (1.0 / 4294967296.0);
-}
 
 // Local cosine-distributed Hammersley directions (cell-centred; z up).
 struct CosineSet {
