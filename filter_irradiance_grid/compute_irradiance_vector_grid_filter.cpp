@@ -27,13 +27,6 @@ namespace {
 
 enum LightChoice { kEnvironmentMap = 0, kDirectional = 1 };
 
-std::string asSentence(const std::string& message) {
-    QString s = QString::fromStdString(message).trimmed();
-    if (!s.isEmpty()) s[0] = s[0].toUpper();
-    if (!s.endsWith('.')) s += '.';
-    return s.toStdString();
-}
-
 // The visible layers (the current one always) merged: positions, faces, albedo from the vertex
 // colours (sRGB codes decoded to linear reflectance) or the default grey.
 void collectScene(MeshDocument& md, MeshModel& current, rad::TriangleMesh& scene, std::vector<float>& albedo,

@@ -81,14 +81,6 @@ QString outputBase(const QString& given, MeshModel& target, MeshModel& source) {
     return QDir(directory).filePath(label);
 }
 
-// A core message as a sentence of the log: capital first letter, full stop at the end.
-std::string asSentence(const std::string& message) {
-    QString s = QString::fromStdString(message).trimmed();
-    if (!s.isEmpty()) s[0] = s[0].toUpper();
-    if (!s.endsWith('.')) s += '.';
-    return s.toStdString();
-}
-
 class BakeNormalMapFilter : public Filter {
 public:
     QString name() const override { return "Bake Normal Map"; }

@@ -22,14 +22,6 @@ namespace {
 
 enum BitsChoice { kBits16 = 0, kBits8 = 1 };
 
-// A core message as a sentence of the log: capital first letter, full stop at the end.
-std::string asSentence(const std::string& message) {
-    QString s = QString::fromStdString(message).trimmed();
-    if (!s.isEmpty()) s[0] = s[0].toUpper();
-    if (!s.endsWith('.')) s += '.';
-    return s.toStdString();
-}
-
 // The output base: the parameter when given (".png" and "_normal" dropped; an existing folder
 // receives maps named after the PLY file), else beside the PLY file, named after it + "_ooc".
 QString outputBase(const QString& given, const QString& plyPath) {

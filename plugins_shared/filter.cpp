@@ -6,6 +6,13 @@
 
 namespace radml {
 
+std::string asSentence(const std::string& message) {
+    QString s = QString::fromStdString(message).trimmed();
+    if (!s.isEmpty()) s[0] = s[0].toUpper();
+    if (!s.endsWith('.')) s += '.';
+    return s.toStdString();
+}
+
 std::string formatLine(const char* format, ...) {
     char buffer[1024];
     va_list args;

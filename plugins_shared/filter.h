@@ -30,6 +30,9 @@ public:
     explicit Refusal(const QString& message) : std::runtime_error(message.toStdString()) {}
 };
 
+// A core's message as a sentence of the log or of a refusal: capital first letter, full stop at the end.
+std::string asSentence(const std::string& message);
+
 // printf-style formatting of a log line.
 std::string formatLine(const char* format, ...) __attribute__((format(printf, 1, 2)));
 
