@@ -2,6 +2,8 @@
 // bounce off a lit floor in closed form, back faces and escapes, unbiased light sampling.
 #include "lighting/indirect_light_tracer.h"
 
+#include "test_support.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,12 +12,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-rad::TriangleMesh floorSquare(float a) {
-    rad::TriangleMesh m;
-    m.positions = {-a, -a, 0, a, -a, 0, a, a, 0, -a, a, 0};
-    m.faces = {0, 1, 2, 0, 2, 3};
-    return m;
-}
+using radtest::floorSquare;
 
 rad::RayPacket16 verticalRays(float z, float dz) {
     rad::RayPacket16 p;

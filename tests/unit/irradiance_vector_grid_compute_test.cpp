@@ -6,6 +6,8 @@
 #include "geometry/primitive_meshes.h"
 #include "progress/progress_callback.h"
 
+#include "test_support.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -15,13 +17,7 @@ namespace {
 using rad::IrradianceVectorGrid;
 constexpr double kPi = 3.14159265358979323846;
 
-// Square [-a, a]^2 at z = 0 facing +z, two triangles.
-rad::TriangleMesh floorSquare(float a) {
-    rad::TriangleMesh m;
-    m.positions = {-a, -a, 0, a, -a, 0, a, a, 0, -a, a, 0};
-    m.faces = {0, 1, 2, 0, 2, 3};
-    return m;
-}
+using radtest::floorSquare;
 
 rad::TriangleMesh insideOut(rad::TriangleMesh m) {
     for (std::size_t f = 0; f < m.faceCount(); ++f) std::swap(m.faces[3 * f + 1], m.faces[3 * f + 2]);

@@ -4,6 +4,8 @@
 #include "geometry/mesh_normals.h"
 #include "geometry/primitive_meshes.h"
 
+#include "test_support.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -11,17 +13,7 @@
 
 namespace {
 
-namespace fs = std::filesystem;
-
-struct Folder {
-    fs::path path;
-    explicit Folder(const std::string& name) : path(fs::temp_directory_path() / name) {
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~Folder() { fs::remove_all(path); }
-    bool empty() const { return fs::is_empty(path); }
-};
+using Folder = radtest::TemporaryFolder;
 
 rad::NormalMapBakeRequest request(const rad::TriangleMesh& target, const rad::TriangleMesh& source, const Folder& out) {
     rad::NormalMapBakeRequest r;

@@ -6,6 +6,8 @@
 #include "bake/texture_atlas.h"
 #include "geometry/primitive_meshes.h"
 
+#include "test_support.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -21,15 +23,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Folder {
-    fs::path path;
-    explicit Folder(const std::string& name) : path(fs::temp_directory_path() / name) {
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~Folder() { fs::remove_all(path); }
-    std::size_t files() const { return std::size_t(std::distance(fs::directory_iterator(path), fs::directory_iterator())); }
-};
+using Folder = radtest::TemporaryFolder;
 
 // Binary little-endian PLY of the mesh, without normals (the job computes area-weighted ones).
 std::string writePly(const fs::path& path, const rad::TriangleMesh& mesh) {

@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <random>
@@ -133,6 +134,31 @@ inline Eigen::Vector3d harmonicValue(const rad::BasisSpec& basis, const std::vec
     for (int ch = 0; ch < 3; ++ch)
         for (int k = 0; k < basis.coefficientCount(); ++k) out[ch] += c[ch * basis.coefficientCount() + k] * y[k];
     return out;
+}
+
+// A fresh, empty folder under the system's temporary directory, removed with its content at the
+// end of the scope.
+struct TemporaryFolder {
+    std::filesystem::path path;
+    explicit TemporaryFolder(const std::string& name) : path(std::filesystem::temp_directory_path() / name) {
+        std::filesystem::remove_all(path);
+        std::filesystem::create_directories(path);
+    }
+    ~TemporaryFolder() { std::filesystem::remove_all(path); }
+    TemporaryFolder(const TemporaryFolder&) = delete;
+    TemporaryFolder& operator=(const TemporaryFolder&) = delete;
+    bool empty() const { return std::filesystem::is_empty(path); }
+    std::size_t files() const {
+        return std::size_t(std::distance(std::filesystem::directory_iterator(path), std::filesystem::directory_iterator()));
+    }
+};
+
+// The square [-a, a]^2 at z = 0 facing +z, two triangles.
+inline rad::TriangleMesh floorSquare(float a) {
+    rad::TriangleMesh m;
+    m.positions = {-a, -a, 0, a, -a, 0, a, a, 0, -a, a, 0};
+    m.faces = {0, 1, 2, 0, 2, 3};
+    return m;
 }
 
 }  // namespace radtest
