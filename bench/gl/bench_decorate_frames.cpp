@@ -8,12 +8,10 @@
 // e.g. (README): xvfb-run -a -s "-screen 0 1280x1024x24" build/bench/bench_decorate_frames \
 //          data-cache/meshes/armadillo.off --subdivide 1      (104k vertices)
 //          ... --subdivide 3                                   (1.66M vertices)
+#include "bench_mesh.h"
 #include "offscreen_gl.h"
 #include "radiance_gl_renderer.h"
 
-#include "geometry/mesh_normals.h"
-#include "geometry/midpoint_subdivision.h"
-#include "io/off_reader.h"
 #include "radiance/material_radiance.h"
 #include "radiance/view_colors.h"
 
@@ -59,20 +57,7 @@ int main(int argc, char** argv) {
             return 2;
         }
     }
-    rad::TriangleMesh mesh = rad::readOff(path);
-    if (levels > 0) mesh = rad::subdivideMidpoint(mesh, levels);
-    rad::computeAreaWeightedNormals(mesh);
-    // Normalise to the unit box around the origin so the orbit below frames any mesh.
-    Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e30), hi = -lo;
-    for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
-        for (int a = 0; a < 3; ++a) {
-            lo[a] = std::min(lo[a], double(mesh.positions[3 * v + a]));
-            hi[a] = std::max(hi[a], double(mesh.positions[3 * v + a]));
-        }
-    const Eigen::Vector3d centre = 0.5 * (lo + hi);
-    const double scale = 2.0 / (hi - lo).maxCoeff();
-    for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
-        for (int a = 0; a < 3; ++a) mesh.positions[3 * v + a] = float((mesh.positions[3 * v + a] - centre[a]) * scale);
+    rad::TriangleMesh mesh = radbench::loadBenchMesh(path, levels);
 
     rad::AnalyticMaterial material;
     material.exponent = 30.0;

@@ -9,12 +9,10 @@
 // Usage: bench_ivg_frames MESH.off [--subdivide L] [--frames N] [--size WxH] [--cells N,N,...]
 // e.g. (README): xvfb-run -a -s "-screen 0 1280x1024x24" build/bench/bench_ivg_frames \
 //          data-cache/meshes/armadillo.off --subdivide 1 --cells 8,32,64
+#include "bench_mesh.h"
 #include "normal_map_gl_renderer.h"
 #include "offscreen_gl.h"
 
-#include "geometry/mesh_normals.h"
-#include "geometry/midpoint_subdivision.h"
-#include "io/off_reader.h"
 #include "lighting/irradiance_vector_grid.h"
 
 #include <GL/glew.h>
@@ -58,19 +56,7 @@ int main(int argc, char** argv) {
             return 2;
         }
     }
-    rad::TriangleMesh mesh = rad::readOff(path);
-    if (levels > 0) mesh = rad::subdivideMidpoint(mesh, levels);
-    rad::computeAreaWeightedNormals(mesh);
-    Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e30), hi = -lo;
-    for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
-        for (int a = 0; a < 3; ++a) {
-            lo[a] = std::min(lo[a], double(mesh.positions[3 * v + a]));
-            hi[a] = std::max(hi[a], double(mesh.positions[3 * v + a]));
-        }
-    const Eigen::Vector3d centre = 0.5 * (lo + hi);
-    const double scale = 2.0 / (hi - lo).maxCoeff();
-    for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
-        for (int a = 0; a < 3; ++a) mesh.positions[3 * v + a] = float((mesh.positions[3 * v + a] - centre[a]) * scale);
+    rad::TriangleMesh mesh = radbench::loadBenchMesh(path, levels);
     std::printf("mesh %s: %zu vertices, %zu faces, viewport %dx%d, %d frames per mode\n", path.c_str(), mesh.vertexCount(),
                 mesh.faceCount(), width, height, frames);
 
