@@ -19,6 +19,28 @@ constexpr double kPi = 3.14159265358979323846;
 
 using radtest::floorSquare;
 
+// Grid vertices more than 3 % of the radius outside (invalidOutside) or inside the unit sphere
+// must be flagged invalid, those as far on the other side valid (the band around the surface is
+// left free: a vertex there may see either side). Returns how many were on the invalid side.
+std::size_t checkInvalidOnOneSideOfTheUnitSphere(const IrradianceVectorGrid& grid, const std::vector<std::uint8_t>& invalid,
+                                                 bool invalidOutside) {
+    std::size_t count = 0;
+    for (int k = 0; k <= grid.cells[2]; ++k)
+        for (int j = 0; j <= grid.cells[1]; ++j)
+            for (int i = 0; i <= grid.cells[0]; ++i) {
+                const auto p = grid.vertexPosition(i, j, k);
+                const double r = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+                const std::size_t v = grid.vertexIndex(i, j, k);
+                const bool farOutside = r > 1.03, farInside = r < 0.97;
+                if (invalidOutside ? farOutside : farInside) {
+                    EXPECT_EQ(invalid[v], 1) << "vertex at radius " << r;
+                    ++count;
+                }
+                if (invalidOutside ? farInside : farOutside) EXPECT_EQ(invalid[v], 0) << "vertex at radius " << r;
+            }
+    return count;
+}
+
 rad::TriangleMesh insideOut(rad::TriangleMesh m) {
     for (std::size_t f = 0; f < m.faceCount(); ++f) std::swap(m.faces[3 * f + 1], m.faces[3 * f + 2]);
     m.normals.clear();
@@ -154,20 +176,7 @@ TEST(IrradianceVectorGridCompute, VerticesOutsideTheRoomAreFlaggedAndRepaired) {
     rad::IrradianceGridReport report;
     std::vector<std::uint8_t> invalid;
     rad::computeIrradianceVectors(tracer, grid, options, {}, report, &invalid);
-    std::size_t outside = 0;
-    for (int k = 0; k <= grid.cells[2]; ++k)
-        for (int j = 0; j <= grid.cells[1]; ++j)
-            for (int i = 0; i <= grid.cells[0]; ++i) {
-                const auto p = grid.vertexPosition(i, j, k);
-                const double r = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
-                const std::size_t v = grid.vertexIndex(i, j, k);
-                if (r > 1.03) {
-                    EXPECT_EQ(invalid[v], 1) << "vertex at radius " << r;
-                    ++outside;
-                }
-                if (r < 0.97) EXPECT_EQ(invalid[v], 0) << "vertex at radius " << r;
-            }
-    EXPECT_GT(outside, 0u);
+    EXPECT_GT(checkInvalidOnOneSideOfTheUnitSphere(grid, invalid, /*invalidOutside=*/true), 0u);
     EXPECT_EQ(report.invalidVertices, std::size_t(std::count(invalid.begin(), invalid.end(), 1)));
 
     // Repaired: every invalid vertex takes its valid neighbours' average. Inside the sphere every
@@ -196,20 +205,7 @@ TEST(IrradianceVectorGridCompute, VerticesInsideAClosedObjectAreInvalid) {
     rad::IrradianceGridReport report;
     std::vector<std::uint8_t> invalid;
     rad::computeIrradianceVectors(tracer, grid, options, {}, report, &invalid);
-    std::size_t inside = 0;
-    for (int k = 0; k <= grid.cells[2]; ++k)
-        for (int j = 0; j <= grid.cells[1]; ++j)
-            for (int i = 0; i <= grid.cells[0]; ++i) {
-                const auto p = grid.vertexPosition(i, j, k);
-                const double r = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
-                const std::size_t v = grid.vertexIndex(i, j, k);
-                if (r < 0.97) {
-                    EXPECT_EQ(invalid[v], 1) << "vertex at radius " << r;
-                    ++inside;
-                }
-                if (r > 1.03) EXPECT_EQ(invalid[v], 0) << "vertex at radius " << r;
-            }
-    EXPECT_GT(inside, 0u);
+    EXPECT_GT(checkInvalidOnOneSideOfTheUnitSphere(grid, invalid, /*invalidOutside=*/false), 0u);
 }
 
 TEST(IrradianceVectorGridCompute, PlacementHasCubicCellsAndTheResolutionAlongTheLongestAxis) {
