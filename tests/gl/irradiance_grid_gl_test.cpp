@@ -148,6 +148,26 @@ Hit sphereHit(const rad::PinholeCamera& camera, double r) {
     };
 }
 
+// Every 7th pixel of the picture on the sphere of radius 0.8 against a closed form of the normal
+// (linear radiance, sRGB-encoded here): at most 2 codes apart, on more than 50 pixels.
+void expectClosedFormOnTheSphere(const std::vector<std::uint8_t>& picture, const rad::PinholeCamera& camera,
+                                 const char* what, const std::function<Eigen::Vector3d(const Eigen::Vector3d&)>& expected) {
+    int checked = 0, worst = 0;
+    const Hit hit = sphereHit(camera, 0.8);
+    for (int y = 0; y < kHeight; y += 7)
+        for (int x = 0; x < kWidth; x += 7) {
+            Eigen::Vector3d p, n;
+            if (!hit(camera.rayDirection(x + 0.5, y + 0.5), p, n)) continue;
+            const Eigen::Vector3d linear = expected(n);
+            for (int ch = 0; ch < 3; ++ch)
+                worst = std::max(worst, std::abs(int(picture[3 * (y * kWidth + x) + ch]) - int(rad::toSrgb8(linear[ch]))));
+            ++checked;
+        }
+    std::printf("[ivg-gl] %s: %d pixels, max %d codes\n", what, checked, worst);
+    EXPECT_GT(checked, 50);
+    EXPECT_LE(worst, 2);
+}
+
 struct Plane {
     Eigen::Vector3d normal, u, v;  // orthonormal; the square |s|, |t| < half around the origin
     double half = 0.7;
@@ -257,20 +277,10 @@ TEST(IrradianceGridGl, UniformSkyOnASphereMatchesTheCpuAndTheClosedForm) {
 
     // The closed form of the interpolation under a uniform sky: I_n = pi L sum_a n_a^2 sign(n_a) e_a,
     // so L_r = rho L (|n_x|^3 + |n_y|^3 + |n_z|^3): 1 along an axis, 1/sqrt(3) on a diagonal.
-    int checked = 0, worst = 0;
-    const Hit hit = sphereHit(camera, 0.8);
-    for (int y = 0; y < kHeight; y += 7)
-        for (int x = 0; x < kWidth; x += 7) {
-            Eigen::Vector3d p, n;
-            if (!hit(camera.rayDirection(x + 0.5, y + 0.5), p, n)) continue;
-            const double s = std::pow(std::fabs(n.x()), 3) + std::pow(std::fabs(n.y()), 3) + std::pow(std::fabs(n.z()), 3);
-            for (int ch = 0; ch < 3; ++ch)
-                worst = std::max(worst, std::abs(int(picture[3 * (y * kWidth + x) + ch]) - int(rad::toSrgb8(rho[ch] * L[ch] * s))));
-            ++checked;
-        }
-    std::printf("[ivg-gl] uniform sky, sphere, closed form: %d pixels, max %d codes\n", checked, worst);
-    EXPECT_GT(checked, 50);
-    EXPECT_LE(worst, 2);
+    expectClosedFormOnTheSphere(picture, camera, "uniform sky, sphere, closed form", [&](const Eigen::Vector3d& n) {
+        const double sum = std::pow(std::fabs(n.x()), 3) + std::pow(std::fabs(n.y()), 3) + std::pow(std::fabs(n.z()), 3);
+        return Eigen::Vector3d(rho.cwiseProduct(L) * sum);
+    });
 }
 
 TEST(IrradianceGridGl, LinearFieldOnATiltedPlaneAndASphereMatchesTheCpu) {
@@ -332,19 +342,8 @@ TEST(IrradianceGridGl, AbsoluteWeightsMatchTheCpuAndAreExactUnderAUniformSky) {
     const Eigen::Vector3d L(0.9, 0.7, 0.5);
     ASSERT_EQ(r.setIrradianceGrid(gridFrom(uniformSky(L), {{3, 4, 2}}), note), "");
     const std::vector<std::uint8_t> sky = render(r, NormalMapShading::VertexNormals, camera, lighting);
-    int checked = 0, worst = 0;
-    const Hit hit = sphereHit(camera, 0.8);
-    for (int y = 0; y < kHeight; y += 7)
-        for (int x = 0; x < kWidth; x += 7) {
-            Eigen::Vector3d p, n;
-            if (!hit(camera.rayDirection(x + 0.5, y + 0.5), p, n)) continue;
-            for (int ch = 0; ch < 3; ++ch)
-                worst = std::max(worst, std::abs(int(sky[3 * (y * kWidth + x) + ch]) - int(rad::toSrgb8(rho[ch] * L[ch]))));
-            ++checked;
-        }
-    std::printf("[ivg-gl] uniform sky, sphere, |n| weights vs rho L: %d pixels, max %d codes\n", checked, worst);
-    EXPECT_GT(checked, 50);
-    EXPECT_LE(worst, 2);
+    expectClosedFormOnTheSphere(sky, camera, "uniform sky, sphere, |n| weights vs rho L",
+                                [&](const Eigen::Vector3d&) { return Eigen::Vector3d(rho.cwiseProduct(L)); });
 }
 
 TEST(IrradianceGridGl, DirectPlusIndirectAddsTheLambertTermAndExposureApplies) {
