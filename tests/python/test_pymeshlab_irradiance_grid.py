@@ -52,13 +52,7 @@ def red_floor_binary(path, n=8):
 
 
 def red_floor(path, n=8):
-    xs = np.linspace(-1.0, 1.0, n + 1)
-    vertices = np.array([[x, y, 0.0] for y in xs for x in xs])
-    faces = []
-    for j in range(n):
-        for i in range(n):
-            a, b, c, d = j * (n + 1) + i, j * (n + 1) + i + 1, (j + 1) * (n + 1) + i + 1, (j + 1) * (n + 1) + i
-            faces += [(a, b, c), (a, c, d)]
+    vertices, faces = floor_arrays(n)
     with open(path, "w") as f:
         f.write("ply\nformat ascii 1.0\n")
         f.write(f"element vertex {len(vertices)}\nproperty float x\nproperty float y\nproperty float z\n"
