@@ -123,9 +123,6 @@ private:
         out.normals = report.mesh.normals;
         out.faces = report.mesh.faces;
         MeshModel* added = addLayer(ctx.document, QFileInfo(plyPath).completeBaseName() + "_ooc");
-        // In an empty document the new layer becomes the current one (pymeshlab's current_mesh(),
-        // meshlabserver's -o); otherwise the current layer stays current, as with the other filters.
-        if (ctx.current == nullptr) ctx.document.setCurrentMesh(added->id());
         enableLoadedData(*added, importPlainMesh(out, added->cm));
         added->updateDataMask(MeshModel::MM_WEDGTEXCOORD);
         std::size_t f = 0;

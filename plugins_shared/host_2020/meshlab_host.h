@@ -75,8 +75,9 @@ inline bool enumChoice(const RichParameter& p, int& index, QStringList& choices)
 using RasterImagePlane = Plane;
 inline bool rasterIsVisible(const RasterModel& raster) { return raster.visible; }
 
-// A new layer of the document; it does not become the current one.
-inline MeshModel* addLayer(MeshDocument& md, const QString& label) { return md.addNewMesh("", label, false); }
+// A new layer of the document; it becomes the current one only in a document that had none (an
+// empty document, where filters like the out-of-core simplification create the first layer).
+inline MeshModel* addLayer(MeshDocument& md, const QString& label) { return md.addNewMesh("", label, md.mm() == nullptr); }
 
 // A parameter naming one of the document's layers.
 inline void addMeshParameter(RichParameterList& par, const QString& name, const MeshDocument& md,

@@ -79,8 +79,9 @@ inline bool enumChoice(const RichParameter& p, int& index, QStringList& choices)
 using RasterImagePlane = RasterPlane;
 inline bool rasterIsVisible(const RasterModel& raster) { return raster.isVisible(); }
 
-// A new layer of the document; it does not become the current one.
-inline MeshModel* addLayer(MeshDocument& md, const QString& label) { return md.addNewMesh("", label, false); }
+// A new layer of the document; it becomes the current one only in a document that had none (an
+// empty document, where filters like the out-of-core simplification create the first layer).
+inline MeshModel* addLayer(MeshDocument& md, const QString& label) { return md.addNewMesh("", label, md.mm() == nullptr); }
 
 // A parameter naming one of the document's layers (MeshLab 2025 stores the layer's id).
 inline void addMeshParameter(RichParameterList& par, const QString& name, const MeshDocument& md,
