@@ -101,17 +101,7 @@ note "grid named in the options: $named_red red, $named_green green"
 [ "$named_red" -gt 5000 ] && [ "$named_green" -gt 5000 ] || fail "named: the field's colours are not on the sphere"
 
 # The simplified armadillo with its baked normal map, and a grid over its box.
-scan="$RADIANCE_SOURCE_DIR/data-cache/meshes/armadillo.off"
-[ -s "$scan" ] || fail "no $scan (scripts/setup.sh fetches it)"
-{
-    echo '<!DOCTYPE FilterScript>'
-    echo '<FilterScript>'
-    bash "$RADIANCE_SOURCE_DIR/scripts/meshlab_decimation_filter.sh" 1000 true
-    bash "$RADIANCE_SOURCE_DIR/scripts/bake_normal_map_filter.sh" 0 1024 0 0 true true "$WORK/armadillo_normal.png"
-    echo '</FilterScript>'
-} >"$WORK/simplify.mlx"
-run_meshlabserver "$WORK/prepare.log" -i "$scan" -i "$scan" -s "$WORK/simplify.mlx" -o "$WORK/armadillo_baked.ply" -m wt vn \
-    || { cat "$WORK/prepare.log" >&2; fail "simplification + bake failed"; }
+bake_armadillo 1024
 "$MAKE_IVG" -o "$WORK/armadillo_baked" --fit "$WORK/armadillo_baked.ply" --cells 6 --from-above >/dev/null || fail "no grid for the armadillo"
 settings 0 0
 shot mapped "$WORK/armadillo_baked.ply" 1

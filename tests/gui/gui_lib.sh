@@ -148,3 +148,21 @@ check_view_mode() {
     mode="$(awk '$1 == "mode" { print $2 }' "$WORK/$1.view-at-shot.txt")"
     [ "$mode" = "$2" ] || fail "the decoration drew in mode '$mode', the settings asked for '$2': settings not read?"
 }
+
+# bake_armadillo SIZE: the armadillo scan decimated to 1000 faces by MeshLab and "Bake Normal Map"
+# (SIZE^2, object space, LEAN) from the full scan, through meshlabserver: $WORK/armadillo_baked.ply
+# with wedge UVs and normals, its maps $WORK/armadillo_normal.png and _lean.exr.
+bake_armadillo() {
+    local size="$1"
+    local scan="${RADIANCE_DATA_CACHE:-$RADIANCE_SOURCE_DIR/data-cache}/meshes/armadillo.off"
+    [ -s "$scan" ] || fail "no $scan (scripts/setup.sh fetches it)"
+    {
+        echo '<!DOCTYPE FilterScript>'
+        echo '<FilterScript>'
+        bash "$RADIANCE_SOURCE_DIR/scripts/meshlab_decimation_filter.sh" 1000 true
+        bash "$RADIANCE_SOURCE_DIR/scripts/bake_normal_map_filter.sh" 0 "$size" 0 0 true true "$WORK/armadillo_normal.png"
+        echo '</FilterScript>'
+    } >"$WORK/simplify.mlx"
+    run_meshlabserver "$WORK/prepare.log" -i "$scan" -i "$scan" -s "$WORK/simplify.mlx" -o "$WORK/armadillo_baked.ply" -m wt vn \
+        || { cat "$WORK/prepare.log" >&2; fail "simplification + bake failed"; }
+}

@@ -10,18 +10,7 @@
 #   - the three pictures are not MeshLab's own rendering (decoration drawn).
 source "$(dirname "$0")/../integration/lib.sh"
 source "$(dirname "$0")/gui_lib.sh"
-scan="$RADIANCE_SOURCE_DIR/data-cache/meshes/armadillo.off"
-[ -s "$scan" ] || fail "no $scan (scripts/setup.sh fetches it)"
-
-{
-    echo '<!DOCTYPE FilterScript>'
-    echo '<FilterScript>'
-    bash "$RADIANCE_SOURCE_DIR/scripts/meshlab_decimation_filter.sh" 1000 true
-    bash "$RADIANCE_SOURCE_DIR/scripts/bake_normal_map_filter.sh" 0 1024 0 0 true true "$WORK/armadillo_normal.png"
-    echo '</FilterScript>'
-} >"$WORK/simplify.mlx"
-run_meshlabserver "$WORK/prepare.log" -i "$scan" -i "$scan" -s "$WORK/simplify.mlx" -o "$WORK/armadillo_baked.ply" -m wt vn \
-    || { cat "$WORK/prepare.log" >&2; fail "simplification + bake failed"; }
+bake_armadillo 1024
 [ -s "$WORK/armadillo_normal.png" ] && [ -s "$WORK/armadillo_lean.exr" ] || fail "the bake wrote no map"
 
 start_xvfb

@@ -18,18 +18,7 @@
 #   - no GL error.
 source "$(dirname "$0")/../integration/lib.sh"
 source "$(dirname "$0")/gui_lib.sh"
-scan="${RADIANCE_DATA_CACHE:-$RADIANCE_SOURCE_DIR/data-cache}/meshes/armadillo.off"
-[ -s "$scan" ] || fail "no $scan (scripts/setup.sh fetches it)"
-
-{
-    echo '<!DOCTYPE FilterScript>'
-    echo '<FilterScript>'
-    bash "$RADIANCE_SOURCE_DIR/scripts/meshlab_decimation_filter.sh" 1000 true
-    bash "$RADIANCE_SOURCE_DIR/scripts/bake_normal_map_filter.sh" 0 512 0 0 true true "$WORK/armadillo_normal.png"
-    echo '</FilterScript>'
-} >"$WORK/simplify.mlx"
-run_meshlabserver "$WORK/prepare.log" -i "$scan" -i "$scan" -s "$WORK/simplify.mlx" -o "$WORK/armadillo_baked.ply" -m wt vn \
-    || { cat "$WORK/prepare.log" >&2; fail "simplification + bake failed"; }
+bake_armadillo 512
 
 # Level 4 on the CPU (the filter), saved with the baked layer as a project.
 write_mlx "$WORK/extract.mlx" "Extract Level of Detail (POP Buffer)" \
