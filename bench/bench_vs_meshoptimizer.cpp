@@ -39,6 +39,7 @@
 #include "geometry/midpoint_subdivision.h"
 #include "geometry/primitive_meshes.h"
 #include "io/off_reader.h"
+#include "io/radiance_ply.h"
 #include "radiance/material_radiance.h"
 #include "render/image_space_error.h"
 #include "simplify/radiance_simplification.h"
@@ -71,6 +72,11 @@ int ourThreads = 2;
 // Experiments only: the figures of the README use the filter's defaults (no --lazy, no --geometry-weight).
 int lazyOverride = -1;
 double geometryWeightOverride = -1.0;
+int metricOverride = -1;        // rad::SimplificationMetric value
+int kindOverride = -1;          // 0 half-edge, 1 full
+double attributeWeightOverride = -1.0;
+double perceptualOverride = -1.0;
+std::vector<std::string> rplyInputs;  // extra meshes: radiance PLY files (e.g. fitted from rendered photographs)
 bool quick = false;
 bool armadilloError = true;
 const double kLevels[] = {0.50, 0.25, 0.10, 0.05};
@@ -236,7 +242,18 @@ rad::RadianceSimplificationResult runOurs(const rad::RadianceMesh& mesh, std::si
         options.collapse.geometryWeight = geometryWeightOverride;
         options.collapse.attributeWeight = 1.0 - geometryWeightOverride;
     }
+    if (attributeWeightOverride >= 0.0) options.collapse.attributeWeight = attributeWeightOverride;
+    if (perceptualOverride >= 0.0) options.perceptualExponent = perceptualOverride;
+    if (metricOverride >= 0) options.metric = static_cast<rad::SimplificationMetric>(metricOverride);
+    if (kindOverride >= 0) options.collapse.kind = kindOverride ? rad::CollapseKind::Full : rad::CollapseKind::HalfEdge;
     return rad::simplifyRadianceMesh(mesh, options);
+}
+
+std::string oursLabel() {
+    rad::RadianceSimplificationOptions options;
+    if (metricOverride >= 0) options.metric = static_cast<rad::SimplificationMetric>(metricOverride);
+    if (kindOverride >= 0) options.collapse.kind = kindOverride ? rad::CollapseKind::Full : rad::CollapseKind::HalfEdge;
+    return "ours " + rad::describe(options.metric) + (options.collapse.kind == rad::CollapseKind::Full ? ", full" : ", half-edge");
 }
 
 struct Verdict {
@@ -254,15 +271,15 @@ void compareOnMesh(const char* label, const rad::RadianceMesh& original, Verdict
     const auto t0 = Clock::now();
     const rad::RadianceSimplificationResult ours = runOurs(original, smallest);
     const double oursSeconds = secondsSince(t0);
-    std::printf("  ours (radiance eq. 7, filter defaults, %d threads): %.2f s down to %zu faces (all levels, progressive), "
+    std::printf("  %s (%d threads): %.2f s down to %zu faces (all levels, progressive), "
                 "%zu pricings, %zu stale entries\n",
-                ourThreads, oursSeconds, ours.collapse.finalFaceCount, ours.collapse.repricedVertices, ours.collapse.staleEntries);
+                oursLabel().c_str(), ourThreads, oursSeconds, ours.collapse.finalFaceCount, ours.collapse.repricedVertices, ours.collapse.staleEntries);
     std::printf("  %-5s %-34s %8s %10s %8s %10s %8s\n", "level", "method", "faces", "RMSE lin", "RMSE 8b", "time s", "");
     for (double level : kLevels) {
         const std::size_t target = static_cast<std::size_t>(level * original.faceCount());
         std::vector<Candidate> candidates;
         Candidate mine;
-        mine.setting = "ours (eq. 7)";
+        mine.setting = "ours";
         mine.mesh = ours.progressive.extract(ours.progressive.stepsForFaceCount(target));
         mine.seconds = oursSeconds;
         candidates.push_back(std::move(mine));
@@ -310,7 +327,7 @@ void armadilloTime(const std::string& data) {
     const double oursSeconds = secondsSince(t0);
     std::vector<Candidate> candidates;
     Candidate mine;
-    mine.setting = "ours (eq. 7), " + std::to_string(ourThreads) + " threads";
+    mine.setting = "ours, " + std::to_string(ourThreads) + " threads";
     mine.mesh = ours.progressive.extract(ours.progressive.stepsForFaceCount(target));
     mine.seconds = oursSeconds;
     candidates.push_back(std::move(mine));
@@ -366,6 +383,11 @@ int main(int argc, char** argv) {
         else if (a == "--lazy") lazyOverride = std::atoi(v.c_str());
         else if (a == "--geometry-weight") geometryWeightOverride = std::atof(v.c_str());
         else if (a == "--armadillo-error") armadilloError = v != "0";
+        else if (a == "--metric") metricOverride = std::atoi(v.c_str());
+        else if (a == "--kind") kindOverride = std::atoi(v.c_str());
+        else if (a == "--perceptual") perceptualOverride = std::atof(v.c_str());
+        else if (a == "--attribute-weight") attributeWeightOverride = std::atof(v.c_str());
+        else if (a == "--rply") rplyInputs.push_back(v);
         else {
             std::fprintf(stderr, "unknown option %s\n", a.c_str());
             return 2;
@@ -398,6 +420,11 @@ int main(int argc, char** argv) {
                                                       {rad::BasisKind::HemisphericalPolynomial, 4},
                                                       Eigen::Vector3d::UnitZ(), false),
                           verdict);
+        }
+        for (const std::string& path : rplyInputs) {
+            imageOptions.up = Eigen::Vector3d::UnitY();
+            rad::RadianceMesh mesh = rad::readRadiancePly(path);
+            compareOnMesh(path.c_str(), mesh, verdict);
         }
         if (wants("armadillo")) {
             imageOptions.up = Eigen::Vector3d::UnitY();

@@ -24,7 +24,8 @@
 namespace radml {
 namespace {
 
-enum MetricChoice { kMetricRadiance = 0, kMetricLightField2010 = 1, kMetricColor = 2, kMetricGeometry = 3 };
+// Indices are part of the scripts' interface (pymeshlab and .mlx pass them): new metrics go at the end.
+enum MetricChoice { kMetricRadiance = 0, kMetricLightField2010 = 1, kMetricColor = 2, kMetricGeometry = 3, kMetricRadianceQuadric = 4 };
 
 // "0.5 0.25, 0.1" -> ratios in (0, 1), largest first; throws Refusal otherwise.
 std::vector<double> parseRatios(const QString& text) {
@@ -54,21 +55,26 @@ public:
     RichParameterList parameters(const MeshDocument&, const MeshModel& m) const override {
         RichParameterList par;
         const rad::EdgeCollapseOptions defaults;
-        par.addParam(RichEnum("metric", kMetricRadiance,
+        par.addParam(RichEnum("metric", kMetricRadianceQuadric,
                               QStringList() << "Radiance error (Vanhoey et al. 2015, eq. 7)"
                                             << "Light-field quadric (Vanhoey et al. 2010)"
                                             << "Colour QEM on the mean colour (Garland-Heckbert 1998)"
-                                            << "Geometry only (memoryless QEM)",
+                                            << "Geometry only (memoryless QEM)"
+                                            << "Radiance quadric (Hoppe 1999; default)",
                               "Metric",
-                              "What a collapse costs besides the geometric error: the radiance error of Vanhoey et al. 2015 "
-                              "(area-weighted L2 distance between the radiance functions before and after, over the "
-                              "hemisphere), its 2010 precursor (quadric on the coefficients), the extended colour QEM "
-                              "on each function's mean colour (the paper's colour baseline), or nothing."));
-        par.addParam(RichEnum("collapse", 0, QStringList() << "Half-edge collapse (Vanhoey et al. 2015, sec. 4.1)" << "Full edge collapse (sec. 4.3)",
+                              "What a collapse costs. Default: the accumulating radiance quadric (Hoppe 1999, Garland and "
+                              "Heckbert 1998): distances to every original face's plane plus the L2 distance between "
+                              "radiance functions, summed over all the original faces a vertex stands for; it places the "
+                              "new vertex and its radiance function optimally. The references: the radiance error of "
+                              "Vanhoey et al. 2015 (eq. 7, memoryless: area-weighted L2 distance over the hemisphere "
+                              "between the functions before and after), its 2010 precursor (quadric on the "
+                              "coefficients), the extended colour QEM on each function's mean colour, or geometry alone."));
+        par.addParam(RichEnum("collapse", 1, QStringList() << "Half-edge collapse (Vanhoey et al. 2015, sec. 4.1)" << "Full edge collapse (sec. 4.3; default)",
                               "Collapse",
                               "Half-edge: a vertex merges into a neighbour, positions and functions are never "
-                              "interpolated. Full: the new vertex goes to the QEM-optimal position and its function is "
-                              "interpolated along the edge (radiance metric: spherical harmonics only)."));
+                              "interpolated. Full: the new vertex goes to the optimal position and gets a new radiance "
+                              "function (radiance quadric: the quadric's optimum; eq. 7: interpolated along the edge, "
+                              "spherical harmonics only)."));
         const int faces = m.cm.fn;
         par.addParam(RichInt("targetFaces", std::max(faces / 2, 0), "Target number of faces",
                              "The face count of the simplified layer (used when the percentage is 0)."));
@@ -79,9 +85,14 @@ public:
                                 "'<name>_LOD<percent>' extracted from the same run (progressive mesh, Vanhoey et al. 2015, sec. 4.5). Empty: "
                                 "none."));
         par.addParam(RichFloat("geometryWeight", float(defaults.geometryWeight), "Geometry weight",
-                               "Weight of the memoryless QEM in the cost (Vanhoey et al. 2015, sec. 4.4: 1 % geometry, 99 % radiance)."));
+                               "Weight of the geometric error: the memoryless QEM for the eq. 7, 2010 and colour metrics "
+                               "(Vanhoey et al. 2015, sec. 4.4: 1 % geometry, 99 % radiance); the radiance quadric's "
+                               "plane terms (scale-free: positions normalised by the bounding box)."));
         par.addParam(RichFloat("attributeWeight", float(defaults.attributeWeight), "Metric weight",
-                               "Weight of the chosen metric (lambda of the 2010 light-field metric)."));
+                               "Weight of the chosen metric (lambda of the 2010 light-field metric). For the radiance "
+                               "quadric, its radiance term (normalised by the field's RMS radiance) weighs "
+                               "attributeWeight x 2e-4 against geometryWeight: at the defaults, 2 % of the geometry's, "
+                               "the balance measured best in images (docs/design-notes.md)."));
         par.addParam(RichBool("preserveBoundary", defaults.preserveBoundary, "Preserve boundary",
                               "Never move or remove a vertex on a mesh boundary."));
         par.addParam(RichInt("minValence", 0, "Minimum valence", "Forbid collapses leaving a vertex with fewer neighbours (0: no bound; Vanhoey et al. 2010 use 4)."));
@@ -108,6 +119,7 @@ public:
             case kMetricRadiance: options.metric = rad::SimplificationMetric::Radiance; break;
             case kMetricLightField2010: options.metric = rad::SimplificationMetric::LightField2010; break;
             case kMetricColor: options.metric = rad::SimplificationMetric::ColorQuadric; break;
+            case kMetricRadianceQuadric: options.metric = rad::SimplificationMetric::RadianceQuadric; break;
             default: options.metric = rad::SimplificationMetric::GeometryOnly; break;
         }
         options.collapse.kind = par.getEnum("collapse") == 1 ? rad::CollapseKind::Full : rad::CollapseKind::HalfEdge;
@@ -221,7 +233,13 @@ public:
 QString RadianceSimplificationFilter::description() const {
     return QString(
                "Simplifies the current mesh by iterative edge collapse so that what is rendered stays close "
-               "to the original (Vanhoey et al. 2015, sec. 4). A collapse costs w_G E_G + w_R E, with E_G the "
+               "to the original (Vanhoey et al. 2015, sec. 4). Default metric: the accumulating radiance "
+               "quadric (Hoppe 1999; Garland and Heckbert 1998): each vertex carries the sum, over the original "
+               "faces it stands for, of their squared plane distances and of the squared L2 distance between "
+               "radiance functions (coefficients in the basis's orthonormalised L2 space, interpolated over "
+               "each face), so error accumulated by earlier collapses is never forgotten; a full collapse puts "
+               "the new vertex at the planes' optimum and gives it the quadric's optimal radiance function "
+               "(PB and SH alike). With the paper's own metric (eq. 7), a collapse costs w_G E_G + w_R E, with E_G the "
                "memoryless quadric error (planes of the faces around the edge) and E the radiance error of "
                "eq. 7 of Vanhoey et al. 2015: for a half-edge collapse v0 -> v1, the sum over the new triangles of their area times "
                "the squared L2 distance, over v0's hemisphere, between v0's reflected radiance function and "

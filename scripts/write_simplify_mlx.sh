@@ -10,7 +10,7 @@ cat >"$out" <<MLX
 <!DOCTYPE FilterScript>
 <FilterScript>
  <filter name="Radiance: Radiance-Aware Simplification">
-  <Param type="RichEnum" name="metric" value="$metric" enum_cardinality="4" enum_val0="radiance" enum_val1="lightfield" enum_val2="color" enum_val3="geometry"/>
+  <Param type="RichEnum" name="metric" value="$metric" enum_cardinality="5" enum_val0="radiance" enum_val1="lightfield" enum_val2="color" enum_val3="geometry" enum_val4="radiancequadric"/>
   <Param type="RichEnum" name="collapse" value="$collapse" enum_cardinality="2" enum_val0="half" enum_val1="full"/>
   <Param type="RichInt" name="targetFaces" value="0"/>
   <Param type="RichFloat" name="targetPercentage" value="$percentage"/>

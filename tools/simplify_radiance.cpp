@@ -30,8 +30,9 @@ using radtools::toNumber;
 void usage(std::ostream& out) {
     out << "usage: simplify_radiance IN.{rply,rpm} -o PREFIX [options]\n"
            "  --ratios r1,r2,...       face ratios of the levels written, each in (0, 1) [0.5,0.25,0.1]\n"
-           "  --metric radiance|lightfield2010|color|geometry   [radiance] (Vanhoey et al. 2015 eq. 7; Vanhoey et al. 2010;\n"
-           "                           Garland-Heckbert 1998 colour QEM on the mean colour; memoryless QEM)\n"
+           "  --metric radiance|lightfield2010|color|geometry|quadric   [radiance] (Vanhoey et al. 2015 eq. 7; Vanhoey et al.\n"
+           "                           2010; Garland-Heckbert 1998 colour QEM on the mean colour; memoryless QEM; the\n"
+           "                           accumulating radiance quadric of Hoppe 1999, the filter's default, best with full)\n"
            "  --collapse half|full     half-edge (sec. 4.1) or full edge collapse (sec. 4.3) [half]\n"
            "  --geometry-weight W      weight of the memoryless QEM [0.01]\n"
            "  --attribute-weight W     weight of the metric (lambda for lightfield2010) [0.99]\n"
@@ -108,7 +109,8 @@ int run(int argc, char** argv) {
     else if (metricName == "lightfield2010") options.metric = rad::SimplificationMetric::LightField2010;
     else if (metricName == "color") options.metric = rad::SimplificationMetric::ColorQuadric;
     else if (metricName == "geometry") options.metric = rad::SimplificationMetric::GeometryOnly;
-    else throw UsageError("--metric needs radiance, lightfield2010, color or geometry, got '" + metricName + "'");
+    else if (metricName == "quadric") options.metric = rad::SimplificationMetric::RadianceQuadric;
+    else throw UsageError("--metric needs radiance, lightfield2010, color, geometry or quadric, got '" + metricName + "'");
     if (collapseName == "half") options.collapse.kind = rad::CollapseKind::HalfEdge;
     else if (collapseName == "full") options.collapse.kind = rad::CollapseKind::Full;
     else throw UsageError("--collapse needs half or full, got '" + collapseName + "'");

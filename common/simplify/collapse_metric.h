@@ -57,6 +57,15 @@ public:
     }
     virtual double priceEdge(const CollapseMesh& mesh, const EdgeQuery& query) const { return 0.0; }
 
+    // A metric whose cost already measures the geometry (an accumulated quadric) returns true: the
+    // engine then adds no memoryless QEM of its own, whatever its geometry weight.
+    virtual bool ownsGeometry() const { return false; }
+    // Full collapse: where the new vertex goes. Return false to let the engine place it (the
+    // memoryless QEM's optimum); true with `position` set to choose it.
+    virtual bool placeEdge(const CollapseMesh& mesh, std::uint32_t v0, std::uint32_t v1, Eigen::Vector3d& position) const {
+        return false;
+    }
+
     // Called after the engine applied a collapse (mesh already in its post-collapse state; for a
     // full collapse the survivor v1 is at query.position). Half-edge: query.halfEdge, s == 1 and
     // position == p1 (a full collapse may also land at s == 1, with halfEdge false). Metrics that own attributes update the survivor's here.

@@ -87,6 +87,8 @@ public:
         const double degrees = std::clamp(options.maxNormalDeviationDegrees, 0.0, 180.0);
         minNormalCosine_ = std::cos(degrees * 3.14159265358979323846 / 180.0);
         useMetric_ = metric_ != nullptr && options_.attributeWeight > 0.0;
+        // An accumulated quadric that measures the geometry itself replaces the memoryless QEM.
+        geometryWeight_ = useMetric_ && metric_->ownsGeometry() ? 0.0 : options_.geometryWeight;
     }
 
     EdgeCollapseResult run(const std::function<void(const CollapseStep&)>& onStep);
@@ -206,10 +208,10 @@ private:
             query.targetCount = static_cast<int>(n);
             metric_->priceHalfEdges(mesh_, query, w.attributeCosts.data());
         }
-        const Quadric q = vertexQuadric(mesh_, v0);
+        const Quadric q = geometryWeight_ > 0.0 ? vertexQuadric(mesh_, v0) : Quadric();
         w.order.resize(n);
         for (std::size_t i = 0; i < n; ++i) {
-            double cost = options_.geometryWeight * std::max(0.0, q.evaluate(mesh_.position(w.targets[i])));
+            double cost = geometryWeight_ > 0.0 ? geometryWeight_ * std::max(0.0, q.evaluate(mesh_.position(w.targets[i]))) : 0.0;
             if (useMetric_) cost += options_.attributeWeight * w.attributeCosts[i];
             if (!(cost < kInfinity)) cost = kInfinity;  // NaN and overflow never win
             w.order[i] = {cost, w.targets[i]};
@@ -232,13 +234,19 @@ private:
         double geometricError;  // the memoryless QEM of both stars at `position`
     };
     Placement placeEdge(std::uint32_t v0, std::uint32_t v1) const {
-        Quadric q = vertexQuadric(mesh_, v0);
-        q += vertexQuadric(mesh_, v1);
         const Eigen::Vector3d p0 = mesh_.position(v0), p1 = mesh_.position(v1);
-        const Eigen::Vector3d p = optimalPosition(q, p0, p1);
+        Eigen::Vector3d p;
+        const bool placedByMetric = useMetric_ && metric_->placeEdge(mesh_, v0, v1, p);
+        double geometricError = 0.0;
+        if (!placedByMetric || geometryWeight_ > 0.0) {
+            Quadric q = vertexQuadric(mesh_, v0);
+            q += vertexQuadric(mesh_, v1);
+            if (!placedByMetric) p = optimalPosition(q, p0, p1);
+            geometricError = std::max(0.0, q.evaluate(p));
+        }
         const double length2 = (p1 - p0).squaredNorm();
         const double s = length2 > 0.0 ? std::clamp((p - p0).dot(p1 - p0) / length2, 0.0, 1.0) : 0.5;
-        return {p, s, std::max(0.0, q.evaluate(p))};
+        return {p, s, geometricError};
     }
 
     // Full mode: the cost of collapsing edge (v0, v1) into slot v1, +inf when not allowed.
@@ -251,7 +259,7 @@ private:
         const bool open0 = CollapseMesh::isOpenStar(w.star0);
         const Placement place = placeEdge(v0, v1);
         if (!collapseAllowed(v0, v1, open0, place.position, true, w)) return entry;
-        double cost = options_.geometryWeight * place.geometricError;
+        double cost = geometryWeight_ * place.geometricError;
         if (useMetric_) {
             EdgeQuery query = edgeQuery(v0, v1, place, w);
             cost += options_.attributeWeight * metric_->priceEdge(mesh_, query);
@@ -321,6 +329,7 @@ private:
     std::vector<std::uint32_t> around_;
     std::vector<double> lastCost_;  // half-edge: each source's cost when last priced
     double minNormalCosine_ = 0.0;
+    double geometryWeight_ = 0.0;
     bool useMetric_ = false;
     std::size_t pricings_ = 0;
 };

@@ -7,6 +7,7 @@
 #include "simplify/color_quadric.h"
 #include "simplify/light_field_quadric.h"
 #include "simplify/radiance_collapse_error.h"
+#include "simplify/radiance_quadric.h"
 
 #include <Eigen/Geometry>
 
@@ -25,6 +26,7 @@ std::string describe(SimplificationMetric metric) {
         case SimplificationMetric::LightField2010: return "light field (Vanhoey et al. 2010)";
         case SimplificationMetric::ColorQuadric: return "colour QEM (Garland-Heckbert 1998)";
         case SimplificationMetric::GeometryOnly: return "geometry only (memoryless QEM)";
+        case SimplificationMetric::RadianceQuadric: return "radiance quadric (Hoppe 1999)";
     }
     return "unknown";
 }
@@ -203,6 +205,16 @@ RadianceSimplificationResult simplifyRadianceMesh(RadianceMesh mesh, const Radia
         }
             break;
         case SimplificationMetric::GeometryOnly: break;
+        case SimplificationMetric::RadianceQuadric:
+        {
+            RadianceQuadricOptions quadric;
+            quadric.geometryWeight = options.collapse.geometryWeight;
+            quadric.radianceWeight = options.collapse.attributeWeight * kRadianceQuadricBalance;
+            quadric.threads = options.collapse.threads;
+            quadric.perceptualExponent = options.perceptualExponent;
+            metric = std::make_unique<RadianceQuadricMetric>(collapseMesh, *field, quadric);
+        }
+            break;
     }
 
     // Full collapses record the survivor's RF row after every step; metrics that do not own the RF

@@ -3,7 +3,12 @@
 // collapse sequence recorded (progressive_mesh.h). The MeshLab filter, the tools and the benchmarks
 // all go through here.
 //
-// Metrics (the engine adds the memoryless QEM with the geometry weight in every case):
+// Metrics:
+//  - RadianceQuadric (default): the accumulating quadric of geometry and RF coefficients after
+//    Hoppe 1999 (radiance_quadric.h); it measures the geometry itself (the engine adds no memoryless
+//    QEM), geometry weight and attribute weight x kRadianceQuadricBalance weigh its two parts;
+//    full collapses place the new vertex and its RF optimally, for PB and SH alike;
+// The others get the memoryless QEM with the geometry weight from the engine:
 //  - Radiance: the radiance error of Vanhoey et al. 2015 eq. 7 (half-edge) / sec. 4.3
 //    (full, SH only), radiance_collapse_error.h; weights 1 % geometry / 99 % radiance (sec. 4.4);
 //  - LightField2010: the earlier metric of Vanhoey et al. 2010 (E_G + lambda (E_L + E_F)),
@@ -22,7 +27,13 @@
 
 namespace rad {
 
-enum class SimplificationMetric { Radiance, LightField2010, ColorQuadric, GeometryOnly };
+enum class SimplificationMetric { Radiance, LightField2010, ColorQuadric, GeometryOnly, RadianceQuadric };
+
+// The radiance quadric's radiance term weighs attributeWeight x kRadianceQuadricBalance against its
+// plane terms' geometryWeight: at the default weights (0.01 / 0.99) 0.99 x 2e-4 / 0.01 ~ 2 % in
+// normalised units, the balance the image-error benchmark measured best (docs/design-notes.md).
+inline constexpr double kRadianceQuadricBalance = 2e-4;
+inline constexpr double kRadianceQuadricPerceptualExponent = 0.5;
 std::string describe(SimplificationMetric metric);
 
 struct SimplificationError : std::runtime_error {
@@ -30,7 +41,10 @@ struct SimplificationError : std::runtime_error {
 };
 
 struct RadianceSimplificationOptions {
-    SimplificationMetric metric = SimplificationMetric::Radiance;
+    RadianceSimplificationOptions() { collapse.kind = CollapseKind::Full; }  // the radiance quadric's best
+    SimplificationMetric metric = SimplificationMetric::RadianceQuadric;
+    // Radiance quadric: how much errors in dark regions weigh more (radiance_quadric.h).
+    double perceptualExponent = kRadianceQuadricPerceptualExponent;
     // Engine options: kind, targetFaceCount, maxError, weights, boundary, valence, progress...
     EdgeCollapseOptions collapse;
 };

@@ -101,6 +101,39 @@ def test_full_collapse_on_spherical_harmonics(scenes, tmp_path):
     assert any(tuple(p) not in original for p in mesh.positions.tolist())
 
 
+def test_default_radiance_quadric_places_new_vertices_and_functions(striped, tmp_path):
+    """Every parameter at its default: the accumulating radiance quadric (Hoppe 1999) with full
+    collapses, on a PB field. New vertices get new positions and new radiance rows, within the range of
+    the original rows (the optimum is an area-weighted average of the faces' attribute planes), and
+    the recorded progressive mesh replays to exactly the layer, rows included."""
+    original = rply.read_rply(str(striped))
+    ms = h.load(striped)
+    progressive = tmp_path / "quadric.rpm"
+    ms.apply_filter(h.SIMPLIFY, targetpercentage=0.25, progressivefile=str(progressive))
+    assert ms.current_mesh().face_number() == 1280
+    mesh = saved(ms, 0, tmp_path / "quadric.rply")
+    h.check_closed_genus0_manifold(mesh.faces, "radiance quadric")
+    assert mesh.basis == "PB4" and np.isfinite(mesh.coefficients).all()
+    before = {tuple(p) for p in original.positions.tolist()}
+    moved = sum(tuple(p) not in before for p in mesh.positions.tolist())
+    assert moved > mesh.positions.shape[0] // 2, f"only {moved} vertices were placed anew"
+    constant = lambda m: m.coefficients.reshape(m.coefficients.shape[0], 3, -1)[:, :, 0]
+    lo, hi = constant(original).min(axis=0), constant(original).max(axis=0)
+    margin = 0.1 * (hi - lo)
+    assert (constant(mesh) >= lo - margin).all() and (constant(mesh) <= hi + margin).all(), \
+        "a new radiance function left the range of the original ones"
+    # The sphere stays a sphere: every vertex within 2 % of the radius (positions by the planes).
+    radii = np.linalg.norm(mesh.positions, axis=1)
+    radius = np.linalg.norm(original.positions, axis=1).mean()
+    assert np.abs(radii / radius - 1).max() < 0.02
+    h.run_tool("simplify_radiance", progressive, "-o", tmp_path / "replay", "--ratios", "0.25")
+    replay = rply.read_rply(str(tmp_path / "replay_250.rply"))
+    assert h.face_triples(mesh.positions, mesh.faces) == h.face_triples(replay.positions, replay.faces)
+    rows = {tuple(p): c for p, c in zip(mesh.positions.tolist(), mesh.coefficients)}
+    for p, c in zip(replay.positions.tolist(), replay.coefficients):
+        assert np.array_equal(rows[tuple(p)], c), "the replayed rows differ from the layer's"
+
+
 def test_open_strip_stops_at_its_boundary(tmp_path):
     """A 2 x 8 strip of quads: its 7 interior vertices go, the 20 boundary vertices stay (boundary
     preserved), so the target of 16 faces (50 %) stops at 18 faces."""

@@ -1,0 +1,385 @@
+#include "simplify/radiance_quadric.h"
+
+#include "radiance/material_radiance.h"
+#include "radiance/radiance_distance.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <omp.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace rad {
+
+namespace {
+
+// Layout of the geometric block of one vertex.
+constexpr int kA = 0;   // xx, xy, xz, yy, yz, zz
+constexpr int kB = 6;   // 3
+constexpr int kC = 9;
+constexpr int kW = 10;       // 3: the attribute weight of each colour channel
+constexpr int kPlanes = 13;  // the plane terms alone: A (6), b (3), c, for placing full collapses
+constexpr int kGeometric = 23;
+
+// d sRGB / d linear at L (IEC 61966-2-1), the local scale of an error in 8-bit units.
+double srgbSlope(double linear) {
+    return linear <= 0.0031308 ? 12.92 : 1.055 / 2.4 * std::pow(linear, 1.0 / 2.4 - 1.0);
+}
+
+Eigen::Matrix3d symmetric(const double* a) {
+    Eigen::Matrix3d m;
+    m << a[0], a[1], a[2], a[1], a[3], a[4], a[2], a[4], a[5];
+    return m;
+}
+
+}  // namespace
+
+std::vector<double> hemisphereGramMatrix(const BasisSpec& basis) {
+    const int k = basis.coefficientCount();
+    std::vector<double> gram(static_cast<std::size_t>(k) * k, 0.0);
+    // A Gauss product rule exact for the products of two basis functions (degree <= 2 * 10).
+    const HemisphereIntegrator rule = HemisphereIntegrator::gaussProduct(12, 24);
+    std::vector<double> values(k);
+    for (std::size_t i = 0; i < rule.size(); ++i) {
+        const Eigen::Vector3d& w = rule.localPoints()[i];
+        evaluateBasis(basis, w.x(), w.y(), w.z(), values.data());
+        for (int r = 0; r < k; ++r)
+            for (int c = 0; c < k; ++c) gram[r * k + c] += rule.weights()[i] * values[r] * values[c];
+    }
+    return gram;
+}
+
+// Q_v0 + Q_v1 unpacked: the geometric block and pointers to both vertices' gradients.
+struct RadianceQuadricMetric::Sum {
+    double g[kGeometric];
+    const double* grad0;
+    const double* grad1;
+};
+
+RadianceQuadricMetric::RadianceQuadricMetric(const CollapseMesh& mesh, RadianceField& field, RadianceQuadricOptions options)
+    : field_(field), options_(options) {
+    if (field.vertexCount() != mesh.vertexCount() || !field.validate().empty())
+        throw std::invalid_argument("the radiance field does not match the mesh (one radiance function per vertex)");
+    if (!(options.geometryWeight >= 0.0 && std::isfinite(options.geometryWeight)) ||
+        !(options.radianceWeight >= 0.0 && std::isfinite(options.radianceWeight)))
+        throw std::invalid_argument("the radiance quadric's weights must be finite and >= 0");
+    k_ = field.coefficientsPerChannel();
+    m_ = field.coefficientsPerVertex();
+    const std::size_t nv = mesh.vertexCount();
+
+    // The L2 space of the functions: coefficients times L^T, M = L L^T.
+    Eigen::MatrixXd gram = Eigen::MatrixXd::Identity(k_, k_);
+    if (field.basis.usesLocalFrame()) {
+        const std::vector<double> g = hemisphereGramMatrix(field.basis);
+        gram = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(g.data(), k_, k_);
+    }
+    const Eigen::LLT<Eigen::MatrixXd> llt(gram);
+    const Eigen::MatrixXd lt = llt.matrixU();  // L^T
+    const Eigen::MatrixXd ltInverse = lt.inverse();
+    toMetric_.resize(static_cast<std::size_t>(k_) * k_);
+    fromMetric_.resize(toMetric_.size());
+    for (int r = 0; r < k_; ++r)
+        for (int c = 0; c < k_; ++c) {
+            toMetric_[r * k_ + c] = lt(r, c);
+            fromMetric_[r * k_ + c] = ltInverse(r, c);
+        }
+
+    // Normalised positions: the bounding box of the alive vertices, diagonal 1.
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (std::uint32_t v = 0; v < nv; ++v) {
+        if (!mesh.vertexAlive(v)) continue;
+        lo = lo.cwiseMin(mesh.position(v));
+        hi = hi.cwiseMax(mesh.position(v));
+    }
+    if (lo.x() <= hi.x()) {
+        centre_ = 0.5 * (lo + hi);
+        const double diagonal = (hi - lo).norm();
+        positionScale_ = diagonal > 0.0 ? 1.0 / diagonal : 1.0;
+    }
+
+    // Attributes: L2 coordinates divided by the RMS norm of the field's functions.
+    attributes_.resize(nv * m_);
+    double sumSquares = 0.0;
+    std::size_t counted = 0;
+    for (std::size_t v = 0; v < nv; ++v) {
+        float* a = attributes_.data() + v * m_;
+        toMetric(field.vertexCoefficients(v), a);
+        if (!mesh.vertexAlive(static_cast<std::uint32_t>(v))) continue;
+        for (int j = 0; j < m_; ++j) sumSquares += double(a[j]) * a[j];
+        ++counted;
+    }
+    const double rms = counted > 0 ? std::sqrt(sumSquares / counted) : 0.0;
+    attributeScale_ = std::sqrt(options.radianceWeight) / (rms > 0.0 ? rms : 1.0);
+    for (float& a : attributes_) a = static_cast<float>(a * attributeScale_);
+
+    // Each vertex's quadric: the sum of its faces' (a face is computed once per corner, which keeps
+    // the loop parallel without atomics).
+    // Per channel and vertex: how much an error there weighs, (sRGB slope at the vertex's mean colour)
+    // ^ perceptualExponent, normalised to mean 1 over the vertices; a face takes its corners' mean.
+    std::vector<float> channelWeight(3 * nv, 1.0f);
+    if (options.perceptualExponent > 0.0) {
+        std::vector<float> mean(3 * nv);
+        meanHemisphereColors(field, mean.data());
+        double total = 0.0;
+        for (std::size_t i = 0; i < 3 * nv; ++i) {
+            channelWeight[i] = static_cast<float>(std::pow(srgbSlope(std::max(0.0f, mean[i])), options.perceptualExponent));
+            total += channelWeight[i];
+        }
+        const double norm = total > 0.0 ? 3.0 * nv / total : 1.0;
+        for (float& w : channelWeight) w = static_cast<float>(w * norm);
+    }
+    geometric_.assign(nv * kGeometric, 0.0);
+    gradients_.assign(nv * 4 * static_cast<std::size_t>(m_), 0.0);
+    const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+    const long n = static_cast<long>(nv);
+#pragma omp parallel num_threads(threads)
+    {
+        std::vector<double> g(3 * m_), e(m_), gradSum(4 * m_);
+#pragma omp for schedule(dynamic, 256)
+        for (long vi = 0; vi < n; ++vi) {
+            const std::uint32_t v = static_cast<std::uint32_t>(vi);
+            if (!mesh.vertexAlive(v)) continue;
+            double* q = geometric_.data() + v * kGeometric;
+            std::fill(gradSum.begin(), gradSum.end(), 0.0);
+            for (std::uint32_t f : mesh.incidentFaces(v)) {
+                const std::uint32_t* t = mesh.face(f);
+                const Eigen::Vector3d p0 = normalise(mesh.position(t[0])), p1 = normalise(mesh.position(t[1])),
+                                      p2 = normalise(mesh.position(t[2]));
+                const Eigen::Vector3d e1 = p1 - p0, e2 = p2 - p0;
+                const Eigen::Vector3d cross = e1.cross(e2);
+                const double doubleArea = cross.norm();
+                if (!(doubleArea > 0.0)) continue;  // no area, no weight
+                const double area = 0.5 * doubleArea;
+                const Eigen::Vector3d normal = cross / doubleArea;
+                const double d = -normal.dot(p0);
+                const double wg = area * options.geometryWeight;
+                q[kA + 0] += wg * normal.x() * normal.x();
+                q[kA + 1] += wg * normal.x() * normal.y();
+                q[kA + 2] += wg * normal.x() * normal.z();
+                q[kA + 3] += wg * normal.y() * normal.y();
+                q[kA + 4] += wg * normal.y() * normal.z();
+                q[kA + 5] += wg * normal.z() * normal.z();
+                for (int i = 0; i < 3; ++i) q[kB + i] += wg * d * normal[i];
+                q[kC] += wg * d * d;
+                const double planes[10] = {normal.x() * normal.x(), normal.x() * normal.y(), normal.x() * normal.z(),
+                                           normal.y() * normal.y(), normal.y() * normal.z(), normal.z() * normal.z(),
+                                           d * normal.x(), d * normal.y(), d * normal.z(), d * d};
+                for (int i = 0; i < 10; ++i) q[kPlanes + i] += area * planes[i];
+                double channelArea[3];
+                for (int c = 0; c < 3; ++c) {
+                    channelArea[c] = area * (channelWeight[3 * t[0] + c] + channelWeight[3 * t[1] + c] + channelWeight[3 * t[2] + c]) / 3.0;
+                    q[kW + c] += channelArea[c];
+                }
+                // Attribute gradients in the face's plane (Hoppe 1999 sec. 4): g.p_i + e = s_i at the corners.
+                const double a11 = e1.dot(e1), a12 = e1.dot(e2), a22 = e2.dot(e2);
+                const double det = a11 * a22 - a12 * a12;
+                const float* s0 = attributes_.data() + std::size_t(t[0]) * m_;
+                const float* s1 = attributes_.data() + std::size_t(t[1]) * m_;
+                const float* s2 = attributes_.data() + std::size_t(t[2]) * m_;
+                const bool planar = det > 1e-14 * a11 * a22;
+                for (int j = 0; j < m_; ++j) {
+                    const double area = channelArea[j / k_];
+                    Eigen::Vector3d grad = Eigen::Vector3d::Zero();
+                    double offset = (double(s0[j]) + s1[j] + s2[j]) / 3.0;
+                    if (planar) {
+                        const double d1 = double(s1[j]) - s0[j], d2 = double(s2[j]) - s0[j];
+                        const double alpha = (a22 * d1 - a12 * d2) / det, beta = (a11 * d2 - a12 * d1) / det;
+                        grad = alpha * e1 + beta * e2;
+                        offset = s0[j] - grad.dot(p0);
+                    }
+                    q[kA + 0] += area * grad.x() * grad.x();
+                    q[kA + 1] += area * grad.x() * grad.y();
+                    q[kA + 2] += area * grad.x() * grad.z();
+                    q[kA + 3] += area * grad.y() * grad.y();
+                    q[kA + 4] += area * grad.y() * grad.z();
+                    q[kA + 5] += area * grad.z() * grad.z();
+                    for (int i = 0; i < 3; ++i) q[kB + i] += area * offset * grad[i];
+                    q[kC] += area * offset * offset;
+                    for (int i = 0; i < 3; ++i) gradSum[3 * j + i] += area * grad[i];
+                    gradSum[3 * m_ + j] += area * offset;
+                }
+            }
+            std::copy(gradSum.begin(), gradSum.end(), gradients_.data() + std::size_t(v) * 4 * m_);
+        }
+    }
+}
+
+std::size_t RadianceQuadricMetric::bytes() const {
+    return (geometric_.size() + gradients_.size()) * sizeof(double) + attributes_.size() * sizeof(float);
+}
+
+void RadianceQuadricMetric::toMetric(const float* coefficients, float* attributes) const {
+    for (int c = 0; c < kColorChannels; ++c) {
+        const float* in = coefficients + c * k_;
+        float* out = attributes + c * k_;
+        for (int r = 0; r < k_; ++r) {
+            double sum = 0.0;
+            for (int i = r; i < k_; ++i) sum += toMetric_[r * k_ + i] * in[i];  // L^T is upper triangular
+            out[r] = static_cast<float>(sum);
+        }
+    }
+}
+
+void RadianceQuadricMetric::fromMetric(const double* attributes, float* coefficients) const {
+    for (int c = 0; c < kColorChannels; ++c) {
+        const double* in = attributes + c * k_;
+        float* out = coefficients + c * k_;
+        for (int r = 0; r < k_; ++r) {
+            double sum = 0.0;
+            for (int i = r; i < k_; ++i) sum += fromMetric_[r * k_ + i] * in[i];
+            out[r] = static_cast<float>(sum / attributeScale_);
+        }
+    }
+}
+
+void RadianceQuadricMetric::attributes(std::uint32_t v, double* out) const {
+    const float* a = attributes_.data() + std::size_t(v) * m_;
+    for (int j = 0; j < m_; ++j) out[j] = a[j];
+}
+
+void RadianceQuadricMetric::sumOf(std::uint32_t v0, std::uint32_t v1, Sum& out) const {
+    const double* q0 = geometric_.data() + std::size_t(v0) * kGeometric;
+    const double* q1 = geometric_.data() + std::size_t(v1) * kGeometric;
+    for (int i = 0; i < kGeometric; ++i) out.g[i] = q0[i] + q1[i];
+    out.grad0 = gradients_.data() + std::size_t(v0) * 4 * m_;
+    out.grad1 = gradients_.data() + std::size_t(v1) * 4 * m_;
+}
+
+// Q(p, s) = p^T A p + 2 b.p + c - 2 sum_j s_j (G_j.p + E_j) + W |s|^2.
+double RadianceQuadricMetric::evaluateSum(const Sum& q, const Eigen::Vector3d& p, const float* s) const {
+    const double* g = q.g;
+    double value = g[kA + 0] * p.x() * p.x() + g[kA + 3] * p.y() * p.y() + g[kA + 5] * p.z() * p.z() +
+                   2.0 * (g[kA + 1] * p.x() * p.y() + g[kA + 2] * p.x() * p.z() + g[kA + 4] * p.y() * p.z()) +
+                   2.0 * (g[kB] * p.x() + g[kB + 1] * p.y() + g[kB + 2] * p.z()) + g[kC];
+    const double* G0 = q.grad0;
+    const double* G1 = q.grad1;
+    const double* E0 = G0 + 3 * m_;
+    const double* E1 = G1 + 3 * m_;
+    double cross = 0.0, norm[3] = {0.0, 0.0, 0.0};
+    for (int j = 0; j < m_; ++j) {
+        const double plane = (double(G0[3 * j]) + G1[3 * j]) * p.x() + (double(G0[3 * j + 1]) + G1[3 * j + 1]) * p.y() +
+                             (double(G0[3 * j + 2]) + G1[3 * j + 2]) * p.z() + (double(E0[j]) + E1[j]);
+        cross += s[j] * plane;
+        norm[j / k_] += double(s[j]) * s[j];
+    }
+    value += -2.0 * cross;
+    for (int c = 0; c < 3; ++c) value += g[kW + c] * norm[c];
+    return std::max(0.0, value);
+}
+
+// min over s of Q(p, s) = p^T A p + 2 b.p + c - sum_j (G_j.p + E_j)^2 / W.
+double RadianceQuadricMetric::evaluateOptimal(const Sum& q, const Eigen::Vector3d& p) const {
+    const double* g = q.g;
+    double value = g[kA + 0] * p.x() * p.x() + g[kA + 3] * p.y() * p.y() + g[kA + 5] * p.z() * p.z() +
+                   2.0 * (g[kA + 1] * p.x() * p.y() + g[kA + 2] * p.x() * p.z() + g[kA + 4] * p.y() * p.z()) +
+                   2.0 * (g[kB] * p.x() + g[kB + 1] * p.y() + g[kB + 2] * p.z()) + g[kC];
+    {
+        const double* G0 = q.grad0;
+        const double* G1 = q.grad1;
+        const double* E0 = G0 + 3 * m_;
+        const double* E1 = G1 + 3 * m_;
+        double sum[3] = {0.0, 0.0, 0.0};
+        for (int j = 0; j < m_; ++j) {
+            const double plane = (double(G0[3 * j]) + G1[3 * j]) * p.x() + (double(G0[3 * j + 1]) + G1[3 * j + 1]) * p.y() +
+                                 (double(G0[3 * j + 2]) + G1[3 * j + 2]) * p.z() + (double(E0[j]) + E1[j]);
+            sum[j / k_] += plane * plane;
+        }
+        for (int c = 0; c < 3; ++c)
+            if (g[kW + c] > 0.0) value -= sum[c] / g[kW + c];
+    }
+    return std::max(0.0, value);
+}
+
+double RadianceQuadricMetric::evaluate(std::uint32_t v, const Eigen::Vector3d& worldPosition, const double* attributes) const {
+    Sum q;
+    const double* gv = geometric_.data() + std::size_t(v) * kGeometric;
+    for (int i = 0; i < kGeometric; ++i) q.g[i] = gv[i];
+    static const std::vector<double> zeros(4096, 0.0);
+    q.grad0 = gradients_.data() + std::size_t(v) * 4 * m_;
+    q.grad1 = zeros.data();
+    std::vector<float> s(attributes, attributes + m_);
+    return evaluateSum(q, normalise(worldPosition), s.data());
+}
+
+void RadianceQuadricMetric::priceHalfEdges(const CollapseMesh& mesh, const HalfEdgeQuery& query, double* costs) const {
+    Sum q;
+    for (int i = 0; i < query.targetCount; ++i) {
+        const std::uint32_t v1 = query.targets[i];
+        sumOf(query.source, v1, q);
+        costs[i] = evaluateSum(q, normalise(mesh.position(v1)), attributes_.data() + std::size_t(v1) * m_);
+    }
+}
+
+bool RadianceQuadricMetric::placeEdge(const CollapseMesh& mesh, std::uint32_t v0, std::uint32_t v1,
+                                      Eigen::Vector3d& position) const {
+    Sum q;
+    sumOf(v0, v1, q);
+    const Eigen::Vector3d p0 = normalise(mesh.position(v0)), p1 = normalise(mesh.position(v1));
+    // Candidates: the ends, the midpoint, and the minimiser of Q(p, s*(p)) when well conditioned.
+    Eigen::Vector3d best = p1;
+    double bestCost = evaluateOptimal(q, p1);
+    const auto consider = [&](const Eigen::Vector3d& p) {
+        const double cost = evaluateOptimal(q, p);
+        if (cost < bestCost) {
+            bestCost = cost;
+            best = p;
+        }
+    };
+    consider(p0);
+    consider(0.5 * (p0 + p1));
+    // The position minimising the distances to the planes alone (Garland & Heckbert 1997): with the
+    // attribute terms in, the attribute planes of curved neighbourhoods pull the vertex off the
+    // surface (their gradients are tangent to faces that are not the surface at p), which costs
+    // far more in images than it saves in the quadric.
+    const Eigen::Matrix3d a = symmetric(q.g + kPlanes);
+    const Eigen::Vector3d b(q.g[kPlanes + 6], q.g[kPlanes + 7], q.g[kPlanes + 8]);
+    const double scale = a.trace();
+    if (scale > 0.0 && std::abs(a.determinant()) > 1e-9 * scale * scale * scale) {
+        const Eigen::Vector3d optimum = a.fullPivLu().solve(-b);
+        // Only near the edge: far placements are where a flat region's quadric is ill-conditioned.
+        const double length = (p1 - p0).norm();
+        const Eigen::Vector3d mid = 0.5 * (p0 + p1);
+        if (optimum.allFinite() && (optimum - mid).norm() <= 2.0 * length) consider(optimum);
+    }
+    position = centre_ + best / positionScale_;
+    return true;
+}
+
+double RadianceQuadricMetric::priceEdge(const CollapseMesh& mesh, const EdgeQuery& query) const {
+    Sum q;
+    sumOf(query.v0, query.v1, q);
+    return evaluateOptimal(q, normalise(query.position));
+}
+
+void RadianceQuadricMetric::onCollapse(const CollapseMesh& mesh, const EdgeQuery& query) {
+    const std::uint32_t v0 = query.v0, v1 = query.v1;
+    double* q0 = geometric_.data() + std::size_t(v0) * kGeometric;
+    double* q1 = geometric_.data() + std::size_t(v1) * kGeometric;
+    for (int i = 0; i < kGeometric; ++i) q1[i] += q0[i];
+    const double* g0 = gradients_.data() + std::size_t(v0) * 4 * m_;
+    double* g1 = gradients_.data() + std::size_t(v1) * 4 * m_;
+    for (int i = 0; i < 4 * m_; ++i) g1[i] += g0[i];
+    if (query.halfEdge) return;
+
+    // Full collapse: the survivor's function is s* at its new position (the area-weighted average
+    // of every original face's attribute plane there); without area, the edge interpolation.
+    const Eigen::Vector3d p = normalise(query.position);
+    float* a1 = attributes_.data() + std::size_t(v1) * m_;
+    const float* a0 = attributes_.data() + std::size_t(v0) * m_;
+    thread_local std::vector<double> optimal;
+    optimal.resize(m_);
+    const double* e1 = g1 + 3 * m_;
+    for (int j = 0; j < m_; ++j) {
+        const double w = q1[kW + j / k_];
+        optimal[j] = w > 0.0 ? (g1[3 * j] * p.x() + g1[3 * j + 1] * p.y() + g1[3 * j + 2] * p.z() + e1[j]) / w
+                             : (1.0 - query.s) * a0[j] + query.s * a1[j];
+    }
+    for (int j = 0; j < m_; ++j) a1[j] = static_cast<float>(optimal[j]);
+    fromMetric(optimal.data(), field_.vertexCoefficients(v1));
+}
+
+}  // namespace rad

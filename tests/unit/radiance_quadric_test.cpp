@@ -1,0 +1,224 @@
+// Tests of radiance_quadric.h: the accumulating quadric of geometry and radiance coefficients
+// (Hoppe 1999) as the simplification's collapse metric.
+#include "simplify/radiance_quadric.h"
+
+#include "radiance/radiance_frame.h"
+#include "simplify/collapse_mesh.h"
+#include "simplify/radiance_simplification.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+namespace {
+
+using Eigen::Vector3d;
+
+// An n x n grid in the plane z = 0 (spacing 1), two triangles per cell, counter-clockwise from +z.
+struct Grid {
+    int n;
+    std::vector<float> positions;
+    std::vector<std::uint32_t> faces;
+    std::uint32_t at(int i, int j) const { return std::uint32_t(j * n + i); }
+    explicit Grid(int size, float spacing = 1.0f) : n(size) {
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) positions.insert(positions.end(), {spacing * i, spacing * j, 0.0f});
+        for (int j = 0; j + 1 < n; ++j)
+            for (int i = 0; i + 1 < n; ++i) {
+                faces.insert(faces.end(), {at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+                faces.insert(faces.end(), {at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+            }
+    }
+    std::size_t vertices() const { return positions.size() / 3; }
+    rad::CollapseMesh mesh() const { return rad::CollapseMesh(positions.data(), vertices(), faces.data(), faces.size() / 3); }
+};
+
+// A field whose every coefficient is an affine function of the position (frames facing +z).
+rad::RadianceField affineField(const Grid& grid, rad::BasisSpec basis, double scale = 1.0) {
+    rad::RadianceField field(basis, grid.vertices());
+    const int m = field.coefficientsPerVertex();
+    for (std::size_t v = 0; v < grid.vertices(); ++v) {
+        const double x = grid.positions[3 * v], y = grid.positions[3 * v + 1];
+        for (int j = 0; j < m; ++j)
+            field.vertexCoefficients(v)[j] = float(scale * (0.3 + 0.01 * j + 0.05 * (j % 3) * x - 0.02 * (j % 5) * y));
+        rad::storeFrame(rad::frameFromNormal(Vector3d::UnitZ()), field.frame(v));
+    }
+    return field;
+}
+
+double halfEdgeCost(const rad::RadianceQuadricMetric& metric, const rad::CollapseMesh& mesh, std::uint32_t v0,
+                    std::uint32_t v1) {
+    std::vector<rad::StarFace> star;
+    mesh.star(v0, star);
+    rad::HalfEdgeQuery q;
+    q.source = v0;
+    q.star = star.data();
+    q.starSize = int(star.size());
+    q.targets = &v1;
+    q.targetCount = 1;
+    double cost = -1.0;
+    metric.priceHalfEdges(mesh, q, &cost);
+    return cost;
+}
+
+TEST(HemisphereGramMatrix, MatchesHandComputedIntegrals) {
+    // PB1: 1, u, v with (u, v) = (x, y) of the local frame. (1/2pi) int over the hemisphere of
+    // 1 = 1, of x^2 = y^2 = 1/3, of x = y = xy = 0.
+    const std::vector<double> g = rad::hemisphereGramMatrix({rad::BasisKind::HemisphericalPolynomial, 1});
+    ASSERT_EQ(g.size(), 9u);
+    EXPECT_NEAR(g[0], 1.0, 1e-12);
+    EXPECT_NEAR(g[4], 1.0 / 3.0, 1e-12);
+    EXPECT_NEAR(g[8], 1.0 / 3.0, 1e-12);
+    EXPECT_NEAR(g[1], 0.0, 1e-12);
+    EXPECT_NEAR(g[5], 0.0, 1e-12);
+    // PB2 adds x^2: (1/2pi) int x^4 = 1/5, and x^2 y^2 = 1/15.
+    const std::vector<double> g2 = rad::hemisphereGramMatrix({rad::BasisKind::HemisphericalPolynomial, 2});
+    const int k = 6;
+    const int xx = rad::polynomialIndex(2, 0), yy = rad::polynomialIndex(0, 2);
+    EXPECT_NEAR(g2[xx * k + xx], 1.0 / 5.0, 1e-12);
+    EXPECT_NEAR(g2[xx * k + yy], 1.0 / 15.0, 1e-12);
+    EXPECT_NEAR(g2[0 * k + xx], 1.0 / 3.0, 1e-12);
+}
+
+TEST(RadianceQuadric, AffineRadianceOnAPlaneCostsNothing) {
+    const Grid grid(5);
+    rad::CollapseMesh mesh = grid.mesh();
+    rad::RadianceField field = affineField(grid, {rad::BasisKind::HemisphericalPolynomial, 2});
+    const rad::RadianceQuadricMetric metric(mesh, field);
+    // Interior vertex into a neighbour: the plane and the attribute planes are met exactly.
+    EXPECT_NEAR(halfEdgeCost(metric, mesh, grid.at(2, 2), grid.at(3, 2)), 0.0, 1e-9);
+    EXPECT_NEAR(halfEdgeCost(metric, mesh, grid.at(1, 2), grid.at(1, 1)), 0.0, 1e-9);
+}
+
+TEST(RadianceQuadric, RadianceChangeCostsAndMatchesTheAreaWeightedSum) {
+    // One vertex's radiance differs by delta in every coefficient (in the metric's space): moving
+    // that vertex onto a neighbour must cost; the neighbour onto it too.
+    const Grid grid(5);
+    rad::CollapseMesh mesh = grid.mesh();
+    rad::RadianceField field = affineField(grid, {rad::BasisKind::SphericalHarmonics, 1});
+    for (int j = 0; j < field.coefficientsPerVertex(); ++j) field.vertexCoefficients(grid.at(2, 2))[j] += 0.5f;
+    const rad::RadianceQuadricMetric metric(mesh, field);
+    const double away = halfEdgeCost(metric, mesh, grid.at(2, 2), grid.at(3, 2));
+    EXPECT_GT(away, 1e-6);
+    // A vertex far from the bump keeps costing nothing.
+    EXPECT_NEAR(halfEdgeCost(metric, mesh, grid.at(0, 4) == 0 ? 0 : grid.at(4, 4), grid.at(3, 4)), 0.0, 1e-9);
+}
+
+TEST(RadianceQuadric, CostsDoNotDependOnTheScansSizeOrTheRadianceRange) {
+    const Grid small(6, 1.0f), large(6, 1000.0f);
+    rad::CollapseMesh meshSmall = small.mesh(), meshLarge = large.mesh();
+    rad::RadianceField fieldSmall = affineField(small, {rad::BasisKind::HemisphericalPolynomial, 2}, 1.0);
+    rad::RadianceField fieldLarge = fieldSmall;  // same functions per vertex, radiance 40 times larger
+    for (float& c : fieldLarge.coefficients) c *= 40.0f;
+    // A bump so that the costs are not all zero, and a lifted vertex for geometry.
+    for (rad::RadianceField* f : {&fieldSmall, &fieldLarge})
+        for (int j = 0; j < f->coefficientsPerVertex(); ++j) f->vertexCoefficients(small.at(2, 3))[j] *= 1.7f;
+    meshSmall.setPosition(small.at(3, 2), Vector3d(3.0, 2.0, 0.4));
+    meshLarge.setPosition(large.at(3, 2), Vector3d(3000.0, 2000.0, 400.0));
+    const rad::RadianceQuadricMetric a(meshSmall, fieldSmall), b(meshLarge, fieldLarge);
+    for (std::uint32_t v0 = 0; v0 < small.vertices(); ++v0) {
+        std::vector<std::uint32_t> ring;
+        meshSmall.neighbours(v0, ring);
+        for (std::uint32_t v1 : ring) {
+            const double ca = halfEdgeCost(a, meshSmall, v0, v1), cb = halfEdgeCost(b, meshLarge, v0, v1);
+            EXPECT_NEAR(ca, cb, 1e-6 * std::max(1e-9, std::abs(ca))) << v0 << " -> " << v1;
+        }
+    }
+}
+
+TEST(RadianceQuadric, FullCollapseRecoversAffineRadianceAtTheNewPosition) {
+    const Grid grid(5);
+    rad::CollapseMesh mesh = grid.mesh();
+    const rad::BasisSpec basis{rad::BasisKind::SphericalHarmonics, 2};
+    rad::RadianceField field = affineField(grid, basis);
+    const rad::RadianceField truth = field;
+    rad::RadianceQuadricMetric metric(mesh, field);
+    const std::uint32_t v0 = grid.at(2, 2), v1 = grid.at(3, 2);
+    Vector3d position;
+    ASSERT_TRUE(metric.placeEdge(mesh, v0, v1, position));
+    EXPECT_NEAR(position.z(), 0.0, 1e-9);  // stays in the plane
+    rad::EdgeQuery q;
+    q.v0 = v0;
+    q.v1 = v1;
+    q.position = position;
+    q.s = std::clamp((position.x() - 2.0) / 1.0, 0.0, 1.0);
+    EXPECT_NEAR(metric.priceEdge(mesh, q), 0.0, 1e-9);
+    mesh.setPosition(v1, position);
+    mesh.collapse(v0, v1);
+    metric.onCollapse(mesh, q);
+    // The survivor's coefficients are the affine field at its new position.
+    const int m = field.coefficientsPerVertex();
+    for (int j = 0; j < m; ++j) {
+        const double expected = 0.3 + 0.01 * j + 0.05 * (j % 3) * position.x() - 0.02 * (j % 5) * position.y();
+        EXPECT_NEAR(field.vertexCoefficients(v1)[j], expected, 1e-4) << j;
+    }
+    (void)truth;
+}
+
+TEST(RadianceQuadric, QuadricsAccumulateOverCollapses) {
+    // After v0 -> v1 (half-edge), v1's quadric is the sum: the error of keeping v1's radiance now
+    // includes v0's faces, so a collapse that was free is no longer free when v0 differed.
+    const Grid grid(5);
+    rad::CollapseMesh mesh = grid.mesh();
+    rad::RadianceField field = affineField(grid, {rad::BasisKind::HemisphericalPolynomial, 1});
+    for (int j = 0; j < field.coefficientsPerVertex(); ++j) field.vertexCoefficients(grid.at(1, 2))[j] += 0.8f;
+    rad::RadianceQuadricMetric metric(mesh, field);
+    const std::uint32_t v0 = grid.at(1, 2), v1 = grid.at(2, 2), next = grid.at(3, 2);
+    std::vector<double> s(metric.attributeCount());
+    metric.attributes(v1, s.data());
+    const double before = metric.evaluate(v1, mesh.position(v1), s.data());
+    EXPECT_NEAR(before, 0.0, 1e-9);  // v1's own faces carry the bump only at one corner... v1 itself is affine
+    const double expectedAdded = metric.evaluate(v0, mesh.position(v1), s.data());
+    EXPECT_GT(expectedAdded, 0.0);
+    rad::EdgeQuery q;
+    q.v0 = v0;
+    q.v1 = v1;
+    q.position = mesh.position(v1);
+    q.s = 1.0;
+    q.halfEdge = true;
+    mesh.collapse(v0, v1);
+    metric.onCollapse(mesh, q);
+    const double after = metric.evaluate(v1, mesh.position(v1), s.data());
+    EXPECT_NEAR(after, before + expectedAdded, 1e-9 + 1e-6 * expectedAdded);
+    EXPECT_GT(halfEdgeCost(metric, mesh, v1, next), 0.0);
+}
+
+TEST(RadianceQuadric, IsTheDefaultAndSimplifiesBothCollapseKinds) {
+    EXPECT_EQ(rad::RadianceSimplificationOptions().metric, rad::SimplificationMetric::RadianceQuadric);
+    const Grid grid(12);
+    for (rad::CollapseKind kind : {rad::CollapseKind::HalfEdge, rad::CollapseKind::Full}) {
+        rad::RadianceMesh mesh;
+        mesh.positions = grid.positions;
+        for (std::size_t v = 0; v < grid.vertices(); ++v)  // a dome, so that geometry matters
+            mesh.positions[3 * v + 2] = 0.05f * (mesh.positions[3 * v] - 5.5f) * (mesh.positions[3 * v + 1] - 5.5f);
+        mesh.faces = grid.faces;
+        mesh.radiance = affineField(grid, {rad::BasisKind::HemisphericalPolynomial, 3});
+        rad::RadianceSimplificationOptions options;
+        options.collapse.kind = kind;
+        options.collapse.preserveBoundary = true;
+        options.collapse.targetFaceCount = mesh.faceCount() / 4;
+        const rad::RadianceSimplificationResult r = rad::simplifyRadianceMesh(mesh, options);
+        EXPECT_LE(r.collapse.finalFaceCount, mesh.faceCount() / 4);
+        const rad::RadianceMesh coarse = r.progressive.extract(r.progressive.steps.size());
+        ASSERT_TRUE(coarse.radiance.has_value());
+        EXPECT_EQ(coarse.radiance->validate(), "");
+        // Affine radiance stays affine through full collapses (the optimum reproduces it), and
+        // half-edge collapses keep original rows: either way every coefficient is the affine
+        // function of its vertex's original (x, y) up to the dome's small z.
+        const int m = coarse.radiance->coefficientsPerVertex();
+        for (std::size_t v = 0; v < coarse.vertexCount(); ++v) {
+            const double x = coarse.positions[3 * v], y = coarse.positions[3 * v + 1];
+            for (int j = 0; j < m; ++j) {
+                const double expected = 0.3 + 0.01 * j + 0.05 * (j % 3) * x - 0.02 * (j % 5) * y;
+                EXPECT_NEAR(coarse.radiance->vertexCoefficients(v)[j], expected, 0.02) << "vertex " << v << " coefficient " << j;
+            }
+        }
+    }
+}
+
+}  // namespace
