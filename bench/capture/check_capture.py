@@ -24,7 +24,9 @@ Checks, each printed with its figure and asserted:
     project.mlp through pymeshlab, runs 'Fit Radiance Functions from Rasters' holding out every k-th
     raster, prints MeshLab's log lines and the held-out RMS (fitted / constant / colour projection)
     beside the photographs' own noise (capture.json, from the noise twin), and asserts the fit
-    predicts held-out views better than the constant colour. Writes fit_check.json.
+    predicts held-out views no worse than the constant colour and, when the noise is known, within
+    3 x the noise (misplaced cameras give errors of tens of levels). Writes check.json["fit"] and
+    fit_check.log.
 Exit status 1 when a check fails.
 """
 import argparse
@@ -295,7 +297,10 @@ print('FIT SECONDS %.1f' % (time.time() - t), flush=True)
             report["fit"] = fit
             print(f"     held-out mean RMS (sRGB levels): fitted {fit['fitted_mean']:.2f}, constant {fit['constant_mean']:.2f}, "
                   f"projection {fit['projection_mean']:.2f}; photographs' own noise {noise if noise is None else round(noise, 2)}")
-            check(fit["fitted_mean"] < fit["constant_mean"], "held-out: fitted functions beat the constant colour")
+            check(fit["fitted_mean"] <= fit["constant_mean"], "held-out: fitted functions no worse than the constant colour")
+            if noise:  # wrong cameras give tens of levels; right ones the held-out photograph's noise and a bit
+                check(fit["fitted_mean"] < 3 * noise, f"held-out fitted RMS {fit['fitted_mean']:.2f} < 3 x the "
+                      f"photographs' own noise {noise:.2f}")
         else:
             check(False, "no held-out lines in the log (see fit_check.log)")
 
