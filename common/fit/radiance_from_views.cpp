@@ -270,10 +270,12 @@ void sharedFromSet(const TriangleMesh& mesh, const VertexAdjacency& adj, const S
             return !progress.cancelled();
         });
     };
+    SharedFitOptions shared = options.shared;
+    if (options.fit.robustIterations == 0) shared.robustIterations = 0;  // "robust" off: no Huber weights anywhere
     const SharedModel model =
-        fitSharedModel(normals, adj.offsets, adj.neighbours, set, use, options.shared, stage(percentFrom, mid));
+        fitSharedModel(normals, adj.offsets, adj.neighbours, set, use, shared, stage(percentFrom, mid));
     const SharedConversionStats stats = writeSharedRadiance(model, set, use, adj.offsets, adj.neighbours, options.fit,
-                                                            options.shared, field, meanColor, residual, status,
+                                                            shared, field, meanColor, residual, status,
                                                             stage(mid, percentTo));
     counters.perView.assign(viewCount, 0);
     counters.histogram.assign(viewCount + 1, 0);

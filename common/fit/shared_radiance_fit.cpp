@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <omp.h>
@@ -237,11 +238,17 @@ SharedModel fitSharedModel(const std::vector<float>& normals, const std::vector<
         // ---- G step ----
         Eigen::MatrixXd Atotal[3];
         Eigen::VectorXd btotal[3];
+        std::vector<std::array<Eigen::MatrixXd, 3>> partA(16);
+        std::vector<std::array<Eigen::VectorXd, 3>> partB(16);
         for (int c = 0; c < 3; ++c) {
             Atotal[c] = Eigen::MatrixXd::Zero(M, M);
             btotal[c] = Eigen::VectorXd::Zero(M);
         }
-#pragma omp parallel
+        // A fixed number of chunks, each with its own sums, merged in chunk order: the result does
+        // not depend on the thread count or the schedule.
+        constexpr std::ptrdiff_t kChunks = 16;
+#pragma omp parallel for schedule(dynamic, 1)
+        for (std::ptrdiff_t chunk = 0; chunk < kChunks; ++chunk)
         {
             constexpr int kBlock = 64;
             Eigen::MatrixXd A[3], D[3];
@@ -258,8 +265,8 @@ SharedModel fitSharedModel(const std::vector<float>& normals, const std::vector<
                 for (int c = 0; c < 3; ++c) A[c].selfadjointView<Eigen::Lower>().rankUpdate(D[c].leftCols(filled));
                 filled = 0;
             };
-#pragma omp for schedule(dynamic, 64) nowait
-            for (std::ptrdiff_t p = 0; p < lobeVertices; ++p) {
+            const std::ptrdiff_t pBegin = lobeVertices * chunk / kChunks, pEnd = lobeVertices * (chunk + 1) / kChunks;
+            for (std::ptrdiff_t p = pBegin; p < pEnd; ++p) {
                 const std::size_t v = static_cast<std::size_t>(p) * stride;
                 const float* nv = normals.data() + 3 * v;
                 for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
@@ -283,12 +290,16 @@ SharedModel fitSharedModel(const std::vector<float>& normals, const std::vector<
                 }
             }
             flush();
-#pragma omp critical(shared_radiance_fit_merge)
             for (int c = 0; c < 3; ++c) {
-                Atotal[c].triangularView<Eigen::Lower>() += A[c];
-                btotal[c] += b[c];
+                partA[chunk][c].swap(A[c]);
+                partB[chunk][c].swap(b[c]);
             }
         }
+        for (std::ptrdiff_t chunk = 0; chunk < kChunks; ++chunk)
+            for (int c = 0; c < 3; ++c) {
+                Atotal[c].triangularView<Eigen::Lower>() += partA[chunk][c];
+                btotal[c] += partB[chunk][c];
+            }
         for (int c = 0; c < 3; ++c) {
             Eigen::MatrixXd& Ac = Atotal[c];
             const double scale = std::max(Ac.trace() / M, 1e-300);
@@ -302,12 +313,13 @@ SharedModel fitSharedModel(const std::vector<float>& normals, const std::vector<
         // q_c: mean of G_c^2 over the G step's samples.
         {
             double q[3] = {0, 0, 0}, W = 0;
-#pragma omp parallel reduction(+ : W)
-            {
+            std::vector<std::array<double, 4>> partQ(kChunks);
+#pragma omp parallel for schedule(dynamic, 1)
+            for (std::ptrdiff_t chunk = 0; chunk < kChunks; ++chunk) {
                 std::vector<double> Y(M);
-                double ql[3] = {0, 0, 0};
-#pragma omp for schedule(dynamic, 64) nowait
-                for (std::ptrdiff_t p = 0; p < lobeVertices; ++p) {
+                double ql[3] = {0, 0, 0}, Wl = 0;
+                const std::ptrdiff_t pBegin = lobeVertices * chunk / kChunks, pEnd = lobeVertices * (chunk + 1) / kChunks;
+                for (std::ptrdiff_t p = pBegin; p < pEnd; ++p) {
                     const std::size_t v = static_cast<std::size_t>(p) * stride;
                     const float* nv = normals.data() + 3 * v;
                     for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
@@ -321,11 +333,14 @@ SharedModel fitSharedModel(const std::vector<float>& normals, const std::vector<
                             for (int k = 0; k < M; ++k) g += model.lobe[c * M + k] * Y[k];
                             ql[c] += s.weight * g * g;
                         }
-                        W += s.weight;
+                        Wl += s.weight;
                     }
                 }
-#pragma omp critical(shared_radiance_fit_q)
-                for (int c = 0; c < 3; ++c) q[c] += ql[c];
+                partQ[chunk] = {ql[0], ql[1], ql[2], Wl};
+            }
+            for (const auto& p : partQ) {
+                for (int c = 0; c < 3; ++c) q[c] += p[c];
+                W += p[3];
             }
             for (int c = 0; c < 3; ++c) model.lobeEnergy[c] = W > 0 ? q[c] / W : 0.0;
         }
@@ -457,7 +472,7 @@ SharedConversionStats writeSharedRadiance(const SharedModel& model, const Sample
 #pragma omp parallel reduction(+ : sharedCount, constantCount, tooFew, down)
     {
         Eigen::MatrixXd V(Nd, 3), C(K, 3);
-        std::vector<double> basisAt(K), g, a, y, local, out(3 * K), rot(K), rotOut(K);
+        std::vector<double> basisAt(K), g, a, raw, y, local, out(3 * K), rot(K), rotOut(K);
         const bool reporter = omp_get_thread_num() == 0;
 #pragma omp for schedule(dynamic, 256)
         for (std::ptrdiff_t iv = 0; iv < count; ++iv) {
@@ -481,9 +496,10 @@ SharedConversionStats writeSharedRadiance(const SharedModel& model, const Sample
             // The projected lobe at the vertex's samples.
             g.clear();
             a.clear();
+            raw.clear();
             y.clear();
             PairSums sums[3];
-            double meanAcc[3] = {0, 0, 0}, W = 0;
+            double meanAcc[3] = {0, 0, 0}, W = 0, meanW = 0;
             for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
                 if (!usable(i)) continue;
                 const DirectionalSample& s = set.samples[i];
@@ -504,24 +520,28 @@ SharedConversionStats writeSharedRadiance(const SharedModel& model, const Sample
                     p.Sgg += w * gc * gc;
                     p.Sy += w * s.rgb[c];
                     p.Sgy += w * gc * s.rgb[c];
-                    meanAcc[c] += w * s.rgb[c];
+                    meanAcc[c] += w * s.rgb[c];  // the Huber-weighted mean, as robust_radiance_fit.h
                 }
                 a.push_back(w);
+                raw.push_back(w);
                 W += w;
+                meanW += w;
             }
             const int m = static_cast<int>(a.size());
-            if (!(W > 0.0)) {  // every usable sample has zero weight: plain mean
+            if (!(W > 0.0) || !(meanW > 0.0)) {  // every usable sample has zero weight: plain mean
                 W = 0;
+                meanW = 0;
                 for (int c = 0; c < 3; ++c) meanAcc[c] = 0;
                 for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
                     if (!usable(i)) continue;
                     for (int c = 0; c < 3; ++c) meanAcc[c] += set.samples[i].rgb[c];
                     W += 1.0;
+                    meanW += 1.0;
                 }
-                for (int j = 0; j < m; ++j) a[j] = 1.0;
+                for (int j = 0; j < m; ++j) a[j] = raw[j] = 1.0;
             }
             double mean[3];
-            for (int c = 0; c < 3; ++c) mean[c] = meanAcc[c] / W;
+            for (int c = 0; c < 3; ++c) mean[c] = meanAcc[c] / meanW;
             double priorS[3];
             neighbourPrior(off, adj, model.specular, seen, v, priorS);
             double d[3], sc[3], inv[3][3];
@@ -536,7 +556,7 @@ SharedConversionStats writeSharedRadiance(const SharedModel& model, const Sample
                     const double scale = a[j] * srgbSlope2(yj);
                     const double hs = a[j] * (inv[c][0] + 2.0 * gj * inv[c][1] + gj * gj * inv[c][2]);
                     const double es = (yj - d[c] - sc[c] * gj) / std::max(1.0 - hs, 1e-3);
-                    const double hc = a[j] / W;
+                    const double hc = raw[j] / meanW;
                     const double ec = (yj - mean[c]) / std::max(1.0 - hc, 1e-3);
                     looShared += scale * es * es;
                     looConstant += scale * ec * ec;

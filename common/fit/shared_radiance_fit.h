@@ -80,7 +80,7 @@ struct SharedFitOptions {
     int robustIterations = 4;        // of them, the last ones use Huber weights (0: none)
     double huberThreshold = 3.0;     // > 0, in robust standard deviations
     double lobeRidge = 1e-3;         // >= 0: Tikhonov weight of G (times l(l+1), relative to trace / M)
-    std::size_t lobeSampleBudget = 400000;  // >= 1000: samples the G step uses at most
+    std::size_t lobeSampleBudget = 100000;  // >= 1000: samples the G step uses at most
     int octahedralResolution = 128;  // 16..1024: table of G for the per-vertex steps
     std::string validate() const;
 };
