@@ -116,6 +116,7 @@ struct SampleFitCounters {
     std::vector<std::size_t> perView, histogram;
     std::size_t guardRetried = 0, fallbacks = 0, totalSamples = 0, viewDependent = 0, regularised = 0;
     std::size_t validatedConstant = 0, tooFew = 0, guardConstant = 0, downweighted = 0, saturated = 0;
+    std::size_t sharedKept = 0;  // Shared: vertices given d + s * lobe
 };
 
 // Every sample of every vertex, saturation-weighted and divided by the view gains, in vertex order
@@ -185,7 +186,8 @@ RadianceField framedField(const TriangleMesh& mesh, const RobustFitOptions& fit)
 void perVertexFromSet(const RobustRadianceFitter& fitter, const SampleSet& set, const std::uint8_t* use,
                       std::size_t viewCount, RadianceField& field, std::vector<float>& meanColor,
                       std::vector<float>& sampleCount, std::vector<float>& residual, std::vector<std::uint8_t>& status,
-                      SampleFitCounters& counters, Progress& progress, int percentFrom, int percentTo) {
+                      SampleFitCounters& counters, Progress& progress, int percentFrom, int percentTo,
+                      const std::uint8_t* skipVertex = nullptr) {
     const std::size_t n = set.vertexCount();
     counters.perView.assign(viewCount, 0);
     counters.histogram.assign(viewCount + 1, 0);
@@ -204,6 +206,7 @@ void perVertexFromSet(const RobustRadianceFitter& fitter, const SampleSet& set, 
         for (std::ptrdiff_t iv = 0; iv < count; ++iv) {
             if (progress.cancelled()) continue;
             const std::size_t v = static_cast<std::size_t>(iv);
+            if (skipVertex && skipVertex[v]) continue;
             std::size_t m = 0;
             for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
                 if (use && !use[i]) continue;
@@ -256,7 +259,7 @@ void sharedFromSet(const TriangleMesh& mesh, const VertexAdjacency& adj, const S
                    std::size_t viewCount, const RadianceFromViewsOptions& options, RadianceField& field,
                    std::vector<float>& meanColor, std::vector<float>& sampleCount, std::vector<float>& residual,
                    std::vector<std::uint8_t>& status, SampleFitCounters& counters, Progress& progress,
-                   int percentFrom, int percentTo) {
+                   int percentFrom, int percentTo, const RobustRadianceFitter* rejectedFitter) {
     const std::size_t n = set.vertexCount();
     std::vector<float> normals(3 * n);
     for (std::size_t v = 0; v < n; ++v) {
@@ -274,9 +277,15 @@ void sharedFromSet(const TriangleMesh& mesh, const VertexAdjacency& adj, const S
     if (options.fit.robustIterations == 0) shared.robustIterations = 0;  // "robust" off: no Huber weights anywhere
     const SharedModel model =
         fitSharedModel(normals, adj.offsets, adj.neighbours, set, use, shared, stage(percentFrom, mid));
+    std::vector<std::uint8_t> kept;
+    const int convertTo = rejectedFitter ? (mid + percentTo) / 2 : percentTo;
     const SharedConversionStats stats = writeSharedRadiance(model, set, use, adj.offsets, adj.neighbours, options.fit,
                                                             shared, field, meanColor, residual, status,
-                                                            stage(mid, percentTo));
+                                                            stage(mid, convertTo), &kept);
+    SampleFitCounters rejected;
+    if (rejectedFitter)  // the vertices the shared function did not win: the per-vertex fit
+        perVertexFromSet(*rejectedFitter, set, use, viewCount, field, meanColor, sampleCount, residual, status,
+                         rejected, progress, convertTo, percentTo, kept.data());
     counters.perView.assign(viewCount, 0);
     counters.histogram.assign(viewCount + 1, 0);
     for (std::size_t v = 0; v < n; ++v) {
@@ -290,45 +299,91 @@ void sharedFromSet(const TriangleMesh& mesh, const VertexAdjacency& adj, const S
         if (m > 0) ++counters.histogram[m];
         counters.totalSamples += m;
     }
-    counters.viewDependent = stats.shared;
-    counters.validatedConstant = stats.constant;
-    counters.tooFew = stats.tooFew;
-    counters.fallbacks = stats.constant + stats.tooFew;
-    counters.downweighted = stats.downweighted;
+    counters.sharedKept = stats.shared;
+    if (rejectedFitter) {
+        counters.viewDependent = stats.shared + rejected.viewDependent;
+        counters.regularised = rejected.regularised;
+        counters.validatedConstant = rejected.validatedConstant;
+        counters.tooFew = rejected.tooFew;
+        counters.guardConstant = rejected.guardConstant;
+        counters.guardRetried = rejected.guardRetried;
+        counters.fallbacks = rejected.fallbacks;
+        counters.downweighted = stats.downweighted + rejected.downweighted;
+    } else {
+        counters.viewDependent = stats.shared;
+        counters.validatedConstant = stats.constant;
+        counters.tooFew = stats.tooFew;
+        counters.fallbacks = stats.constant + stats.tooFew;
+        counters.downweighted = stats.downweighted;
+    }
 }
 
-// RMS error in 8-bit sRGB levels of the field (and of the mean colours) at the samples with
-// heldOut[i], over vertices that have at least one training sample.
-void heldOutSampleError(const RadianceField& field, const std::vector<float>& meanColor, const SampleSet& set,
-                        const std::vector<std::uint8_t>& heldOut, double& fitted, double& constant,
-                        std::size_t& samples) {
+// Squared errors in 8-bit sRGB levels of the field (and of the mean colours) at the samples with
+// heldOut[i], over vertices that have at least one training sample, summed per view (3 per sample).
+struct HeldOutSums {
+    std::vector<double> fitted, constant;
+    std::vector<std::size_t> samples;
+    double rms(const std::vector<double>& sums) const {
+        double s = 0.0;
+        std::size_t m = 0;
+        for (std::size_t k = 0; k < sums.size(); ++k) {
+            s += sums[k];
+            m += samples[k];
+        }
+        return m ? std::sqrt(s / (3.0 * m)) : 0.0;
+    }
+    std::size_t total() const {
+        std::size_t m = 0;
+        for (std::size_t k : samples) m += k;
+        return m;
+    }
+};
+
+HeldOutSums heldOutSampleError(const RadianceField& field, const std::vector<float>& meanColor, const SampleSet& set,
+                               const std::vector<std::uint8_t>& heldOut, std::size_t viewCount) {
     const std::size_t n = set.vertexCount();
-    double sf = 0.0, sc = 0.0;
-    std::size_t count = 0;
-    const std::ptrdiff_t vc = static_cast<std::ptrdiff_t>(n);
-#pragma omp parallel for schedule(dynamic, 1024) reduction(+ : sf, sc, count)
-    for (std::ptrdiff_t iv = 0; iv < vc; ++iv) {
-        const std::size_t v = static_cast<std::size_t>(iv);
-        bool trained = false;
-        for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1] && !trained; ++i) trained = !heldOut[i];
-        if (!trained) continue;
-        for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
-            if (!heldOut[i]) continue;
-            const DirectionalSample& s = set.samples[i];
-            const Eigen::Vector3d f =
-                evaluateRadiance(field, v, Eigen::Vector3d(s.direction[0], s.direction[1], s.direction[2]));
-            for (int c = 0; c < 3; ++c) {
-                const double y = srgbLevel(s.rgb[c]);
-                const double ef = srgbLevel(f[c]) - y, ec = srgbLevel(meanColor[3 * v + c]) - y;
-                sf += ef * ef;
-                sc += ec * ec;
+    HeldOutSums out;
+    out.fitted.assign(viewCount, 0.0);
+    out.constant.assign(viewCount, 0.0);
+    out.samples.assign(viewCount, 0);
+    // A fixed number of chunks, each with its own sums, merged in chunk order: the sums (and so the
+    // choice made from them) do not depend on the thread count or the schedule.
+    constexpr std::ptrdiff_t kChunks = 16;
+    std::vector<HeldOutSums> parts(kChunks);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (std::ptrdiff_t chunk = 0; chunk < kChunks; ++chunk) {
+        HeldOutSums& local = parts[chunk];
+        local.fitted.assign(viewCount, 0.0);
+        local.constant.assign(viewCount, 0.0);
+        local.samples.assign(viewCount, 0);
+        const std::size_t begin = n * chunk / kChunks, end = n * (chunk + 1) / kChunks;
+        for (std::size_t v = begin; v < end; ++v) {
+            bool trained = false;
+            for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1] && !trained; ++i) trained = !heldOut[i];
+            if (!trained) continue;
+            for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
+                if (!heldOut[i]) continue;
+                const DirectionalSample& s = set.samples[i];
+                const Eigen::Vector3d f =
+                    evaluateRadiance(field, v, Eigen::Vector3d(s.direction[0], s.direction[1], s.direction[2]));
+                const std::uint32_t view = set.view[i];
+                for (int c = 0; c < 3; ++c) {
+                    const double y = srgbLevel(s.rgb[c]);
+                    const double ef = srgbLevel(f[c]) - y, ec = srgbLevel(meanColor[3 * v + c]) - y;
+                    local.fitted[view] += ef * ef;
+                    local.constant[view] += ec * ec;
+                }
+                ++local.samples[view];
             }
-            ++count;
         }
     }
-    samples = count;
-    fitted = count ? std::sqrt(sf / (3.0 * count)) : 0.0;
-    constant = count ? std::sqrt(sc / (3.0 * count)) : 0.0;
+    for (const HeldOutSums& local : parts)
+        for (std::size_t k = 0; k < viewCount; ++k) {
+            out.fitted[k] += local.fitted[k];
+            out.constant[k] += local.constant[k];
+            out.samples[k] += local.samples[k];
+        }
+    return out;
 }
 
 void fitFromSampleSet(const TriangleMesh& mesh, const ViewSampler& sampler, const RobustRadianceFitter& fitter,
@@ -362,22 +417,38 @@ void fitFromSampleSet(const TriangleMesh& mesh, const ViewSampler& sampler, cons
         RadianceField candidate = framedField(mesh, options.fit);
         perVertexFromSet(fitter, set, train.data(), viewCount, candidate, mean, count, residual, status, scratchCounters,
                          progress, 33, 50);
-        heldOutSampleError(candidate, mean, set, heldOut, result.validationPerVertex, result.validationConstant,
-                           result.validationSamples);
+        const HeldOutSums perVertex = heldOutSampleError(candidate, mean, set, heldOut, viewCount);
         candidate = framedField(mesh, options.fit);
         sharedFromSet(mesh, adj, set, train.data(), viewCount, options, candidate, mean, count, residual, status,
-                      scratchCounters, progress, 50, 65);
-        double constantAgain = 0.0;
-        heldOutSampleError(candidate, mean, set, heldOut, result.validationShared, constantAgain, result.validationSamples);
+                      scratchCounters, progress, 50, 65, options.sharedRejectedPerVertex ? &fitter : nullptr);
+        const HeldOutSums shared = heldOutSampleError(candidate, mean, set, heldOut, viewCount);
+        result.validationPerVertex = perVertex.rms(perVertex.fitted);
+        result.validationConstant = perVertex.rms(perVertex.constant);
+        result.validationShared = shared.rms(shared.fitted);
+        result.validationSamples = perVertex.total();
+        // View by view: wins (ties count as wins) and the worst ratio.
+        for (std::size_t view = 0; view < viewCount; ++view) {
+            if (perVertex.samples[view] == 0) continue;
+            const double a = std::sqrt(perVertex.fitted[view] / (3.0 * perVertex.samples[view]));
+            const double b = std::sqrt(shared.fitted[view] / (3.0 * shared.samples[view]));
+            ++result.validationViewsCompared;
+            if (b <= a) ++result.validationViewsSharedWins;
+            const double ratio = a > 0.0 ? b / a : (b > 0.0 ? 2.0 : 1.0);
+            result.validationWorstViewRatio = std::max(result.validationWorstViewRatio, ratio);
+        }
         result.modelValidated = true;
-        model = result.validationShared < result.validationPerVertex ? FitModel::Shared : FitModel::PerVertex;
+        const bool sharedBetter = result.validationShared < result.validationPerVertex &&
+                                  2 * result.validationViewsSharedWins >= result.validationViewsCompared &&
+                                  result.validationWorstViewRatio <= 1.0 + options.maxViewLoss;
+        model = sharedBetter ? FitModel::Shared : FitModel::PerVertex;
     }
     result.modelUsed = model;
     result.field = framedField(mesh, options.fit);
     if (model == FitModel::Shared) {
         sharedFromSet(mesh, adj, set, nullptr, viewCount, options, result.field, result.meanColor, result.sampleCount,
-                      result.residual, result.status, counters, progress, 65, kFitEnd);
-        result.sharedVertices = counters.viewDependent;
+                      result.residual, result.status, counters, progress, 65, kFitEnd,
+                      options.sharedRejectedPerVertex ? &fitter : nullptr);
+        result.sharedVertices = counters.sharedKept;
     } else {
         perVertexFromSet(fitter, set, nullptr, viewCount, result.field, result.meanColor, result.sampleCount,
                          result.residual, result.status, counters, progress, 65, kFitEnd);
@@ -394,6 +465,8 @@ std::string RadianceFromViewsOptions::validate() const {
             << "; 0.955 is sRGB code 250, a value above 1 turns the test off)";
     else if (!(saturatedWeight > 0.0 && saturatedWeight <= 1.0))
         why << "the weight of saturated samples must be in (0, 1] (got " << saturatedWeight << "; 1 keeps them as they are)";
+    else if (!(maxViewLoss >= 0.0) || !std::isfinite(maxViewLoss))
+        why << "the largest loss of the shared fit in one left-out raster must be finite and >= 0 (got " << maxViewLoss << ")";
     else if (validationEvery < 2)
         why << "the automatic choice of the fit must leave out every k-th raster with k >= 2 (got " << validationEvery << ")";
     else if (model != FitModel::PerVertex && !shared.validate().empty())

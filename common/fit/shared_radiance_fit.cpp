@@ -94,9 +94,12 @@ private:
     std::vector<float> values_;
 };
 
-inline void reflected(const float* n, const float* w, double* r) {
-    const double d = 2.0 * (double(n[0]) * w[0] + double(n[1]) * w[1] + double(n[2]) * w[2]);
-    for (int k = 0; k < 3; ++k) r[k] = d * n[k] - w[k];
+// r = 2 (n.w) n - w; returns the factor the lobe is multiplied by: max(n.w, 0) with the cosine
+// factor, 1 without.
+inline double reflected(const float* n, const float* w, double* r, bool cosine) {
+    const double nw = double(n[0]) * w[0] + double(n[1]) * w[1] + double(n[2]) * w[2];
+    for (int k = 0; k < 3; ++k) r[k] = 2.0 * nw * n[k] - w[k];
+    return cosine ? std::max(nw, 0.0) : 1.0;
 }
 
 // Squared slope of the 8-bit sRGB encoding at a linear value (first-order error in sRGB levels).
@@ -179,12 +182,13 @@ std::string SharedFitOptions::validate() const {
 void SharedModel::evaluate(std::size_t v, const float* n, const double* w, double* rgb) const {
     const int M = (lobeDegree + 1) * (lobeDegree + 1);
     double Y[(kMaxHarmonicDegree + 1) * (kMaxHarmonicDegree + 1)];
-    const double d = 2.0 * (n[0] * w[0] + n[1] * w[1] + n[2] * w[2]);
+    const double nw = n[0] * w[0] + n[1] * w[1] + n[2] * w[2], d = 2.0 * nw;
     evaluateSphericalHarmonics(lobeDegree, d * n[0] - w[0], d * n[1] - w[1], d * n[2] - w[2], Y);
+    const double factor = cosineFactor ? std::max(nw, 0.0) : 1.0;
     for (int c = 0; c < 3; ++c) {
         double g = 0.0;
         for (int k = 0; k < M; ++k) g += lobe[c * M + k] * Y[k];
-        rgb[c] = diffuse[3 * v + c] + specular[3 * v + c] * g;
+        rgb[c] = diffuse[3 * v + c] + specular[3 * v + c] * factor * g;
     }
 }
 
@@ -203,6 +207,7 @@ SharedModel fitSharedModel(const std::vector<float>& normals, const std::vector<
 
     SharedModel model;
     model.lobeDegree = degree;
+    model.cosineFactor = options.cosineFactor;
     model.lobe.assign(3 * M, 0.0);
     model.diffuse.assign(3 * n, 0.0f);
     model.specular.assign(3 * n, 1.0f);
@@ -275,11 +280,11 @@ SharedModel fitSharedModel(const std::vector<float>& normals, const std::vector<
                     const double w = double(s.weight) * model.robustWeight[i];
                     if (!(w > 0.0)) continue;
                     double r[3];
-                    reflected(nv, s.direction, r);
+                    const double cf = reflected(nv, s.direction, r, options.cosineFactor);
                     evaluateSphericalHarmonics(degree, r[0], r[1], r[2], Y.data());
                     const double sw = std::sqrt(w);
                     for (int c = 0; c < 3; ++c) {
-                        const double sc = model.specular[3 * v + c];
+                        const double sc = model.specular[3 * v + c] * cf;
                         const double t = s.rgb[c] - model.diffuse[3 * v + c];
                         double* col = D[c].col(filled).data();
                         for (int k = 0; k < M; ++k) col[k] = sw * sc * Y[k];
@@ -326,11 +331,12 @@ SharedModel fitSharedModel(const std::vector<float>& normals, const std::vector<
                         if (!usable(i)) continue;
                         const DirectionalSample& s = set.samples[i];
                         double r[3];
-                        reflected(nv, s.direction, r);
+                        const double cf = reflected(nv, s.direction, r, options.cosineFactor);
                         evaluateSphericalHarmonics(degree, r[0], r[1], r[2], Y.data());
                         for (int c = 0; c < 3; ++c) {
                             double g = 0;
                             for (int k = 0; k < M; ++k) g += model.lobe[c * M + k] * Y[k];
+                            g *= cf;
                             ql[c] += s.weight * g * g;
                         }
                         Wl += s.weight;
@@ -363,8 +369,9 @@ SharedModel fitSharedModel(const std::vector<float>& normals, const std::vector<
                 const DirectionalSample& s = set.samples[i];
                 const double w = double(s.weight) * model.robustWeight[i];
                 double r[3], g[3];
-                reflected(nv, s.direction, r);
+                const double cf = reflected(nv, s.direction, r, options.cosineFactor);
                 table.lookup(r[0], r[1], r[2], g);
+                for (int c = 0; c < 3; ++c) g[c] *= cf;
                 for (int c = 0; c < 3; ++c) {
                     PairSums& p = sums[c];
                     p.W += w;
@@ -385,8 +392,9 @@ SharedModel fitSharedModel(const std::vector<float>& normals, const std::vector<
                 if (!usable(i)) continue;
                 const DirectionalSample& s = set.samples[i];
                 double r[3], g[3];
-                reflected(nv, s.direction, r);
+                const double cf = reflected(nv, s.direction, r, options.cosineFactor);
                 table.lookup(r[0], r[1], r[2], g);
+                for (int c = 0; c < 3; ++c) g[c] *= cf;
                 double e2 = 0.0;
                 for (int c = 0; c < 3; ++c) {
                     const double e = s.rgb[c] - d[c] - sc[c] * g[c];
@@ -423,7 +431,7 @@ SharedConversionStats writeSharedRadiance(const SharedModel& model, const Sample
                                           const RobustFitOptions& fit, const SharedFitOptions& options,
                                           RadianceField& field, std::vector<float>& meanColor,
                                           std::vector<float>& residual, std::vector<std::uint8_t>& status,
-                                          const ProgressCallback& progress) {
+                                          const ProgressCallback& progress, std::vector<std::uint8_t>* keptShared) {
     const std::size_t n = set.vertexCount();
     if (field.vertexCount() != n || field.basis != fit.basis || meanColor.size() != 3 * n || residual.size() != n ||
         status.size() != n || model.diffuse.size() != 3 * n || model.robustWeight.size() != set.samples.size())
@@ -464,6 +472,7 @@ SharedConversionStats writeSharedRadiance(const SharedModel& model, const Sample
     for (std::size_t v = 0; v < n; ++v)
         for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1] && !seen[v]; ++i) seen[v] = usable(i);
 
+    if (keptShared) keptShared->assign(n, 0);
     SharedConversionStats stats;
     std::size_t sharedCount = 0, constantCount = 0, tooFew = 0, down = 0;
     std::atomic<bool> stop{false};
@@ -490,7 +499,8 @@ SharedConversionStats writeSharedRadiance(const SharedModel& model, const Sample
                 const double d2 = 2.0 * (nv[0] * w.x() + nv[1] * w.y() + nv[2] * w.z());
                 double gv[3];
                 table.lookup(d2 * nv[0] - w.x(), d2 * nv[1] - w.y(), d2 * nv[2] - w.z(), gv);
-                for (int c = 0; c < 3; ++c) V(i, c) = gv[c];
+                const double cf = options.cosineFactor ? std::max(dirs[3 * i + 2], 0.0) : 1.0;  // local z = n.w
+                for (int c = 0; c < 3; ++c) V(i, c) = cf * gv[c];
             }
             C.noalias() = P * V;
             // The projected lobe at the vertex's samples.
@@ -570,6 +580,7 @@ SharedConversionStats writeSharedRadiance(const SharedModel& model, const Sample
                     out[c * K] += d[c] / constantValue;
                 }
                 ++sharedCount;
+                if (keptShared) (*keptShared)[v] = 1;
             } else {
                 for (int c = 0; c < 3; ++c) out[c * K] = mean[c] / constantValue;
                 if (m < fit.minSamples) ++tooFew;

@@ -3,7 +3,11 @@
 // coefficients, which validation then regularises down to the vertex's mean colour).
 //
 // Model (per vertex v, colour channel c, unit direction w toward the camera, n_v the vertex normal):
-//     L_vc(w) = d_vc + s_vc * G_c(r_v(w)),     r_v(w) = 2 (n_v . w) n_v - w
+//     L_vc(w) = d_vc + s_vc * (n_v . w)_+ * G_c(r_v(w)),     r_v(w) = 2 (n_v . w) n_v - w
+// (the cosine factor: at the mirror configuration the light's incidence cosine n.l equals n.w, so a
+// lobe learnt on frontal views does not predict the same highlight at grazing ones; without it,
+// SharedFitOptions::cosineFactor = false, grazing held-out views of glossy captures were predicted
+// 2-3 levels too bright, worse than the constant)
 // d_v: a per-vertex diffuse colour (everything that does not depend on the view: albedo, shading,
 // shadows, interreflections); G: ONE function of the world-space reflected direction for the whole
 // object (3 channels, real spherical harmonics of degree lobeDegree); s_v: a per-vertex, per-channel
@@ -75,19 +79,24 @@ struct SampleSet {
 
 struct SharedFitOptions {
     int lobeDegree = 8;              // SH degree of G, 1..kMaxHarmonicDegree
-    double specularPrior = 1.0;      // >= 0: weight of the neighbours' scale, in the vertex's sample mass
+    double specularPrior = 3.0;      // >= 0: weight of the neighbours' scale, in the vertex's sample mass
     int iterations = 6;              // alternations, 1..50
     int robustIterations = 4;        // of them, the last ones use Huber weights (0: none)
     double huberThreshold = 3.0;     // > 0, in robust standard deviations
-    double lobeRidge = 1e-3;         // >= 0: Tikhonov weight of G (times l(l+1), relative to trace / M)
+    double lobeRidge = 0.03;         // >= 0: Tikhonov weight of G (times 1 + l(l+1), relative to trace / M)
     std::size_t lobeSampleBudget = 100000;  // >= 1000: samples the G step uses at most
     int octahedralResolution = 128;  // 16..1024: table of G for the per-vertex steps
+    // The lobe term is s_v * (n_v . w)_+ * G(r_v(w)) (the irradiance cosine at the mirror
+    // configuration, where n.l = n.r = n.w): without it, a lobe fitted on frontal views predicts the
+    // same highlight at grazing views, where the light arrives at a grazing angle too.
+    bool cosineFactor = true;
     std::string validate() const;
 };
 
 // The fitted model (linear RGB, after any exposure compensation the caller applied to the samples).
 struct SharedModel {
     int lobeDegree = 0;
+    bool cosineFactor = false;       // the lobe term carries (n.w)_+ (SharedFitOptions::cosineFactor)
     std::vector<double> lobe;        // 3 x (lobeDegree+1)^2, channel-major: SH coefficients of G (world frame)
     std::vector<float> diffuse;      // 3 per vertex
     std::vector<float> specular;     // 3 per vertex: s_v
@@ -117,11 +126,14 @@ struct SharedConversionStats {
 // it: frameFromNormal of the vertex normal, as radiance_from_views.cpp does), `meanColor`, `residual`,
 // `status` (Fitted / PoorlySampled by fit.poorSamplingFactor, as the per-vertex fit). fit: basis,
 // storeReflected, minSamples, poorSamplingFactor are used. Vertices without usable sample: untouched.
+// keptShared (optional): resized to the vertex count, 1 where the vertex got d + s * lobe, 0 elsewhere
+// (the caller may give those vertices another fit, e.g. the per-vertex one).
 SharedConversionStats writeSharedRadiance(const SharedModel& model, const SampleSet& set, const std::uint8_t* use,
                                           const std::vector<std::size_t>& adjacencyOffsets,
                                           const std::vector<std::uint32_t>& adjacency, const RobustFitOptions& fit,
                                           const SharedFitOptions& options, RadianceField& field,
                                           std::vector<float>& meanColor, std::vector<float>& residual,
-                                          std::vector<std::uint8_t>& status, const ProgressCallback& progress = {});
+                                          std::vector<std::uint8_t>& status, const ProgressCallback& progress = {},
+                                          std::vector<std::uint8_t>* keptShared = nullptr);
 
 }  // namespace rad

@@ -39,9 +39,10 @@ struct Field {
     std::vector<float> normals;
     std::vector<Vector3d> diffuse;
     std::vector<Vector3d> specular;
+    bool cosine = false;  // the lobe term carries (n.w)_+ (SharedFitOptions::cosineFactor)
     Vector3d value(std::size_t v, const Vector3d& w) const {
         const Vector3d n(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]);
-        return diffuse[v] + specular[v] * lobe(rad::reflect(n, w));
+        return diffuse[v] + specular[v] * (cosine ? std::max(n.dot(w), 0.0) : 1.0) * lobe(rad::reflect(n, w));
     }
 };
 
@@ -80,9 +81,12 @@ rad::RadianceField framedField(const Field& f, const rad::RobustFitOptions& fit)
 }  // namespace
 
 TEST(SharedRadianceFit, RecoversAFieldTheModelRepresentsExactly) {
+  for (const bool cosine : {false, true}) {
+    SCOPED_TRACE(cosine ? "with the cosine factor" : "without the cosine factor");
     std::mt19937 rng(7);
     const std::size_t n = 400;
     Field f = makeField(n, rng, 1.0);  // s = (1, 0.9, 0.8) for every vertex
+    f.cosine = cosine;
     rad::SampleSet set;
     set.offsets.push_back(0);
     for (std::size_t v = 0; v < n; ++v) {
@@ -98,7 +102,8 @@ TEST(SharedRadianceFit, RecoversAFieldTheModelRepresentsExactly) {
     options.lobeRidge = 0.0;
     options.robustIterations = 0;
     options.specularPrior = 0.0;
-    options.iterations = 30;
+    options.iterations = 50;
+    options.cosineFactor = cosine;
     const rad::SharedModel model = rad::fitSharedModel(f.normals, {}, {}, set, nullptr, options);
     double worst = 0.0;
     for (std::size_t v = 0; v < n; ++v) {
@@ -111,14 +116,21 @@ TEST(SharedRadianceFit, RecoversAFieldTheModelRepresentsExactly) {
             for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(rgb[c] - truth[c]));
         }
     }
-    // The octahedral table is only used inside the alternation; the model itself is exact SH.
-    EXPECT_LT(worst, 5e-3);
+    // The octahedral table is only used inside the alternation; the model itself is exact SH. With
+    // the cosine factor the alternation converges more slowly (measured: 0.040 after 30
+    // alternations, 0.010 after 50; 5e-3 is reached without it), hence the looser bound; a factor
+    // missing from one of the steps leaves errors of the order of the lobe (~0.5).
+    EXPECT_LT(worst, cosine ? 1.5e-2 : 5e-3);
+  }
 }
 
 TEST(SharedRadianceFit, PredictsAnUnphotographedHighlightBetterThanThePerVertexFit) {
+  for (const bool cosine : {true, false}) {  // the field follows the model with / without the cosine factor
+    SCOPED_TRACE(cosine ? "with the cosine factor" : "without the cosine factor");
     std::mt19937 rng(11);
     const std::size_t n = 1500;
     Field f = makeField(n, rng, 0.6);
+    f.cosine = cosine;
     rad::SampleSet set;
     set.offsets.push_back(0);
     std::vector<Vector3d> heldOutDirection(n);
@@ -140,6 +152,7 @@ TEST(SharedRadianceFit, PredictsAnUnphotographedHighlightBetterThanThePerVertexF
     rad::RobustFitOptions fit;  // PB4, the filter's default
     rad::SharedFitOptions options;
     options.specularPrior = 1.0;
+    options.cosineFactor = cosine;
     const rad::SharedModel model = rad::fitSharedModel(f.normals, {}, {}, set, nullptr, options);
     rad::RadianceField shared = framedField(f, fit), perVertex = framedField(f, fit);
     std::vector<float> mean(3 * n), residual(n);
@@ -160,6 +173,7 @@ TEST(SharedRadianceFit, PredictsAnUnphotographedHighlightBetterThanThePerVertexF
     // highlight it never saw; the shared lobe, fitted on every vertex's samples, does.
     EXPECT_LT(errShared, 0.5 * errPerVertex) << errShared << " vs " << errPerVertex << " (constant " << errConstant << ")";
     EXPECT_LT(errShared, 0.5 * errConstant);
+  }
 }
 
 TEST(SharedRadianceFit, MatteNoisyFieldFallsBackToTheConstantAtMostVertices) {
