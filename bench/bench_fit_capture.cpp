@@ -5,7 +5,7 @@
 //
 //   bench_fit_capture CAPTURE [--held-out-every K] [--basis PB4] [--models per-vertex,shared,auto]
 //                     [--meshlab-colors COLORS.ply] [--lobe-degree L] [--specular-prior P] [--lobe-ridge R]
-//                     [--cosine 0|1]
+//                     [--cosine 0|1] [--factor-curve 0|1]
 //                     [--in-sample 1] [--rejected-constant 1] [--diagnose-view J]
 //
 // Rasters K, 2K, ... (1-based, the order of the project, as the filter's heldOutEvery) are held out;
@@ -69,6 +69,7 @@ int main(int argc, char** argv) {
         else if (!std::strcmp(argv[i], "--diagnose-view")) diagnoseView = std::atoi(argv[i + 1]);
         else if (!std::strcmp(argv[i], "--in-sample")) inSample = std::atoi(argv[i + 1]) != 0;
         else if (!std::strcmp(argv[i], "--cosine")) sharedOptions.cosineFactor = std::atoi(argv[i + 1]) != 0;
+        else if (!std::strcmp(argv[i], "--factor-curve")) sharedOptions.fitFactorCurve = std::atoi(argv[i + 1]) != 0;
         else if (!std::strcmp(argv[i], "--lobe-degree")) sharedOptions.lobeDegree = std::atoi(argv[i + 1]);
         else if (!std::strcmp(argv[i], "--specular-prior")) sharedOptions.specularPrior = std::atof(argv[i + 1]);
         else if (!std::strcmp(argv[i], "--lobe-ridge")) sharedOptions.lobeRidge = std::atof(argv[i + 1]);

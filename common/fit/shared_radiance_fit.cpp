@@ -96,10 +96,16 @@ private:
 
 // r = 2 (n.w) n - w; returns the factor the lobe is multiplied by: max(n.w, 0) with the cosine
 // factor, 1 without.
-inline double reflected(const float* n, const float* w, double* r, bool cosine) {
+inline double reflected(const float* n, const float* w, double* r, const SharedModel& model) {
     const double nw = double(n[0]) * w[0] + double(n[1]) * w[1] + double(n[2]) * w[2];
     for (int k = 0; k < 3; ++k) r[k] = 2.0 * nw * n[k] - w[k];
-    return cosine ? std::max(nw, 0.0) : 1.0;
+    return model.factor(nw);
+}
+
+// Hat function k of the factor curve at x in [0, 1] (knots k / (kCurveKnots - 1)).
+inline double hat(int k, double x) {
+    const double t = x * (SharedModel::kCurveKnots - 1) - k;
+    return std::max(0.0, 1.0 - std::abs(t));
 }
 
 // Squared slope of the 8-bit sRGB encoding at a linear value (first-order error in sRGB levels).
@@ -179,16 +185,25 @@ std::string SharedFitOptions::validate() const {
     return why.str();
 }
 
+double SharedModel::factor(double nw) const {
+    if (!cosineFactor) return 1.0;
+    const double x = std::min(std::max(nw, 0.0), 1.0);
+    if (curve.size() != std::size_t(kCurveKnots)) return x;
+    const double t = x * (kCurveKnots - 1);
+    const int k = std::min(static_cast<int>(t), kCurveKnots - 2);
+    return curve[k] + (t - k) * (curve[k + 1] - curve[k]);
+}
+
 void SharedModel::evaluate(std::size_t v, const float* n, const double* w, double* rgb) const {
     const int M = (lobeDegree + 1) * (lobeDegree + 1);
     double Y[(kMaxHarmonicDegree + 1) * (kMaxHarmonicDegree + 1)];
     const double nw = n[0] * w[0] + n[1] * w[1] + n[2] * w[2], d = 2.0 * nw;
     evaluateSphericalHarmonics(lobeDegree, d * n[0] - w[0], d * n[1] - w[1], d * n[2] - w[2], Y);
-    const double factor = cosineFactor ? std::max(nw, 0.0) : 1.0;
+    const double f = factor(nw);
     for (int c = 0; c < 3; ++c) {
         double g = 0.0;
         for (int k = 0; k < M; ++k) g += lobe[c * M + k] * Y[k];
-        rgb[c] = diffuse[3 * v + c] + specular[3 * v + c] * factor * g;
+        rgb[c] = diffuse[3 * v + c] + specular[3 * v + c] * f * g;
     }
 }
 
@@ -208,6 +223,8 @@ SharedModel fitSharedModel(const std::vector<float>& normals, const std::vector<
     SharedModel model;
     model.lobeDegree = degree;
     model.cosineFactor = options.cosineFactor;
+    model.curve.resize(SharedModel::kCurveKnots);
+    for (int k = 0; k < SharedModel::kCurveKnots; ++k) model.curve[k] = double(k) / (SharedModel::kCurveKnots - 1);
     model.lobe.assign(3 * M, 0.0);
     model.diffuse.assign(3 * n, 0.0f);
     model.specular.assign(3 * n, 1.0f);
@@ -280,7 +297,7 @@ SharedModel fitSharedModel(const std::vector<float>& normals, const std::vector<
                     const double w = double(s.weight) * model.robustWeight[i];
                     if (!(w > 0.0)) continue;
                     double r[3];
-                    const double cf = reflected(nv, s.direction, r, options.cosineFactor);
+                    const double cf = reflected(nv, s.direction, r, model);
                     evaluateSphericalHarmonics(degree, r[0], r[1], r[2], Y.data());
                     const double sw = std::sqrt(w);
                     for (int c = 0; c < 3; ++c) {
@@ -331,7 +348,7 @@ SharedModel fitSharedModel(const std::vector<float>& normals, const std::vector<
                         if (!usable(i)) continue;
                         const DirectionalSample& s = set.samples[i];
                         double r[3];
-                        const double cf = reflected(nv, s.direction, r, options.cosineFactor);
+                        const double cf = reflected(nv, s.direction, r, model);
                         evaluateSphericalHarmonics(degree, r[0], r[1], r[2], Y.data());
                         for (int c = 0; c < 3; ++c) {
                             double g = 0;
@@ -369,7 +386,7 @@ SharedModel fitSharedModel(const std::vector<float>& normals, const std::vector<
                 const DirectionalSample& s = set.samples[i];
                 const double w = double(s.weight) * model.robustWeight[i];
                 double r[3], g[3];
-                const double cf = reflected(nv, s.direction, r, options.cosineFactor);
+                const double cf = reflected(nv, s.direction, r, model);
                 table.lookup(r[0], r[1], r[2], g);
                 for (int c = 0; c < 3; ++c) g[c] *= cf;
                 for (int c = 0; c < 3; ++c) {
@@ -392,7 +409,7 @@ SharedModel fitSharedModel(const std::vector<float>& normals, const std::vector<
                 if (!usable(i)) continue;
                 const DirectionalSample& s = set.samples[i];
                 double r[3], g[3];
-                const double cf = reflected(nv, s.direction, r, options.cosineFactor);
+                const double cf = reflected(nv, s.direction, r, model);
                 table.lookup(r[0], r[1], r[2], g);
                 for (int c = 0; c < 3; ++c) g[c] *= cf;
                 double e2 = 0.0;
@@ -401,6 +418,65 @@ SharedModel fitSharedModel(const std::vector<float>& normals, const std::vector<
                     e2 += e * e;
                 }
                 residualNorm[i] = static_cast<float>(std::sqrt(e2));
+            }
+        }
+        // ---- factor curve step: h(n.w) = sum_k beta_k hat_k(n.w), shared by every vertex and channel,
+        // least squares with d, s, G fixed over the G step's vertices, pulled toward the cosine
+        // (weight 1e-3 of the trace), clamped >= 0, normalised to h(1) = 1 (G takes the scale) ----
+        if (options.cosineFactor && options.fitFactorCurve) {
+            constexpr int K = SharedModel::kCurveKnots;
+            constexpr std::ptrdiff_t kChunks = 16;
+            std::vector<Eigen::Matrix<double, K, K>> partA(kChunks);
+            std::vector<Eigen::Matrix<double, K, 1>> partB(kChunks);
+#pragma omp parallel for schedule(dynamic, 1)
+            for (std::ptrdiff_t chunk = 0; chunk < kChunks; ++chunk) {
+                Eigen::Matrix<double, K, K> A = Eigen::Matrix<double, K, K>::Zero();
+                Eigen::Matrix<double, K, 1> b = Eigen::Matrix<double, K, 1>::Zero();
+                const std::ptrdiff_t pBegin = lobeVertices * chunk / kChunks, pEnd = lobeVertices * (chunk + 1) / kChunks;
+                for (std::ptrdiff_t p = pBegin; p < pEnd; ++p) {
+                    const std::size_t v = static_cast<std::size_t>(p) * stride;
+                    const float* nv = normals.data() + 3 * v;
+                    for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
+                        if (!usable(i)) continue;
+                        const DirectionalSample& s = set.samples[i];
+                        const double w = double(s.weight) * model.robustWeight[i];
+                        if (!(w > 0.0)) continue;
+                        double r[3], g[3];
+                        reflected(nv, s.direction, r, model);
+                        const double nw = std::min(std::max(double(nv[0]) * s.direction[0] + double(nv[1]) * s.direction[1] +
+                                                                double(nv[2]) * s.direction[2], 0.0), 1.0);
+                        table.lookup(r[0], r[1], r[2], g);
+                        Eigen::Matrix<double, K, 1> phi;
+                        for (int k = 0; k < K; ++k) phi[k] = hat(k, nw);
+                        for (int c = 0; c < 3; ++c) {
+                            const double a = model.specular[3 * v + c] * g[c];
+                            A.noalias() += (w * a * a) * phi * phi.transpose();
+                            b.noalias() += (w * a * (s.rgb[c] - model.diffuse[3 * v + c])) * phi;
+                        }
+                    }
+                }
+                partA[chunk] = A;
+                partB[chunk] = b;
+            }
+            Eigen::Matrix<double, K, K> A = Eigen::Matrix<double, K, K>::Zero();
+            Eigen::Matrix<double, K, 1> b = Eigen::Matrix<double, K, 1>::Zero(), prior;
+            for (std::ptrdiff_t chunk = 0; chunk < kChunks; ++chunk) {
+                A += partA[chunk];
+                b += partB[chunk];
+            }
+            const double mu = 1e-3 * std::max(A.trace() / K, 1e-300);
+            for (int k = 0; k < K; ++k) prior[k] = double(k) / (K - 1);
+            A.diagonal().array() += mu;
+            b += mu * prior;
+            Eigen::Matrix<double, K, 1> beta = A.ldlt().solve(b);
+            if (beta.allFinite()) {
+                for (int k = 0; k < K; ++k) beta[k] = std::max(beta[k], 0.0);
+                const double top = beta[K - 1];
+                if (top > 1e-6) {
+                    for (int k = 0; k < K; ++k) model.curve[k] = beta[k] / top;
+                    for (double& x : model.lobe) x *= top;
+                    for (double& q : model.lobeEnergy) q *= top * top;
+                }
             }
         }
         // ---- robust weights for the next iteration ----
@@ -499,7 +575,7 @@ SharedConversionStats writeSharedRadiance(const SharedModel& model, const Sample
                 const double d2 = 2.0 * (nv[0] * w.x() + nv[1] * w.y() + nv[2] * w.z());
                 double gv[3];
                 table.lookup(d2 * nv[0] - w.x(), d2 * nv[1] - w.y(), d2 * nv[2] - w.z(), gv);
-                const double cf = options.cosineFactor ? std::max(dirs[3 * i + 2], 0.0) : 1.0;  // local z = n.w
+                const double cf = model.factor(dirs[3 * i + 2]);  // local z = n.w
                 for (int c = 0; c < 3; ++c) V(i, c) = cf * gv[c];
             }
             C.noalias() = P * V;

@@ -3,11 +3,12 @@
 // coefficients, which validation then regularises down to the vertex's mean colour).
 //
 // Model (per vertex v, colour channel c, unit direction w toward the camera, n_v the vertex normal):
-//     L_vc(w) = d_vc + s_vc * (n_v . w)_+ * G_c(r_v(w)),     r_v(w) = 2 (n_v . w) n_v - w
-// (the cosine factor: at the mirror configuration the light's incidence cosine n.l equals n.w, so a
-// lobe learnt on frontal views does not predict the same highlight at grazing ones; without it,
-// SharedFitOptions::cosineFactor = false, grazing held-out views of glossy captures were predicted
-// 2-3 levels too bright, worse than the constant)
+//     L_vc(w) = d_vc + s_vc * h(n_v . w) * G_c(r_v(w)),     r_v(w) = 2 (n_v . w) n_v - w
+// (the factor h, one curve for the whole object, starts as the cosine: at the mirror configuration
+// the light's incidence cosine n.l equals n.w, so a lobe learnt on frontal views does not predict the
+// same highlight at grazing ones; without it, SharedFitOptions::cosineFactor = false, grazing held-out
+// views of glossy captures were predicted 2-3 levels too bright, worse than the constant. The curve
+// is then fitted (fitFactorCurve), since a metal's Fresnel brightening offsets part of the cosine.)
 // d_v: a per-vertex diffuse colour (everything that does not depend on the view: albedo, shading,
 // shadows, interreflections); G: ONE function of the world-space reflected direction for the whole
 // object (3 channels, real spherical harmonics of degree lobeDegree); s_v: a per-vertex, per-channel
@@ -35,6 +36,9 @@
 //      lambda_v (s_vc - sbar_vc)^2, sbar_v the mean of its neighbours' s of the previous iteration
 //      (Jacobi: independent of the vertex order), lambda_v = specularPrior * (sum_j a_j) * q_c, q_c the
 //      mean of G_c^2 over the samples (the prior weighs like specularPrior times the vertex's samples).
+//   2b. factor step (cosineFactor and fitFactorCurve): with d, s, G fixed, the 5 knot values of h by
+//      least squares over the G step's samples (+ 1e-3 of the trace toward the cosine), clamped >= 0,
+//      scaled so that h(1) = 1 (G takes the scale).
 //   3. robust weights rho (from iteration 2 on): Huber, min(1, huberThreshold * sigma / |e_j|), e_j the
 //      RGB residual, sigma = 1.4826 median |e| over the G step's samples.
 // Steps 1-3 are repeated `iterations` times.
@@ -90,13 +94,21 @@ struct SharedFitOptions {
     // configuration, where n.l = n.r = n.w): without it, a lobe fitted on frontal views predicts the
     // same highlight at grazing views, where the light arrives at a grazing angle too.
     bool cosineFactor = true;
+    // With cosineFactor: the factor is a curve h(n.w) (piecewise linear, 5 knots, h(1) = 1, >= 0)
+    // fitted in the alternation, starting from the cosine and pulled weakly toward it (a metal's
+    // Fresnel brightening at grazing angles offsets the cosine; a plastic's does not).
+    bool fitFactorCurve = true;
     std::string validate() const;
 };
 
 // The fitted model (linear RGB, after any exposure compensation the caller applied to the samples).
 struct SharedModel {
     int lobeDegree = 0;
-    bool cosineFactor = false;       // the lobe term carries (n.w)_+ (SharedFitOptions::cosineFactor)
+    bool cosineFactor = false;       // the lobe term carries factor(n.w) (SharedFitOptions::cosineFactor)
+    static constexpr int kCurveKnots = 5;
+    std::vector<double> curve;       // kCurveKnots values of h at n.w = k / (kCurveKnots - 1); empty: the cosine
+    // 1 without the cosine factor; h(clamp(n.w, 0, 1)) with it.
+    double factor(double nw) const;
     std::vector<double> lobe;        // 3 x (lobeDegree+1)^2, channel-major: SH coefficients of G (world frame)
     std::vector<float> diffuse;      // 3 per vertex
     std::vector<float> specular;     // 3 per vertex: s_v
