@@ -83,6 +83,20 @@ public:
                               "(normalised to a geometric mean of 1) and divide each raster's colours by its gains "
                               "before the fit: differences of exposure or white balance between the photographs are "
                               "not view dependence. The gains are written to the log."));
+        par.addParam(RichEnum("fitModel", 0,
+                              QStringList() << "Automatic (chosen on left-out rasters)" << "Per vertex"
+                                            << "Shared diffuse + reflected lobe",
+                              "Fit model",
+                              "Per vertex: each vertex's function from its own photographs only. Shared: a diffuse "
+                              "colour per vertex plus one lobe of the reflected view direction shared by the whole "
+                              "object, scaled per vertex (a distant light's highlight sits at the same reflected "
+                              "direction everywhere; after the reflected parametrisation of Wood et al. 2000 and "
+                              "the factorisations of Chen et al. 2002), written into the chosen basis; a vertex keeps "
+                              "it only where it predicts the vertex's own left-out photographs better than the "
+                              "constant, the others get the per-vertex fit. Automatic: both are fitted without every "
+                              "5th raster and compared raster by raster on those: the shared fit is used only when it "
+                              "is better overall, in at least half of them and nowhere worse by more than 2 %; "
+                              "otherwise the per-vertex fit (the log says which and why)."));
         par.addParam(RichInt("heldOutEvery", 0, "Hold out every k-th raster",
                              "0: fit on every raster. k >= 2: rasters k, 2k, 3k... (in the order of the raster "
                              "list) are left out of the fit, and the log compares, on each of them, the fitted "
@@ -110,6 +124,12 @@ public:
         if (!par.getBool("validation")) options.fit.validationLambdas = 0;
         if (!par.getBool("robust")) options.fit.robustIterations = 0;
         options.compensateExposure = par.getBool("exposureCompensation");
+        {
+            const int model = par.getEnum("fitModel");
+            options.model = model == 1 ? rad::FitModel::PerVertex
+                          : model == 2 ? rad::FitModel::Shared
+                                       : rad::FitModel::Automatic;
+        }
         const int heldOutEvery = par.getInt("heldOutEvery");
         if (heldOutEvery < 0 || heldOutEvery == 1)
             throw Refusal(formatLine("Hold out every k-th raster: %d is not usable; use 0 to fit on every raster, or k >= 2 "
@@ -204,6 +224,21 @@ public:
                            seen, result.viewDependent, result.regularised, result.validatedConstant,
                            result.tooFewSamples, options.fit.minSamples, result.guardConstant, result.unseenFilled,
                            result.unseenLeft));
+        if (result.modelValidated)
+            ctx.log(formatLine("Fit model chosen on every %d-th raster left out (%zu rasters, %zu samples): %s; RMS "
+                               "error in sRGB levels on them: per-vertex %.2f, shared diffuse + reflected lobe %.2f, "
+                               "constant mean colour %.2f; shared better or equal in %zu of %zu left-out rasters, "
+                               "worst raster shared / per-vertex %.3f (shared needs: better overall, at least half "
+                               "the rasters, none worse than %.3f).",
+                               options.validationEvery, result.validationViews, result.validationSamples,
+                               result.modelUsed == rad::FitModel::Shared ? "shared" : "per vertex",
+                               result.validationPerVertex, result.validationShared, result.validationConstant,
+                               result.validationViewsSharedWins, result.validationViewsCompared,
+                               result.validationWorstViewRatio, 1.0 + options.maxViewLoss));
+        if (result.modelUsed == rad::FitModel::Shared)
+            ctx.log(formatLine("Shared fit (SH%d lobe of the reflected direction): %zu vertices diffuse + scaled "
+                               "lobe; the others (where it did not predict their own left-out photographs better than "
+                               "the constant) the per-vertex fit.", result.lobeDegree, result.sharedVertices));
         if (options.fit.robustIterations > 0 || result.saturatedSamples > 0)
             ctx.log(formatLine("Robust weights: %zu samples down-weighted as outliers, %zu samples at saturation "
                                "given 1 %% weight.", result.robustDownweighted, result.saturatedSamples));

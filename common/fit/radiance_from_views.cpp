@@ -1,6 +1,7 @@
 #include "fit/radiance_from_views.h"
 
 #include "fit/exposure_compensation.h"
+#include "fit/held_out_evaluation.h"
 
 #include "radiance/radiance_evaluation.h"
 #include "radiance/radiance_frame.h"
@@ -107,6 +108,353 @@ constexpr const char* kStageFilling = "filling unseen vertices";
 constexpr const char* kStageDone = "done";
 // Percent ranges of the stages.
 constexpr int kFitStart = 3, kFitEnd = 95;
+constexpr const char* kStageSampling = "sampling the rasters";
+
+// ---- Fits from a stored sample set (FitModel Shared and Automatic) ----
+
+struct SampleFitCounters {
+    std::vector<std::size_t> perView, histogram;
+    std::size_t guardRetried = 0, fallbacks = 0, totalSamples = 0, viewDependent = 0, regularised = 0;
+    std::size_t validatedConstant = 0, tooFew = 0, guardConstant = 0, downweighted = 0, saturated = 0;
+    std::size_t sharedKept = 0;  // Shared: vertices given d + s * lobe
+};
+
+// Every sample of every vertex, saturation-weighted and divided by the view gains, in vertex order
+// (each thread gathers a contiguous block of vertices; the blocks are concatenated in order, so the
+// set does not depend on the thread count).
+SampleSet gatherSamples(std::size_t n, const ViewSampler& sampler, const std::vector<double>& gains,
+                        const RadianceFromViewsOptions& options, Progress& progress, std::size_t& saturatedOut) {
+    SampleSet set;
+    set.offsets.assign(n + 1, 0);
+    const int threads = std::max(1, omp_get_max_threads());
+    std::vector<std::vector<DirectionalSample>> parts(threads);
+    std::vector<std::vector<std::uint32_t>> partViews(threads);
+    std::size_t saturated = 0;
+#pragma omp parallel num_threads(threads) reduction(+ : saturated)
+    {
+        const int t = omp_get_thread_num(), nt = omp_get_num_threads();
+        const std::size_t begin = n * t / nt, end = n * (t + 1) / nt;
+        std::vector<DirectionalSample> buffer(sampler.viewCount());
+        std::vector<int> viewOf(sampler.viewCount());
+        for (std::size_t v = begin; v < end; ++v) {
+            if (progress.cancelled()) break;
+            const std::size_t m = sampler.sampleVertex(v, buffer.data(), nullptr, viewOf.data());
+            for (std::size_t j = 0; j < m; ++j) {
+                DirectionalSample s = buffer[j];
+                if (std::max({s.rgb[0], s.rgb[1], s.rgb[2]}) >= options.saturationLevel) {
+                    s.weight *= static_cast<float>(options.saturatedWeight);
+                    ++saturated;
+                }
+                const double* g = gains.data() + 3 * viewOf[j];
+                for (int c = 0; c < 3; ++c) s.rgb[c] = static_cast<float>(s.rgb[c] / g[c]);
+                parts[t].push_back(s);
+                partViews[t].push_back(static_cast<std::uint32_t>(viewOf[j]));
+            }
+            set.offsets[v + 1] = m;
+            if (t == 0 && (v & 1023) == 0)
+                progress.report(kFitStart + static_cast<int>(30.0 * double(v - begin + 1) / double(end - begin)),
+                                kStageSampling);
+        }
+    }
+    progress.throwIfCancelled();
+    for (std::size_t v = 0; v < n; ++v) set.offsets[v + 1] += set.offsets[v];
+    set.samples.reserve(set.offsets[n]);
+    set.view.reserve(set.offsets[n]);
+    for (int t = 0; t < threads; ++t) {
+        set.samples.insert(set.samples.end(), parts[t].begin(), parts[t].end());
+        set.view.insert(set.view.end(), partViews[t].begin(), partViews[t].end());
+        std::vector<DirectionalSample>().swap(parts[t]);
+        std::vector<std::uint32_t>().swap(partViews[t]);
+    }
+    saturatedOut = saturated;
+    return set;
+}
+
+RadianceField framedField(const TriangleMesh& mesh, const RobustFitOptions& fit) {
+    const std::size_t n = mesh.vertexCount();
+    RadianceField field(fit.basis, n, fit.storeReflected);
+    const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(n);
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t iv = 0; iv < count; ++iv) {
+        const float* nv = mesh.normals.data() + 3 * iv;
+        storeFrame(frameFromNormal(Eigen::Vector3d(nv[0], nv[1], nv[2])), field.frame(static_cast<std::size_t>(iv)));
+    }
+    return field;
+}
+
+// The per-vertex robust fit of every vertex from the set (samples with use[i] only, when use is given).
+void perVertexFromSet(const RobustRadianceFitter& fitter, const SampleSet& set, const std::uint8_t* use,
+                      std::size_t viewCount, RadianceField& field, std::vector<float>& meanColor,
+                      std::vector<float>& sampleCount, std::vector<float>& residual, std::vector<std::uint8_t>& status,
+                      SampleFitCounters& counters, Progress& progress, int percentFrom, int percentTo,
+                      const std::uint8_t* skipVertex = nullptr) {
+    const std::size_t n = set.vertexCount();
+    counters.perView.assign(viewCount, 0);
+    counters.histogram.assign(viewCount + 1, 0);
+    const int minSamples = fitter.options().minSamples;
+    std::atomic<std::size_t> done{0};
+    const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(n);
+#pragma omp parallel
+    {
+        std::vector<DirectionalSample> samples(viewCount);
+        FitScratch scratch = fitter.makeScratch();
+        SampleFitCounters local;
+        local.perView.assign(viewCount, 0);
+        local.histogram.assign(viewCount + 1, 0);
+        const bool reporter = omp_get_thread_num() == 0;
+#pragma omp for schedule(dynamic, 256) nowait
+        for (std::ptrdiff_t iv = 0; iv < count; ++iv) {
+            if (progress.cancelled()) continue;
+            const std::size_t v = static_cast<std::size_t>(iv);
+            if (skipVertex && skipVertex[v]) continue;
+            std::size_t m = 0;
+            for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
+                if (use && !use[i]) continue;
+                samples[m++] = set.samples[i];
+                ++local.perView[set.view[i]];
+            }
+            const Frame frame = frameFromStored(field.frame(v));
+            const VertexFitResult r = fitter.fit(frame, samples.data(), m, scratch, field.vertexCoefficients(v));
+            if (r.sampleCount > 0) {
+                ++local.histogram[static_cast<std::size_t>(r.sampleCount)];
+                if (!r.constantFallback) ++local.viewDependent;
+                if (!r.constantFallback && r.regularised) ++local.regularised;
+                if (r.validatedConstant) ++local.validatedConstant;
+                else if (r.constantFallback && r.sampleCount < minSamples) ++local.tooFew;
+                else if (r.constantFallback) ++local.guardConstant;
+                local.downweighted += static_cast<std::size_t>(r.downweighted);
+            }
+            for (int c = 0; c < 3; ++c) meanColor[3 * v + c] = static_cast<float>(r.meanColor[c]);
+            sampleCount[v] = static_cast<float>(r.sampleCount);
+            residual[v] = static_cast<float>(r.residual);
+            status[v] = static_cast<std::uint8_t>(r.status);
+            local.guardRetried += r.guardRetries > 0 ? 1 : 0;
+            local.fallbacks += r.constantFallback ? 1 : 0;
+            local.totalSamples += static_cast<std::size_t>(r.sampleCount);
+            const std::size_t finished = done.fetch_add(1, std::memory_order_relaxed) + 1;
+            if (reporter && (finished & 1023) == 0)
+                progress.report(percentFrom + static_cast<int>((percentTo - percentFrom) * double(finished) / double(n)),
+                                kStageFitting);
+        }
+#pragma omp critical(radiance_from_views_set_merge)
+        {
+            for (std::size_t i = 0; i < viewCount; ++i) counters.perView[i] += local.perView[i];
+            for (std::size_t i = 0; i <= viewCount; ++i) counters.histogram[i] += local.histogram[i];
+            counters.guardRetried += local.guardRetried;
+            counters.fallbacks += local.fallbacks;
+            counters.totalSamples += local.totalSamples;
+            counters.viewDependent += local.viewDependent;
+            counters.regularised += local.regularised;
+            counters.validatedConstant += local.validatedConstant;
+            counters.tooFew += local.tooFew;
+            counters.guardConstant += local.guardConstant;
+            counters.downweighted += local.downweighted;
+        }
+    }
+    progress.throwIfCancelled();
+}
+
+// The shared fit of fit/shared_radiance_fit.h, written into field / meanColor / ... (samples with use[i]).
+void sharedFromSet(const TriangleMesh& mesh, const VertexAdjacency& adj, const SampleSet& set, const std::uint8_t* use,
+                   std::size_t viewCount, const RadianceFromViewsOptions& options, RadianceField& field,
+                   std::vector<float>& meanColor, std::vector<float>& sampleCount, std::vector<float>& residual,
+                   std::vector<std::uint8_t>& status, SampleFitCounters& counters, Progress& progress,
+                   int percentFrom, int percentTo, const RobustRadianceFitter* rejectedFitter) {
+    const std::size_t n = set.vertexCount();
+    std::vector<float> normals(3 * n);
+    for (std::size_t v = 0; v < n; ++v) {
+        const Frame f = frameFromStored(field.frame(v));
+        for (int c = 0; c < 3; ++c) normals[3 * v + c] = static_cast<float>(f.n[c]);
+    }
+    const int mid = (percentFrom + percentTo) / 2;
+    auto stage = [&](int from, int to) {
+        return ProgressCallback([&progress, from, to](double f, const char* what) {
+            progress.report(from + static_cast<int>((to - from) * f), what);
+            return !progress.cancelled();
+        });
+    };
+    SharedFitOptions shared = options.shared;
+    if (options.fit.robustIterations == 0) shared.robustIterations = 0;  // "robust" off: no Huber weights anywhere
+    const SharedModel model =
+        fitSharedModel(normals, adj.offsets, adj.neighbours, set, use, shared, stage(percentFrom, mid));
+    std::vector<std::uint8_t> kept;
+    const int convertTo = rejectedFitter ? (mid + percentTo) / 2 : percentTo;
+    const SharedConversionStats stats = writeSharedRadiance(model, set, use, adj.offsets, adj.neighbours, options.fit,
+                                                            shared, field, meanColor, residual, status,
+                                                            stage(mid, convertTo), &kept);
+    SampleFitCounters rejected;
+    if (rejectedFitter)  // the vertices the shared function did not win: the per-vertex fit
+        perVertexFromSet(*rejectedFitter, set, use, viewCount, field, meanColor, sampleCount, residual, status,
+                         rejected, progress, convertTo, percentTo, kept.data());
+    counters.perView.assign(viewCount, 0);
+    counters.histogram.assign(viewCount + 1, 0);
+    for (std::size_t v = 0; v < n; ++v) {
+        std::size_t m = 0;
+        for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
+            if (use && !use[i]) continue;
+            ++m;
+            ++counters.perView[set.view[i]];
+        }
+        sampleCount[v] = static_cast<float>(m);
+        if (m > 0) ++counters.histogram[m];
+        counters.totalSamples += m;
+    }
+    counters.sharedKept = stats.shared;
+    if (rejectedFitter) {
+        counters.viewDependent = stats.shared + rejected.viewDependent;
+        counters.regularised = rejected.regularised;
+        counters.validatedConstant = rejected.validatedConstant;
+        counters.tooFew = rejected.tooFew;
+        counters.guardConstant = rejected.guardConstant;
+        counters.guardRetried = rejected.guardRetried;
+        counters.fallbacks = rejected.fallbacks;
+        counters.downweighted = stats.downweighted + rejected.downweighted;
+    } else {
+        counters.viewDependent = stats.shared;
+        counters.validatedConstant = stats.constant;
+        counters.tooFew = stats.tooFew;
+        counters.fallbacks = stats.constant + stats.tooFew;
+        counters.downweighted = stats.downweighted;
+    }
+}
+
+// Squared errors in 8-bit sRGB levels of the field (and of the mean colours) at the samples with
+// heldOut[i], over vertices that have at least one training sample, summed per view (3 per sample).
+struct HeldOutSums {
+    std::vector<double> fitted, constant;
+    std::vector<std::size_t> samples;
+    double rms(const std::vector<double>& sums) const {
+        double s = 0.0;
+        std::size_t m = 0;
+        for (std::size_t k = 0; k < sums.size(); ++k) {
+            s += sums[k];
+            m += samples[k];
+        }
+        return m ? std::sqrt(s / (3.0 * m)) : 0.0;
+    }
+    std::size_t total() const {
+        std::size_t m = 0;
+        for (std::size_t k : samples) m += k;
+        return m;
+    }
+};
+
+HeldOutSums heldOutSampleError(const RadianceField& field, const std::vector<float>& meanColor, const SampleSet& set,
+                               const std::vector<std::uint8_t>& heldOut, std::size_t viewCount) {
+    const std::size_t n = set.vertexCount();
+    HeldOutSums out;
+    out.fitted.assign(viewCount, 0.0);
+    out.constant.assign(viewCount, 0.0);
+    out.samples.assign(viewCount, 0);
+    // A fixed number of chunks, each with its own sums, merged in chunk order: the sums (and so the
+    // choice made from them) do not depend on the thread count or the schedule.
+    constexpr std::ptrdiff_t kChunks = 16;
+    std::vector<HeldOutSums> parts(kChunks);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (std::ptrdiff_t chunk = 0; chunk < kChunks; ++chunk) {
+        HeldOutSums& local = parts[chunk];
+        local.fitted.assign(viewCount, 0.0);
+        local.constant.assign(viewCount, 0.0);
+        local.samples.assign(viewCount, 0);
+        const std::size_t begin = n * chunk / kChunks, end = n * (chunk + 1) / kChunks;
+        for (std::size_t v = begin; v < end; ++v) {
+            bool trained = false;
+            for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1] && !trained; ++i) trained = !heldOut[i];
+            if (!trained) continue;
+            for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
+                if (!heldOut[i]) continue;
+                const DirectionalSample& s = set.samples[i];
+                const Eigen::Vector3d f =
+                    evaluateRadiance(field, v, Eigen::Vector3d(s.direction[0], s.direction[1], s.direction[2]));
+                const std::uint32_t view = set.view[i];
+                for (int c = 0; c < 3; ++c) {
+                    const double y = srgbLevel(s.rgb[c]);
+                    const double ef = srgbLevel(f[c]) - y, ec = srgbLevel(meanColor[3 * v + c]) - y;
+                    local.fitted[view] += ef * ef;
+                    local.constant[view] += ec * ec;
+                }
+                ++local.samples[view];
+            }
+        }
+    }
+    for (const HeldOutSums& local : parts)
+        for (std::size_t k = 0; k < viewCount; ++k) {
+            out.fitted[k] += local.fitted[k];
+            out.constant[k] += local.constant[k];
+            out.samples[k] += local.samples[k];
+        }
+    return out;
+}
+
+void fitFromSampleSet(const TriangleMesh& mesh, const ViewSampler& sampler, const RobustRadianceFitter& fitter,
+                      const std::vector<double>& gains, const RadianceFromViewsOptions& options, Progress& progress,
+                      RadianceFromViewsResult& result, SampleFitCounters& counters) {
+    const std::size_t n = mesh.vertexCount(), viewCount = sampler.viewCount();
+    std::size_t saturated = 0;
+    progress.report(kFitStart, kStageSampling);
+    const SampleSet set = gatherSamples(n, sampler, gains, options, progress, saturated);
+    const VertexAdjacency adj = mesh.faceCount() > 0 ? buildVertexAdjacency(mesh) : VertexAdjacency{};
+    FitModel model = options.model;
+    const std::size_t k = static_cast<std::size_t>(options.validationEvery);
+    result.lobeDegree = options.shared.lobeDegree;
+    if (model == FitModel::Automatic && viewCount < 2 * k) {
+        model = FitModel::PerVertex;
+        result.warnings.push_back("Only " + std::to_string(viewCount) + " usable rasters: too few to compare the shared "
+                                  "and the per-vertex fit on left-out rasters (" + std::to_string(2 * k) +
+                                  " needed); the per-vertex fit was used.");
+    }
+    if (model == FitModel::Automatic) {
+        // Every k-th view left out; both candidates fitted on the others, compared on it.
+        std::vector<std::uint8_t> train(set.samples.size()), heldOut(set.samples.size());
+        for (std::size_t i = 0; i < set.samples.size(); ++i) {
+            heldOut[i] = (set.view[i] + 1) % k == 0;
+            train[i] = !heldOut[i];
+        }
+        result.validationViews = viewCount / k;
+        std::vector<float> mean(3 * n, 0.0f), count(n, 0.0f), residual(n, 0.0f);
+        std::vector<std::uint8_t> status(n, static_cast<std::uint8_t>(FitStatus::Unseen));
+        SampleFitCounters scratchCounters;
+        RadianceField candidate = framedField(mesh, options.fit);
+        perVertexFromSet(fitter, set, train.data(), viewCount, candidate, mean, count, residual, status, scratchCounters,
+                         progress, 33, 50);
+        const HeldOutSums perVertex = heldOutSampleError(candidate, mean, set, heldOut, viewCount);
+        candidate = framedField(mesh, options.fit);
+        sharedFromSet(mesh, adj, set, train.data(), viewCount, options, candidate, mean, count, residual, status,
+                      scratchCounters, progress, 50, 65, options.sharedRejectedPerVertex ? &fitter : nullptr);
+        const HeldOutSums shared = heldOutSampleError(candidate, mean, set, heldOut, viewCount);
+        result.validationPerVertex = perVertex.rms(perVertex.fitted);
+        result.validationConstant = perVertex.rms(perVertex.constant);
+        result.validationShared = shared.rms(shared.fitted);
+        result.validationSamples = perVertex.total();
+        // View by view: wins (ties count as wins) and the worst ratio.
+        for (std::size_t view = 0; view < viewCount; ++view) {
+            if (perVertex.samples[view] == 0) continue;
+            const double a = std::sqrt(perVertex.fitted[view] / (3.0 * perVertex.samples[view]));
+            const double b = std::sqrt(shared.fitted[view] / (3.0 * shared.samples[view]));
+            ++result.validationViewsCompared;
+            if (b <= a) ++result.validationViewsSharedWins;
+            const double ratio = a > 0.0 ? b / a : (b > 0.0 ? 2.0 : 1.0);
+            result.validationWorstViewRatio = std::max(result.validationWorstViewRatio, ratio);
+        }
+        result.modelValidated = true;
+        const bool sharedBetter = result.validationShared < result.validationPerVertex &&
+                                  2 * result.validationViewsSharedWins >= result.validationViewsCompared &&
+                                  result.validationWorstViewRatio <= 1.0 + options.maxViewLoss;
+        model = sharedBetter ? FitModel::Shared : FitModel::PerVertex;
+    }
+    result.modelUsed = model;
+    result.field = framedField(mesh, options.fit);
+    if (model == FitModel::Shared) {
+        sharedFromSet(mesh, adj, set, nullptr, viewCount, options, result.field, result.meanColor, result.sampleCount,
+                      result.residual, result.status, counters, progress, 65, kFitEnd,
+                      options.sharedRejectedPerVertex ? &fitter : nullptr);
+        result.sharedVertices = counters.sharedKept;
+    } else {
+        perVertexFromSet(fitter, set, nullptr, viewCount, result.field, result.meanColor, result.sampleCount,
+                         result.residual, result.status, counters, progress, 65, kFitEnd);
+    }
+    counters.saturated = saturated;
+}
 
 }  // namespace
 
@@ -117,6 +465,12 @@ std::string RadianceFromViewsOptions::validate() const {
             << "; 0.955 is sRGB code 250, a value above 1 turns the test off)";
     else if (!(saturatedWeight > 0.0 && saturatedWeight <= 1.0))
         why << "the weight of saturated samples must be in (0, 1] (got " << saturatedWeight << "; 1 keeps them as they are)";
+    else if (!(maxViewLoss >= 0.0) || !std::isfinite(maxViewLoss))
+        why << "the largest loss of the shared fit in one left-out raster must be finite and >= 0 (got " << maxViewLoss << ")";
+    else if (validationEvery < 2)
+        why << "the automatic choice of the fit must leave out every k-th raster with k >= 2 (got " << validationEvery << ")";
+    else if (model != FitModel::PerVertex && !shared.validate().empty())
+        why << shared.validate();
     else if (compensateExposure && exposurePoints < 1)
         why << "the exposure compensation needs at least 1 vertex (got 0; turn the compensation off instead)";
     return why.str();
@@ -259,6 +613,24 @@ RadianceFromViewsResult fitRadianceFromViews(const TriangleMesh& mesh, const std
     RadianceField& field = result.field;
     std::atomic<std::size_t> done{0};
     const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(n);
+    const bool streaming = options.model == FitModel::PerVertex;
+    if (!streaming) {
+        SampleFitCounters counters;
+        fitFromSampleSet(mesh, *sampler, fitter, gains, options, progress, result, counters);
+        perView = counters.perView;
+        guardRetried = counters.guardRetried;
+        fallbacks = counters.fallbacks;
+        totalSamples = counters.totalSamples;
+        viewDependent = counters.viewDependent;
+        regularised = counters.regularised;
+        validatedConstant = counters.validatedConstant;
+        tooFew = counters.tooFew;
+        guardConstant = counters.guardConstant;
+        downweighted = counters.downweighted;
+        saturated = counters.saturated;
+        samplesHistogram = counters.histogram;
+    }
+    if (streaming)
 #pragma omp parallel
     {
         // Per-thread buffers, allocated once: the samples of one vertex, and the fit's scratch.

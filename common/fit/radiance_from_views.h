@@ -26,6 +26,7 @@
 #pragma once
 
 #include "fit/robust_radiance_fit.h"
+#include "fit/shared_radiance_fit.h"
 #include "fit/view_sampling.h"
 #include "geometry/triangle_mesh.h"
 #include "progress/progress_callback.h"
@@ -45,8 +46,30 @@ struct FitError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
+// Which fit produces the radiance functions:
+//  - PerVertex: each vertex alone (fit/robust_radiance_fit.h), streaming its samples;
+//  - Shared: the shared diffuse + reflected-lobe model of fit/shared_radiance_fit.h, converted to
+//    the basis with the per-vertex guard against the constant;
+//  - Automatic: both are fitted on the training views minus every validationEvery-th one and
+//    compared on those left out, VIEW BY VIEW (RMS error in 8-bit sRGB levels of the stored
+//    functions at each left-out view's samples): Shared is chosen only when it is better pooled over
+//    all left-out samples, better or equal in at least half of the left-out views, and in no
+//    left-out view worse than the per-vertex fit by more than maxViewLoss (relative); otherwise
+//    PerVertex (the safe choice: a fit that wins on average but loses a whole view is not taken).
+//    The chosen one is then fitted on every training view. Falls back to PerVertex when there are
+//    fewer than 2 * validationEvery usable views.
+enum class FitModel : std::uint8_t { PerVertex = 0, Shared = 1, Automatic = 2 };
+
 struct RadianceFromViewsOptions {
     RobustFitOptions fit;           // basis, storage, regularisation, coverage, range guard, validation, IRLS
+    FitModel model = FitModel::Automatic;
+    SharedFitOptions shared;
+    int validationEvery = 5;        // Automatic: every k-th usable view is left out of the comparison fit (>= 2)
+    // Shared: vertices where the shared function does not predict the vertex's own left-out samples
+    // better than the constant get the per-vertex fit (which validates itself against the constant)
+    // instead of the constant mean colour.
+    bool sharedRejectedPerVertex = true;
+    double maxViewLoss = 0.02;      // Automatic: largest relative loss of Shared in one left-out view (>= 0)
     ViewSamplingOptions sampling;   // depth tolerance, grazing angle, border margin
     bool fillUnseen = true;         // fill unseen vertices from their neighbours
     // Per-raster exposure / white-balance gains (fit/exposure_compensation.h), estimated on at most
@@ -97,6 +120,18 @@ struct RadianceFromViewsResult {
     std::size_t totalSamples = 0;
     std::vector<std::string> warnings;  // sentences for the log (skipped views, unseen parts...)
     double seconds = 0.0;             // wall-clock time of the whole call
+    // Which fit was used (Shared or PerVertex) and, for Automatic, the comparison: RMS error in 8-bit
+    // sRGB levels of each candidate on the samples of the left-out views (0 when not run).
+    FitModel modelUsed = FitModel::PerVertex;
+    bool modelValidated = false;
+    std::size_t validationViews = 0, validationSamples = 0;
+    double validationPerVertex = 0.0, validationShared = 0.0, validationConstant = 0.0;
+    // Per left-out view (views with samples only): how many Shared won or tied, and its worst ratio
+    // shared / per-vertex RMS.
+    std::size_t validationViewsSharedWins = 0, validationViewsCompared = 0;
+    double validationWorstViewRatio = 0.0;
+    std::size_t sharedVertices = 0;   // Shared: vertices given diffuse + scaled lobe (the others: constant)
+    int lobeDegree = 0;               // Shared: SH degree of the reflected lobe
 };
 
 // mesh: positions, unit (or at least non-zero finite) per-vertex normals, faces (may be empty: a

@@ -3,6 +3,7 @@
 // brute-force ray test, sample colours from the sRGB formula, the neighbour averaging of the fill by
 // a breadth-first search written here.
 #include "fit/radiance_from_views.h"
+#include "fit/view_sampling.h"
 
 #include "geometry/primitive_meshes.h"
 #include "image/rgb_image.h"
@@ -667,4 +668,102 @@ TEST(RadianceFromViews, CountsOfTheLogAddUp) {
     std::sort(counts.begin(), counts.end());
     const double median = 0.5 * (counts[(counts.size() - 1) / 2] + counts[counts.size() / 2]);
     EXPECT_EQ(r.medianSamples, median);
+}
+
+TEST(RadianceFromViews, SharedFitGivesTheVerticesItDoesNotWinThePerVertexFit) {
+    // FitModel::Shared: a vertex keeps the shared diffuse + lobe only where it predicts its own
+    // left-out samples better than the constant; every other vertex must be exactly the per-vertex
+    // robust fit of its own samples (built here), not the constant mean colour. The far scene's
+    // photographs get deterministic per-pixel noise (+-24 codes), so that the shared function
+    // loses at some vertices, and a strong linear view dependence, so that the per-vertex fit is
+    // view-dependent at some of those.
+    FarScene s = farScene(40);
+    std::mt19937 noise(11);
+    std::uniform_int_distribution<int> codeNoise(-24, 24);
+    for (std::size_t i = 0; i < s.images.size(); ++i) {
+        rad::Image8& image = s.images[i];
+        for (std::uint8_t& code : image.rgb) code = static_cast<std::uint8_t>(std::clamp(int(code) + codeNoise(noise), 0, 255));
+    }
+    // The samples the driver sees (noise included; no code reaches the saturation level).
+    const rad::ViewSampler sampler(s.mesh, s.views());
+    std::vector<rad::DirectionalSample> buffer(s.cameras.size());
+    auto samplesOf = [&](std::size_t v) {
+        const std::size_t m = sampler.sampleVertex(v, buffer.data());
+        return std::vector<rad::DirectionalSample>(buffer.begin(), buffer.begin() + m);
+    };
+    rad::RadianceFromViewsOptions options;
+    options.model = rad::FitModel::Shared;
+    options.compensateExposure = false;  // uniform photographs: see EveryVertexIsTheRobustFitOfItsOwnSamples
+    options.fit.basis = BasisSpec{BasisKind::HemisphericalPolynomial, 3};
+    // The plain cosine factor: with the fitted factor curve the shared function wins at every vertex
+    // of this scene (nothing left to test).
+    options.shared.fitFactorCurve = false;
+    const auto r = rad::fitRadianceFromViews(s.mesh, s.views(), options);
+    ASSERT_EQ(r.modelUsed, rad::FitModel::Shared);
+    const rad::RobustRadianceFitter fitter(options.fit);
+    rad::FitScratch scratch = fitter.makeScratch();
+    std::vector<float> coefficients(fitter.coefficientsPerVertex());
+    std::size_t perVertex = 0, perVertexViewDependent = 0;
+    for (std::size_t v = 0; v < s.mesh.vertexCount(); ++v) {
+        const std::vector<rad::DirectionalSample> samples = samplesOf(v);
+        const rad::VertexFitResult expected = fitter.fit(rad::frameFromStored(r.field.frame(v)), samples.data(),
+                                                         samples.size(), scratch, coefficients.data());
+        bool same = true;
+        for (int k = 0; k < fitter.coefficientsPerVertex(); ++k)
+            same = same && std::abs(r.field.vertexCoefficients(v)[k] - coefficients[k]) <= 1e-4;
+        perVertex += same;
+        perVertexViewDependent += same && !expected.constantFallback;
+    }
+    const std::size_t n = s.mesh.vertexCount();
+    EXPECT_GT(r.sharedVertices, 0u);
+    EXPECT_LT(r.sharedVertices, n);
+    EXPECT_EQ(perVertex, n - r.sharedVertices);
+    EXPECT_GT(perVertexViewDependent, 0u);
+    // Off: the same vertices get the constant mean colour instead (no per-vertex fit among them
+    // beyond those whose per-vertex fit is itself a constant).
+    options.sharedRejectedPerVertex = false;
+    const auto c = rad::fitRadianceFromViews(s.mesh, s.views(), options);
+    EXPECT_EQ(c.sharedVertices, r.sharedVertices);
+    std::size_t viewDependentMatches = 0;
+    for (std::size_t v = 0; v < n; ++v) {
+        const std::vector<rad::DirectionalSample> samples = samplesOf(v);
+        const rad::VertexFitResult expected = fitter.fit(rad::frameFromStored(c.field.frame(v)), samples.data(),
+                                                         samples.size(), scratch, coefficients.data());
+        if (expected.constantFallback) continue;
+        bool same = true;
+        for (int k = 0; k < fitter.coefficientsPerVertex(); ++k)
+            same = same && std::abs(c.field.vertexCoefficients(v)[k] - coefficients[k]) <= 1e-4;
+        viewDependentMatches += same;
+    }
+    EXPECT_EQ(viewDependentMatches, 0u);
+}
+
+TEST(RadianceFromViews, AutomaticChoiceFollowsThePerViewRule) {
+    // The automatic choice compares the candidates view by view on the left-out rasters: Shared only
+    // when better pooled, better or equal in at least half of the left-out rasters and nowhere worse
+    // by more than maxViewLoss. Checked on the recorded comparison, then with a loss bound that
+    // the recorded worst view must exceed (or equal 0 when shared won everywhere).
+    const FarScene s = farScene(40);
+    rad::RadianceFromViewsOptions options;
+    options.compensateExposure = false;
+    options.fit.basis = BasisSpec{BasisKind::HemisphericalPolynomial, 3};
+    const auto r = rad::fitRadianceFromViews(s.mesh, s.views(), options);
+    ASSERT_TRUE(r.modelValidated);
+    EXPECT_EQ(r.validationViews, 40u / 5u);
+    EXPECT_EQ(r.validationViewsCompared, r.validationViews);  // every left-out raster sees the sphere
+    EXPECT_LE(r.validationViewsSharedWins, r.validationViewsCompared);
+    EXPECT_GT(r.validationWorstViewRatio, 0.0);
+    const bool rule = r.validationShared < r.validationPerVertex &&
+                      2 * r.validationViewsSharedWins >= r.validationViewsCompared &&
+                      r.validationWorstViewRatio <= 1.0 + options.maxViewLoss;
+    EXPECT_EQ(r.modelUsed == rad::FitModel::Shared, rule);
+    // A bound below the recorded worst ratio: per-vertex whatever the pooled comparison says.
+    if (r.validationWorstViewRatio > 1.0) {
+        options.maxViewLoss = 0.5 * (r.validationWorstViewRatio - 1.0);
+        const auto strict = rad::fitRadianceFromViews(s.mesh, s.views(), options);
+        EXPECT_EQ(strict.modelUsed, rad::FitModel::PerVertex);
+        EXPECT_EQ(strict.validationWorstViewRatio, r.validationWorstViewRatio);
+    }
+    options.maxViewLoss = -1.0;
+    EXPECT_THROW(rad::fitRadianceFromViews(s.mesh, s.views(), options), rad::FitError);
 }

@@ -1,0 +1,701 @@
+#include "fit/shared_radiance_fit.h"
+
+#include "radiance/radiance_evaluation.h"
+#include "radiance/radiance_frame.h"
+#include "radiance/sh_rotation.h"
+#include "radiance/spherical_harmonics.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <omp.h>
+#include <sstream>
+#include <stdexcept>
+
+namespace rad {
+
+namespace {
+
+constexpr double kHuberScale = 1.4826;  // MAD -> standard deviation of a normal distribution
+
+// Octahedral parametrisation of the unit sphere (the square [-1, 1]^2; the lower hemisphere folded
+// onto the corners): a table of G with bilinear lookup costs a few multiplications instead of the
+// ~(degree+1)^2 of an SH evaluation.
+void octEncode(double x, double y, double z, double& u, double& v) {
+    const double s = std::abs(x) + std::abs(y) + std::abs(z);
+    u = x / s;
+    v = y / s;
+    if (z < 0.0) {
+        const double pu = u, pv = v;
+        u = (1.0 - std::abs(pv)) * (pu >= 0.0 ? 1.0 : -1.0);
+        v = (1.0 - std::abs(pu)) * (pv >= 0.0 ? 1.0 : -1.0);
+    }
+}
+
+void octDecode(double u, double v, double& x, double& y, double& z) {
+    z = 1.0 - std::abs(u) - std::abs(v);
+    if (z < 0.0) {
+        x = (1.0 - std::abs(v)) * (u >= 0.0 ? 1.0 : -1.0);
+        y = (1.0 - std::abs(u)) * (v >= 0.0 ? 1.0 : -1.0);
+    } else {
+        x = u;
+        y = v;
+    }
+    const double len = std::sqrt(x * x + y * y + z * z);
+    x /= len;
+    y /= len;
+    z /= len;
+}
+
+class LobeTable {
+public:
+    LobeTable(const SharedModel& model, int resolution) : n_(resolution), values_(3 * std::size_t(resolution) * resolution) {
+        const int degree = model.lobeDegree, M = (degree + 1) * (degree + 1);
+#pragma omp parallel
+        {
+            std::vector<double> Y(M);
+#pragma omp for schedule(static)
+            for (int i = 0; i < n_; ++i)
+                for (int j = 0; j < n_; ++j) {
+                    double x, y, z;
+                    octDecode(-1.0 + (j + 0.5) * 2.0 / n_, -1.0 + (i + 0.5) * 2.0 / n_, x, y, z);
+                    evaluateSphericalHarmonics(degree, x, y, z, Y.data());
+                    for (int c = 0; c < 3; ++c) {
+                        double acc = 0.0;
+                        for (int k = 0; k < M; ++k) acc += model.lobe[c * M + k] * Y[k];
+                        values_[3 * (std::size_t(i) * n_ + j) + c] = static_cast<float>(acc);
+                    }
+                }
+        }
+    }
+    // G at the (not necessarily unit, non-zero) direction (x, y, z).
+    void lookup(double x, double y, double z, double* out) const {
+        double u, v;
+        octEncode(x, y, z, u, v);
+        const double fx = std::min(std::max((u + 1.0) * 0.5 * n_ - 0.5, 0.0), n_ - 1.0);
+        const double fy = std::min(std::max((v + 1.0) * 0.5 * n_ - 0.5, 0.0), n_ - 1.0);
+        const int x0 = std::min(static_cast<int>(fx), n_ - 1), y0 = std::min(static_cast<int>(fy), n_ - 1);
+        const int x1 = std::min(x0 + 1, n_ - 1), y1 = std::min(y0 + 1, n_ - 1);
+        const double tx = fx - x0, ty = fy - y0;
+        const float* a = values_.data() + 3 * (std::size_t(y0) * n_ + x0);
+        const float* b = values_.data() + 3 * (std::size_t(y0) * n_ + x1);
+        const float* c = values_.data() + 3 * (std::size_t(y1) * n_ + x0);
+        const float* d = values_.data() + 3 * (std::size_t(y1) * n_ + x1);
+        for (int k = 0; k < 3; ++k)
+            out[k] = (1 - ty) * ((1 - tx) * a[k] + tx * b[k]) + ty * ((1 - tx) * c[k] + tx * d[k]);
+    }
+
+private:
+    int n_;
+    std::vector<float> values_;
+};
+
+// r = 2 (n.w) n - w; returns the factor the lobe is multiplied by: max(n.w, 0) with the cosine
+// factor, 1 without.
+inline double reflected(const float* n, const float* w, double* r, const SharedModel& model) {
+    const double nw = double(n[0]) * w[0] + double(n[1]) * w[1] + double(n[2]) * w[2];
+    for (int k = 0; k < 3; ++k) r[k] = 2.0 * nw * n[k] - w[k];
+    return model.factor(nw);
+}
+
+// Hat function k of the factor curve at x in [0, 1] (knots k / (kCurveKnots - 1)).
+inline double hat(int k, double x) {
+    const double t = x * (SharedModel::kCurveKnots - 1) - k;
+    return std::max(0.0, 1.0 - std::abs(t));
+}
+
+// Squared slope of the 8-bit sRGB encoding at a linear value (first-order error in sRGB levels).
+inline double srgbSlope2(double y) {
+    const double x = std::min(1.0, std::max(y, 0.0031308));
+    const double s = 255.0 * (1.055 / 2.4) * std::pow(x, 1.0 / 2.4 - 1.0);
+    return s * s;
+}
+
+// Mean of the neighbours' s (those with samples); 1 when none.
+void neighbourPrior(const std::vector<std::size_t>& off, const std::vector<std::uint32_t>& adj,
+                    const std::vector<float>& s, const std::vector<std::uint8_t>& seen, std::size_t v, double* out) {
+    out[0] = out[1] = out[2] = 0.0;
+    int k = 0;
+    if (!off.empty())
+        for (std::size_t e = off[v]; e < off[v + 1]; ++e) {
+            const std::uint32_t u = adj[e];
+            if (!seen[u]) continue;
+            for (int c = 0; c < 3; ++c) out[c] += s[3 * u + c];
+            ++k;
+        }
+    if (k == 0) {
+        out[0] = out[1] = out[2] = 1.0;
+        return;
+    }
+    for (int c = 0; c < 3; ++c) out[c] /= k;
+}
+
+// Ridge regression y ~ d + s g with penalty lambda (s - prior)^2, weights a: returns (d, s).
+struct PairSums {
+    double W = 0, Sg = 0, Sgg = 0, Sy = 0, Sgy = 0;
+};
+inline void solvePair(const PairSums& p, double lambda, double prior, double& d, double& s, double inverse[3]) {
+    // [W Sg; Sg Sgg+lambda] [d; s] = [Sy; Sgy + lambda prior]
+    const double a = p.W, b = p.Sg, c = p.Sgg + lambda;
+    const double det = a * c - b * b;
+    if (!(det > 1e-12 * a * std::max(c, 1e-300)) || !(a > 0.0)) {
+        // g constant over the samples (or no lambda): s undetermined -> the prior.
+        s = prior;
+        d = a > 0.0 ? (p.Sy - s * p.Sg) / a : 0.0;
+        if (inverse) {
+            inverse[0] = a > 0.0 ? 1.0 / a : 0.0;
+            inverse[1] = inverse[2] = 0.0;
+        }
+        return;
+    }
+    const double r0 = p.Sy, r1 = p.Sgy + lambda * prior;
+    d = (c * r0 - b * r1) / det;
+    s = (a * r1 - b * r0) / det;
+    if (inverse) {  // A^-1 = [c -b; -b a] / det, stored as (00, 01, 11)
+        inverse[0] = c / det;
+        inverse[1] = -b / det;
+        inverse[2] = a / det;
+    }
+}
+
+}  // namespace
+
+std::string SharedFitOptions::validate() const {
+    std::ostringstream why;
+    if (lobeDegree < 1 || lobeDegree > kMaxHarmonicDegree)
+        why << "the degree of the shared reflected lobe must be in 1.." << kMaxHarmonicDegree << " (got " << lobeDegree << ")";
+    else if (!(specularPrior >= 0.0) || !std::isfinite(specularPrior))
+        why << "the weight of the neighbours' specular scale must be finite and >= 0 (got " << specularPrior << ")";
+    else if (iterations < 1 || iterations > 50)
+        why << "the shared fit's iterations must be in 1..50 (got " << iterations << ")";
+    else if (robustIterations < 0 || robustIterations > iterations)
+        why << "the shared fit's robust iterations must be in 0..iterations (got " << robustIterations << ")";
+    else if (!(huberThreshold > 0.0) || !std::isfinite(huberThreshold))
+        why << "the shared fit's Huber threshold must be > 0 (got " << huberThreshold << ")";
+    else if (!(lobeRidge >= 0.0) || !std::isfinite(lobeRidge))
+        why << "the shared lobe's regularisation must be finite and >= 0 (got " << lobeRidge << ")";
+    else if (lobeSampleBudget < 1000)
+        why << "the shared lobe's sample budget must be at least 1000 (got " << lobeSampleBudget << ")";
+    else if (octahedralResolution < 16 || octahedralResolution > 1024)
+        why << "the shared lobe's table resolution must be in 16..1024 (got " << octahedralResolution << ")";
+    return why.str();
+}
+
+double SharedModel::factor(double nw) const {
+    if (!cosineFactor) return 1.0;
+    const double x = std::min(std::max(nw, 0.0), 1.0);
+    if (curve.size() != std::size_t(kCurveKnots)) return x;
+    const double t = x * (kCurveKnots - 1);
+    const int k = std::min(static_cast<int>(t), kCurveKnots - 2);
+    return curve[k] + (t - k) * (curve[k + 1] - curve[k]);
+}
+
+void SharedModel::evaluate(std::size_t v, const float* n, const double* w, double* rgb) const {
+    const int M = (lobeDegree + 1) * (lobeDegree + 1);
+    double Y[(kMaxHarmonicDegree + 1) * (kMaxHarmonicDegree + 1)];
+    const double nw = n[0] * w[0] + n[1] * w[1] + n[2] * w[2], d = 2.0 * nw;
+    evaluateSphericalHarmonics(lobeDegree, d * n[0] - w[0], d * n[1] - w[1], d * n[2] - w[2], Y);
+    const double f = factor(nw);
+    for (int c = 0; c < 3; ++c) {
+        double g = 0.0;
+        for (int k = 0; k < M; ++k) g += lobe[c * M + k] * Y[k];
+        rgb[c] = diffuse[3 * v + c] + specular[3 * v + c] * f * g;
+    }
+}
+
+SharedModel fitSharedModel(const std::vector<float>& normals, const std::vector<std::size_t>& off,
+                           const std::vector<std::uint32_t>& adj, const SampleSet& set, const std::uint8_t* use,
+                           const SharedFitOptions& options, const ProgressCallback& progress) {
+    const std::string problem = options.validate();
+    if (!problem.empty()) throw std::invalid_argument(problem);
+    const std::size_t n = set.vertexCount();
+    if (normals.size() != 3 * n || set.samples.size() != set.offsets.back() || set.view.size() != set.samples.size() ||
+        (!off.empty() && off.size() != n + 1))
+        throw std::invalid_argument("fitSharedModel: inconsistent sizes");
+    const std::size_t total = set.samples.size();
+    const int degree = options.lobeDegree, M = (degree + 1) * (degree + 1);
+    auto usable = [&](std::size_t i) { return !use || use[i]; };
+
+    SharedModel model;
+    model.lobeDegree = degree;
+    model.cosineFactor = options.cosineFactor;
+    model.curve.resize(SharedModel::kCurveKnots);
+    for (int k = 0; k < SharedModel::kCurveKnots; ++k) model.curve[k] = double(k) / (SharedModel::kCurveKnots - 1);
+    model.lobe.assign(3 * M, 0.0);
+    model.diffuse.assign(3 * n, 0.0f);
+    model.specular.assign(3 * n, 1.0f);
+    model.robustWeight.assign(total, 1.0f);
+    std::vector<std::uint8_t> seen(n, 0);
+    std::size_t usedSamples = 0;
+    for (std::size_t v = 0; v < n; ++v) {
+        double acc[3] = {0, 0, 0}, W = 0;
+        for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
+            if (!usable(i)) continue;
+            const DirectionalSample& s = set.samples[i];
+            for (int c = 0; c < 3; ++c) acc[c] += s.weight * double(s.rgb[c]);
+            W += s.weight;
+            ++usedSamples;
+        }
+        if (W > 0.0) {
+            seen[v] = 1;
+            for (int c = 0; c < 3; ++c) model.diffuse[3 * v + c] = static_cast<float>(acc[c] / W);
+        }
+    }
+    if (usedSamples == 0) return model;
+    // Vertices of the G step: every stride-th (of all vertices, so the subset is spread over the mesh).
+    const std::size_t stride = std::max<std::size_t>(1, (usedSamples + options.lobeSampleBudget - 1) / options.lobeSampleBudget);
+    const std::ptrdiff_t lobeVertices = static_cast<std::ptrdiff_t>((n + stride - 1) / stride);
+    std::vector<float> residualNorm(total, 0.0f);
+    const int robustStart = std::max(1, options.iterations - options.robustIterations);
+    const double lPenalty = options.lobeRidge;
+    std::vector<double> prior(3 * n, 1.0);
+
+    for (int it = 0; it < options.iterations; ++it) {
+        if (progress && !progress(double(it) / options.iterations, "fitting the shared reflected lobe"))
+            throw OperationCancelled();
+        // ---- G step ----
+        Eigen::MatrixXd Atotal[3];
+        Eigen::VectorXd btotal[3];
+        std::vector<std::array<Eigen::MatrixXd, 3>> partA(16);
+        std::vector<std::array<Eigen::VectorXd, 3>> partB(16);
+        for (int c = 0; c < 3; ++c) {
+            Atotal[c] = Eigen::MatrixXd::Zero(M, M);
+            btotal[c] = Eigen::VectorXd::Zero(M);
+        }
+        // A fixed number of chunks, each with its own sums, merged in chunk order: the result does
+        // not depend on the thread count or the schedule.
+        constexpr std::ptrdiff_t kChunks = 16;
+#pragma omp parallel for schedule(dynamic, 1)
+        for (std::ptrdiff_t chunk = 0; chunk < kChunks; ++chunk)
+        {
+            constexpr int kBlock = 64;
+            Eigen::MatrixXd A[3], D[3];
+            Eigen::VectorXd b[3];
+            for (int c = 0; c < 3; ++c) {
+                A[c] = Eigen::MatrixXd::Zero(M, M);
+                b[c] = Eigen::VectorXd::Zero(M);
+                D[c].resize(M, kBlock);
+            }
+            int filled = 0;
+            std::vector<double> Y(M);
+            auto flush = [&]() {
+                if (filled == 0) return;
+                for (int c = 0; c < 3; ++c) A[c].selfadjointView<Eigen::Lower>().rankUpdate(D[c].leftCols(filled));
+                filled = 0;
+            };
+            const std::ptrdiff_t pBegin = lobeVertices * chunk / kChunks, pEnd = lobeVertices * (chunk + 1) / kChunks;
+            for (std::ptrdiff_t p = pBegin; p < pEnd; ++p) {
+                const std::size_t v = static_cast<std::size_t>(p) * stride;
+                const float* nv = normals.data() + 3 * v;
+                for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
+                    if (!usable(i)) continue;
+                    const DirectionalSample& s = set.samples[i];
+                    const double w = double(s.weight) * model.robustWeight[i];
+                    if (!(w > 0.0)) continue;
+                    double r[3];
+                    const double cf = reflected(nv, s.direction, r, model);
+                    evaluateSphericalHarmonics(degree, r[0], r[1], r[2], Y.data());
+                    const double sw = std::sqrt(w);
+                    for (int c = 0; c < 3; ++c) {
+                        const double sc = model.specular[3 * v + c] * cf;
+                        const double t = s.rgb[c] - model.diffuse[3 * v + c];
+                        double* col = D[c].col(filled).data();
+                        for (int k = 0; k < M; ++k) col[k] = sw * sc * Y[k];
+                        const double f = w * sc * t;
+                        for (int k = 0; k < M; ++k) b[c][k] += f * Y[k];
+                    }
+                    if (++filled == kBlock) flush();
+                }
+            }
+            flush();
+            for (int c = 0; c < 3; ++c) {
+                partA[chunk][c].swap(A[c]);
+                partB[chunk][c].swap(b[c]);
+            }
+        }
+        for (std::ptrdiff_t chunk = 0; chunk < kChunks; ++chunk)
+            for (int c = 0; c < 3; ++c) {
+                Atotal[c].triangularView<Eigen::Lower>() += partA[chunk][c];
+                btotal[c] += partB[chunk][c];
+            }
+        for (int c = 0; c < 3; ++c) {
+            Eigen::MatrixXd& Ac = Atotal[c];
+            const double scale = std::max(Ac.trace() / M, 1e-300);
+            for (int l = 0, k = 0; l <= degree; ++l)
+                for (int m = -l; m <= l; ++m, ++k) Ac(k, k) += (lPenalty * (1.0 + l * (l + 1.0)) + 1e-9) * scale;
+            Eigen::LDLT<Eigen::MatrixXd> ldlt(Ac.selfadjointView<Eigen::Lower>());
+            Eigen::VectorXd x = ldlt.solve(btotal[c]);
+            if (ldlt.info() != Eigen::Success || !x.allFinite()) x.setZero();
+            for (int k = 0; k < M; ++k) model.lobe[c * M + k] = x[k];
+        }
+        // q_c: mean of G_c^2 over the G step's samples.
+        {
+            double q[3] = {0, 0, 0}, W = 0;
+            std::vector<std::array<double, 4>> partQ(kChunks);
+#pragma omp parallel for schedule(dynamic, 1)
+            for (std::ptrdiff_t chunk = 0; chunk < kChunks; ++chunk) {
+                std::vector<double> Y(M);
+                double ql[3] = {0, 0, 0}, Wl = 0;
+                const std::ptrdiff_t pBegin = lobeVertices * chunk / kChunks, pEnd = lobeVertices * (chunk + 1) / kChunks;
+                for (std::ptrdiff_t p = pBegin; p < pEnd; ++p) {
+                    const std::size_t v = static_cast<std::size_t>(p) * stride;
+                    const float* nv = normals.data() + 3 * v;
+                    for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
+                        if (!usable(i)) continue;
+                        const DirectionalSample& s = set.samples[i];
+                        double r[3];
+                        const double cf = reflected(nv, s.direction, r, model);
+                        evaluateSphericalHarmonics(degree, r[0], r[1], r[2], Y.data());
+                        for (int c = 0; c < 3; ++c) {
+                            double g = 0;
+                            for (int k = 0; k < M; ++k) g += model.lobe[c * M + k] * Y[k];
+                            g *= cf;
+                            ql[c] += s.weight * g * g;
+                        }
+                        Wl += s.weight;
+                    }
+                }
+                partQ[chunk] = {ql[0], ql[1], ql[2], Wl};
+            }
+            for (const auto& p : partQ) {
+                for (int c = 0; c < 3; ++c) q[c] += p[c];
+                W += p[3];
+            }
+            for (int c = 0; c < 3; ++c) model.lobeEnergy[c] = W > 0 ? q[c] / W : 0.0;
+        }
+        // ---- per-vertex step (Jacobi in the neighbour prior) ----
+        const LobeTable table(model, options.octahedralResolution);
+        const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(n);
+#pragma omp parallel for schedule(dynamic, 256)
+        for (std::ptrdiff_t iv = 0; iv < count; ++iv) {
+            const std::size_t v = static_cast<std::size_t>(iv);
+            if (seen[v]) neighbourPrior(off, adj, model.specular, seen, v, prior.data() + 3 * v);
+        }
+#pragma omp parallel for schedule(dynamic, 256)
+        for (std::ptrdiff_t iv = 0; iv < count; ++iv) {
+            const std::size_t v = static_cast<std::size_t>(iv);
+            if (!seen[v]) continue;
+            const float* nv = normals.data() + 3 * v;
+            PairSums sums[3];
+            for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
+                if (!usable(i)) continue;
+                const DirectionalSample& s = set.samples[i];
+                const double w = double(s.weight) * model.robustWeight[i];
+                double r[3], g[3];
+                const double cf = reflected(nv, s.direction, r, model);
+                table.lookup(r[0], r[1], r[2], g);
+                for (int c = 0; c < 3; ++c) g[c] *= cf;
+                for (int c = 0; c < 3; ++c) {
+                    PairSums& p = sums[c];
+                    p.W += w;
+                    p.Sg += w * g[c];
+                    p.Sgg += w * g[c] * g[c];
+                    p.Sy += w * s.rgb[c];
+                    p.Sgy += w * g[c] * s.rgb[c];
+                }
+            }
+            double d[3], sc[3];
+            for (int c = 0; c < 3; ++c) {
+                const double lambda = options.specularPrior * sums[c].W * model.lobeEnergy[c];
+                solvePair(sums[c], lambda, prior[3 * v + c], d[c], sc[c], nullptr);
+                model.diffuse[3 * v + c] = static_cast<float>(d[c]);
+                model.specular[3 * v + c] = static_cast<float>(sc[c]);
+            }
+            for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
+                if (!usable(i)) continue;
+                const DirectionalSample& s = set.samples[i];
+                double r[3], g[3];
+                const double cf = reflected(nv, s.direction, r, model);
+                table.lookup(r[0], r[1], r[2], g);
+                for (int c = 0; c < 3; ++c) g[c] *= cf;
+                double e2 = 0.0;
+                for (int c = 0; c < 3; ++c) {
+                    const double e = s.rgb[c] - d[c] - sc[c] * g[c];
+                    e2 += e * e;
+                }
+                residualNorm[i] = static_cast<float>(std::sqrt(e2));
+            }
+        }
+        // ---- factor curve step: h(n.w) = sum_k beta_k hat_k(n.w), shared by every vertex and channel,
+        // least squares with d, s, G fixed over the G step's vertices, pulled toward the cosine
+        // (weight 1e-3 of the trace), clamped >= 0, normalised to h(1) = 1 (G takes the scale) ----
+        if (options.cosineFactor && options.fitFactorCurve) {
+            constexpr int K = SharedModel::kCurveKnots;
+            constexpr std::ptrdiff_t kChunks = 16;
+            std::vector<Eigen::Matrix<double, K, K>> partA(kChunks);
+            std::vector<Eigen::Matrix<double, K, 1>> partB(kChunks);
+#pragma omp parallel for schedule(dynamic, 1)
+            for (std::ptrdiff_t chunk = 0; chunk < kChunks; ++chunk) {
+                Eigen::Matrix<double, K, K> A = Eigen::Matrix<double, K, K>::Zero();
+                Eigen::Matrix<double, K, 1> b = Eigen::Matrix<double, K, 1>::Zero();
+                const std::ptrdiff_t pBegin = lobeVertices * chunk / kChunks, pEnd = lobeVertices * (chunk + 1) / kChunks;
+                for (std::ptrdiff_t p = pBegin; p < pEnd; ++p) {
+                    const std::size_t v = static_cast<std::size_t>(p) * stride;
+                    const float* nv = normals.data() + 3 * v;
+                    for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
+                        if (!usable(i)) continue;
+                        const DirectionalSample& s = set.samples[i];
+                        const double w = double(s.weight) * model.robustWeight[i];
+                        if (!(w > 0.0)) continue;
+                        double r[3], g[3];
+                        reflected(nv, s.direction, r, model);
+                        const double nw = std::min(std::max(double(nv[0]) * s.direction[0] + double(nv[1]) * s.direction[1] +
+                                                                double(nv[2]) * s.direction[2], 0.0), 1.0);
+                        table.lookup(r[0], r[1], r[2], g);
+                        Eigen::Matrix<double, K, 1> phi;
+                        for (int k = 0; k < K; ++k) phi[k] = hat(k, nw);
+                        for (int c = 0; c < 3; ++c) {
+                            const double a = model.specular[3 * v + c] * g[c];
+                            A.noalias() += (w * a * a) * phi * phi.transpose();
+                            b.noalias() += (w * a * (s.rgb[c] - model.diffuse[3 * v + c])) * phi;
+                        }
+                    }
+                }
+                partA[chunk] = A;
+                partB[chunk] = b;
+            }
+            Eigen::Matrix<double, K, K> A = Eigen::Matrix<double, K, K>::Zero();
+            Eigen::Matrix<double, K, 1> b = Eigen::Matrix<double, K, 1>::Zero(), prior;
+            for (std::ptrdiff_t chunk = 0; chunk < kChunks; ++chunk) {
+                A += partA[chunk];
+                b += partB[chunk];
+            }
+            const double mu = 1e-3 * std::max(A.trace() / K, 1e-300);
+            for (int k = 0; k < K; ++k) prior[k] = double(k) / (K - 1);
+            A.diagonal().array() += mu;
+            b += mu * prior;
+            Eigen::Matrix<double, K, 1> beta = A.ldlt().solve(b);
+            if (beta.allFinite()) {
+                for (int k = 0; k < K; ++k) beta[k] = std::max(beta[k], 0.0);
+                const double top = beta[K - 1];
+                if (top > 1e-6) {
+                    for (int k = 0; k < K; ++k) model.curve[k] = beta[k] / top;
+                    for (double& x : model.lobe) x *= top;
+                    for (double& q : model.lobeEnergy) q *= top * top;
+                }
+            }
+        }
+        // ---- robust weights for the next iteration ----
+        if (it + 1 >= robustStart && it + 1 < options.iterations) {
+            std::vector<float> pool;
+            pool.reserve(std::min<std::size_t>(usedSamples, options.lobeSampleBudget) + 16);
+            const std::size_t poolStride = std::max<std::size_t>(1, usedSamples / options.lobeSampleBudget);
+            std::size_t k = 0;
+            for (std::size_t i = 0; i < total; ++i)
+                if (usable(i) && (k++ % poolStride) == 0) pool.push_back(residualNorm[i]);
+            if (!pool.empty()) {
+                std::nth_element(pool.begin(), pool.begin() + pool.size() / 2, pool.end());
+                const double sigma = kHuberScale * pool[pool.size() / 2];
+                const double limit = options.huberThreshold * sigma;
+                for (std::size_t i = 0; i < total; ++i) {
+                    const double e = residualNorm[i];
+                    model.robustWeight[i] = (limit > 0.0 && e > limit) ? static_cast<float>(limit / e) : 1.0f;
+                }
+            }
+        }
+    }
+    if (progress && !progress(1.0, "fitting the shared reflected lobe")) throw OperationCancelled();
+    return model;
+}
+
+SharedConversionStats writeSharedRadiance(const SharedModel& model, const SampleSet& set, const std::uint8_t* use,
+                                          const std::vector<std::size_t>& off, const std::vector<std::uint32_t>& adj,
+                                          const RobustFitOptions& fit, const SharedFitOptions& options,
+                                          RadianceField& field, std::vector<float>& meanColor,
+                                          std::vector<float>& residual, std::vector<std::uint8_t>& status,
+                                          const ProgressCallback& progress, std::vector<std::uint8_t>* keptShared) {
+    const std::size_t n = set.vertexCount();
+    if (field.vertexCount() != n || field.basis != fit.basis || meanColor.size() != 3 * n || residual.size() != n ||
+        status.size() != n || model.diffuse.size() != 3 * n || model.robustWeight.size() != set.samples.size())
+        throw std::invalid_argument("writeSharedRadiance: inconsistent sizes");
+    const BasisSpec basis = fit.basis;
+    const int K = basis.coefficientCount();
+    auto usable = [&](std::size_t i) { return !use || use[i]; };
+
+    // Projection directions (local frame) and the least-squares projector P = (B^T B + eps I)^-1 B^T.
+    std::vector<double> dirs = fibonacciHemisphere(112, 0.5);
+    constexpr int kRing = 24;
+    for (int i = 0; i < kRing; ++i) {
+        const double a = 2.0 * M_PI * (i + 0.5) / kRing;
+        dirs.insert(dirs.end(), {std::cos(a), std::sin(a), 0.0});
+    }
+    const int Nd = static_cast<int>(dirs.size() / 3);
+    Eigen::MatrixXd B(Nd, K);
+    std::vector<double> tmp(K);
+    for (int i = 0; i < Nd; ++i) {
+        evaluateBasis(basis, dirs[3 * i], dirs[3 * i + 1], dirs[3 * i + 2], tmp.data());
+        for (int k = 0; k < K; ++k) B(i, k) = tmp[k];
+    }
+    Eigen::MatrixXd BtB = B.transpose() * B;
+    BtB.diagonal().array() += 1e-6 * BtB.trace() / K;
+    const Eigen::MatrixXd P = BtB.ldlt().solve(B.transpose());  // K x Nd
+    // Value of the constant basis function and the local reflection signs (x, y, z) -> (-x, -y, z).
+    std::vector<double> sign(K), at(K), atReflected(K);
+    {
+        const double x = 0.3141, y = 0.4718, z = std::sqrt(1.0 - x * x - y * y);
+        evaluateBasis(basis, x, y, z, at.data());
+        evaluateBasis(basis, -x, -y, z, atReflected.data());
+        for (int k = 0; k < K; ++k) sign[k] = atReflected[k] * at[k] >= 0.0 ? 1.0 : -1.0;
+        evaluateBasis(basis, 0.0, 0.0, 1.0, tmp.data());
+    }
+    const double constantValue = tmp[0];
+    const LobeTable table(model, options.octahedralResolution);
+    std::vector<std::uint8_t> seen(n, 0);
+    for (std::size_t v = 0; v < n; ++v)
+        for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1] && !seen[v]; ++i) seen[v] = usable(i);
+
+    if (keptShared) keptShared->assign(n, 0);
+    SharedConversionStats stats;
+    std::size_t sharedCount = 0, constantCount = 0, tooFew = 0, down = 0;
+    std::atomic<bool> stop{false};
+    std::atomic<std::size_t> done{0};
+    const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(n);
+#pragma omp parallel reduction(+ : sharedCount, constantCount, tooFew, down)
+    {
+        Eigen::MatrixXd V(Nd, 3), C(K, 3);
+        std::vector<double> basisAt(K), g, a, raw, y, local, out(3 * K), rot(K), rotOut(K);
+        const bool reporter = omp_get_thread_num() == 0;
+#pragma omp for schedule(dynamic, 256)
+        for (std::ptrdiff_t iv = 0; iv < count; ++iv) {
+            if (stop.load(std::memory_order_relaxed)) continue;
+            const std::size_t v = static_cast<std::size_t>(iv);
+            if (reporter && progress && (done.load(std::memory_order_relaxed) & 4095) == 0 &&
+                !progress(double(done.load()) / double(n), "writing the shared fit into the basis"))
+                stop.store(true);
+            done.fetch_add(1, std::memory_order_relaxed);
+            if (!seen[v]) continue;
+            const Frame frame = frameFromStored(field.frame(v));
+            const double nv[3] = {frame.n.x(), frame.n.y(), frame.n.z()};
+            for (int i = 0; i < Nd; ++i) {
+                const Eigen::Vector3d w = frame.toWorld(Eigen::Vector3d(dirs[3 * i], dirs[3 * i + 1], dirs[3 * i + 2]));
+                const double d2 = 2.0 * (nv[0] * w.x() + nv[1] * w.y() + nv[2] * w.z());
+                double gv[3];
+                table.lookup(d2 * nv[0] - w.x(), d2 * nv[1] - w.y(), d2 * nv[2] - w.z(), gv);
+                const double cf = model.factor(dirs[3 * i + 2]);  // local z = n.w
+                for (int c = 0; c < 3; ++c) V(i, c) = cf * gv[c];
+            }
+            C.noalias() = P * V;
+            // The projected lobe at the vertex's samples.
+            g.clear();
+            a.clear();
+            raw.clear();
+            y.clear();
+            PairSums sums[3];
+            double meanAcc[3] = {0, 0, 0}, W = 0, meanW = 0;
+            for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
+                if (!usable(i)) continue;
+                const DirectionalSample& s = set.samples[i];
+                const double w = double(s.weight) * model.robustWeight[i];
+                if (model.robustWeight[i] < 1.0f) ++down;
+                const Eigen::Vector3d l = frame.toLocal(Eigen::Vector3d(s.direction[0], s.direction[1], s.direction[2]));
+                double lx = l.x(), ly = l.y(), lz = l.z();
+                borderExtendLocal(lx, ly, lz);
+                evaluateBasis(basis, lx, ly, lz, basisAt.data());
+                for (int c = 0; c < 3; ++c) {
+                    double gc = 0.0;
+                    for (int k = 0; k < K; ++k) gc += C(k, c) * basisAt[k];
+                    g.push_back(gc);
+                    y.push_back(s.rgb[c]);
+                    PairSums& p = sums[c];
+                    p.W += w;
+                    p.Sg += w * gc;
+                    p.Sgg += w * gc * gc;
+                    p.Sy += w * s.rgb[c];
+                    p.Sgy += w * gc * s.rgb[c];
+                    meanAcc[c] += w * s.rgb[c];  // the Huber-weighted mean, as robust_radiance_fit.h
+                }
+                a.push_back(w);
+                raw.push_back(w);
+                W += w;
+                meanW += w;
+            }
+            const int m = static_cast<int>(a.size());
+            if (!(W > 0.0) || !(meanW > 0.0)) {  // every usable sample has zero weight: plain mean
+                W = 0;
+                meanW = 0;
+                for (int c = 0; c < 3; ++c) meanAcc[c] = 0;
+                for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
+                    if (!usable(i)) continue;
+                    for (int c = 0; c < 3; ++c) meanAcc[c] += set.samples[i].rgb[c];
+                    W += 1.0;
+                    meanW += 1.0;
+                }
+                for (int j = 0; j < m; ++j) a[j] = raw[j] = 1.0;
+            }
+            double mean[3];
+            for (int c = 0; c < 3; ++c) mean[c] = meanAcc[c] / meanW;
+            double priorS[3];
+            neighbourPrior(off, adj, model.specular, seen, v, priorS);
+            double d[3], sc[3], inv[3][3];
+            double looShared = 0.0, looConstant = 0.0;
+            for (int c = 0; c < 3; ++c) {
+                const double lambda = options.specularPrior * sums[c].W * model.lobeEnergy[c];
+                solvePair(sums[c], lambda, priorS[c], d[c], sc[c], inv[c]);
+            }
+            for (int j = 0; j < m; ++j)
+                for (int c = 0; c < 3; ++c) {
+                    const double gj = g[3 * j + c], yj = y[3 * j + c];
+                    const double scale = a[j] * srgbSlope2(yj);
+                    const double hs = a[j] * (inv[c][0] + 2.0 * gj * inv[c][1] + gj * gj * inv[c][2]);
+                    const double es = (yj - d[c] - sc[c] * gj) / std::max(1.0 - hs, 1e-3);
+                    const double hc = raw[j] / meanW;
+                    const double ec = (yj - mean[c]) / std::max(1.0 - hc, 1e-3);
+                    looShared += scale * es * es;
+                    looConstant += scale * ec * ec;
+                }
+            const bool keepShared = m >= fit.minSamples && m >= 2 && looShared < looConstant;
+            float* dst = field.vertexCoefficients(v);
+            std::fill(out.begin(), out.end(), 0.0);
+            if (keepShared) {
+                for (int c = 0; c < 3; ++c) {
+                    for (int k = 0; k < K; ++k) out[c * K + k] = sc[c] * C(k, c);
+                    out[c * K] += d[c] / constantValue;
+                }
+                ++sharedCount;
+                if (keptShared) (*keptShared)[v] = 1;
+            } else {
+                for (int c = 0; c < 3; ++c) out[c * K] = mean[c] / constantValue;
+                if (m < fit.minSamples) ++tooFew;
+                else ++constantCount;
+            }
+            // Residual of the stored function at the samples.
+            double r2 = 0.0;
+            for (int j = 0; j < m; ++j)
+                for (int c = 0; c < 3; ++c) {
+                    const double f = keepShared ? d[c] + sc[c] * g[3 * j + c] : mean[c];
+                    const double e = f - y[3 * j + c];
+                    r2 += a[j] * e * e;
+                }
+            residual[v] = static_cast<float>(std::sqrt(r2 / (3.0 * W)));
+            for (int c = 0; c < 3; ++c) meanColor[3 * v + c] = static_cast<float>(mean[c]);
+            status[v] = static_cast<std::uint8_t>(m < fit.poorSamplingFactor * K || m < fit.minSamples
+                                                      ? FitStatus::PoorlySampled
+                                                      : FitStatus::Fitted);
+            // Storage: PB local, SH rotated to the global frame; reflected: the local sign flips.
+            if (fit.storeReflected)
+                for (int c = 0; c < 3; ++c)
+                    for (int k = 0; k < K; ++k) out[c * K + k] *= sign[k];
+            if (basis.usesLocalFrame()) {
+                for (int k = 0; k < 3 * K; ++k) dst[k] = static_cast<float>(out[k]);
+            } else {
+                const ShRotation rotation(basis.degree, frame.rotation().transpose());
+                for (int c = 0; c < 3; ++c) {
+                    rotation.apply(out.data() + c * K, rotOut.data());
+                    for (int k = 0; k < K; ++k) dst[c * K + k] = static_cast<float>(rotOut[k]);
+                }
+            }
+        }
+    }
+    if (stop.load()) throw OperationCancelled();
+    stats.shared = sharedCount;
+    stats.constant = constantCount;
+    stats.tooFew = tooFew;
+    stats.downweighted = down;
+    return stats;
+}
+
+}  // namespace rad
