@@ -22,6 +22,7 @@ cat >"$out" <<MLX
   <Param type="RichBool" name="validation" value="true"/>
   <Param type="RichBool" name="robust" value="true"/>
   <Param type="RichBool" name="exposureCompensation" value="true"/>
+  <Param type="RichEnum" name="fitModel" value="0" enum_cardinality="3" enum_val0="automatic" enum_val1="pervertex" enum_val2="shared"/>
   <Param type="RichInt" name="heldOutEvery" value="0"/>
  </filter>
 </FilterScript>

@@ -95,6 +95,7 @@ fit_mlx() {
         "<Param type=\"RichBool\" name=\"validation\" value=\"$validation\"/>" \
         "<Param type=\"RichBool\" name=\"robust\" value=\"$robust\"/>" \
         '<Param type="RichBool" name="exposureCompensation" value="true"/>' \
+        '<Param type="RichEnum" name="fitModel" value="0" enum_cardinality="3" enum_val0="automatic" enum_val1="pervertex" enum_val2="shared"/>' \
         '<Param type="RichInt" name="heldOutEvery" value="0"/>'
 }
 

@@ -28,7 +28,7 @@ EXPECTED_PARAMETERS = {
     h.EVALUATE: ["viewpoint", "exposure"],
     h.FIT: ["visibleOnly", "basis", "degree", "regularization", "depthTolerance", "grazingAngle", "borderMargin",
             "minSamples", "reflected", "quality", "setColor", "validation", "robust", "exposureCompensation",
-            "heldOutEvery"],
+            "fitModel", "heldOutEvery"],
     h.SIMPLIFY: ["metric", "collapse", "targetFaces", "targetPercentage", "lodLevels", "geometryWeight",
                  "attributeWeight", "preserveBoundary", "minValence", "maxValence", "maxNormalChange", "lazy",
                  "progressiveFile"],
