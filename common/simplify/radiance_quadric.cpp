@@ -2,6 +2,7 @@
 
 #include "radiance/material_radiance.h"
 #include "radiance/radiance_distance.h"
+#include "radiance/radiance_frame.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
@@ -68,25 +69,41 @@ RadianceQuadricMetric::RadianceQuadricMetric(const CollapseMesh& mesh, RadianceF
         !(options.radianceWeight >= 0.0 && std::isfinite(options.radianceWeight)))
         throw std::invalid_argument("the radiance quadric's weights must be finite and >= 0");
     k_ = field.coefficientsPerChannel();
-    m_ = field.coefficientsPerVertex();
     const std::size_t nv = mesh.vertexCount();
-
-    // The L2 space of the functions: coefficients times L^T, M = L L^T.
-    Eigen::MatrixXd gram = Eigen::MatrixXd::Identity(k_, k_);
     if (field.basis.usesLocalFrame()) {
+        // PB(d) -> SH(d) in the world frame: a Gauss product rule on the sphere exact to degree 2d.
+        convertsFrames_ = true;
+        const int d = field.basis.degree;
+        const BasisSpec sh{BasisKind::SphericalHarmonics, d};
+        kSh_ = sh.coefficientCount();
+        const int zNodes = d + 1, phiNodes = 2 * d + 2;
+        std::vector<double> z, wz;
+        gaussLegendre(zNodes, -1.0, 1.0, z, wz);
+        const double pi = 3.14159265358979323846;
+        for (int i = 0; i < zNodes; ++i)
+            for (int j = 0; j < phiNodes; ++j) {
+                const double phi = 2.0 * pi * (j + 0.5) / phiNodes, r = std::sqrt(std::max(0.0, 1.0 - z[i] * z[i]));
+                spherePoints_.emplace_back(r * std::cos(phi), r * std::sin(phi), z[i]);
+                sphereWeights_.push_back(wz[i] * 2.0 * pi / phiNodes);
+            }
+        sphereSh_.resize(spherePoints_.size() * kSh_);
+        for (std::size_t i = 0; i < spherePoints_.size(); ++i)
+            evaluateBasis(sh, spherePoints_[i].x(), spherePoints_[i].y(), spherePoints_[i].z(), &sphereSh_[i * kSh_]);
+        const HemisphereIntegrator hemisphere = HemisphereIntegrator::gaussProduct(d + 1, 2 * d + 2);
+        hemispherePoints_ = hemisphere.localPoints();
+        hemisphereWeights_ = hemisphere.weights();
         const std::vector<double> g = hemisphereGramMatrix(field.basis);
-        gram = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(g.data(), k_, k_);
+        const Eigen::MatrixXd gram =
+            Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(g.data(), k_, k_);
+        const Eigen::MatrixXd inverse = gram.inverse();
+        gramInverse_.resize(std::size_t(k_) * k_);
+        for (int r = 0; r < k_; ++r)
+            for (int c = 0; c < k_; ++c) gramInverse_[r * k_ + c] = inverse(r, c);
+        m_ = kColorChannels * kSh_;
+    } else {
+        kSh_ = k_;
+        m_ = field.coefficientsPerVertex();
     }
-    const Eigen::LLT<Eigen::MatrixXd> llt(gram);
-    const Eigen::MatrixXd lt = llt.matrixU();  // L^T
-    const Eigen::MatrixXd ltInverse = lt.inverse();
-    toMetric_.resize(static_cast<std::size_t>(k_) * k_);
-    fromMetric_.resize(toMetric_.size());
-    for (int r = 0; r < k_; ++r)
-        for (int c = 0; c < k_; ++c) {
-            toMetric_[r * k_ + c] = lt(r, c);
-            fromMetric_[r * k_ + c] = ltInverse(r, c);
-        }
 
     // Normalised positions: the bounding box of the alive vertices, diagonal 1.
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
@@ -107,7 +124,7 @@ RadianceQuadricMetric::RadianceQuadricMetric(const CollapseMesh& mesh, RadianceF
     std::size_t counted = 0;
     for (std::size_t v = 0; v < nv; ++v) {
         float* a = attributes_.data() + v * m_;
-        toMetric(field.vertexCoefficients(v), a);
+        toMetric(v, field.vertexCoefficients(v), a);
         if (!mesh.vertexAlive(static_cast<std::uint32_t>(v))) continue;
         for (int j = 0; j < m_; ++j) sumSquares += double(a[j]) * a[j];
         ++counted;
@@ -182,7 +199,7 @@ RadianceQuadricMetric::RadianceQuadricMetric(const CollapseMesh& mesh, RadianceF
                 const float* s2 = attributes_.data() + std::size_t(t[2]) * m_;
                 const bool planar = det > 1e-14 * a11 * a22;
                 for (int j = 0; j < m_; ++j) {
-                    const double area = channelArea[j / k_];
+                    const double area = channelArea[j / kSh_];
                     Eigen::Vector3d grad = Eigen::Vector3d::Zero();
                     double offset = (double(s0[j]) + s1[j] + s2[j]) / 3.0;
                     if (planar) {
@@ -212,28 +229,62 @@ std::size_t RadianceQuadricMetric::bytes() const {
     return (geometric_.size() + gradients_.size()) * sizeof(double) + attributes_.size() * sizeof(float);
 }
 
-void RadianceQuadricMetric::toMetric(const float* coefficients, float* attributes) const {
-    for (int c = 0; c < kColorChannels; ++c) {
-        const float* in = coefficients + c * k_;
-        float* out = attributes + c * k_;
-        for (int r = 0; r < k_; ++r) {
-            double sum = 0.0;
-            for (int i = r; i < k_; ++i) sum += toMetric_[r * k_ + i] * in[i];  // L^T is upper triangular
-            out[r] = static_cast<float>(sum);
+void RadianceQuadricMetric::toMetric(std::size_t v, const float* coefficients, float* attributes) const {
+    if (!convertsFrames_) {
+        std::copy(coefficients, coefficients + m_, attributes);
+        return;
+    }
+    // (1/4pi-free) projection of the PB function, a polynomial of the world direction, on world SH.
+    const Frame frame = frameFromStored(field_.frame(v));
+    thread_local std::vector<double> pb, sh;
+    pb.resize(k_);
+    sh.assign(m_, 0.0);
+    for (std::size_t i = 0; i < spherePoints_.size(); ++i) {
+        const Eigen::Vector3d local = frame.toLocal(spherePoints_[i]);
+        evaluateBasis(field_.basis, local.x(), local.y(), local.z(), pb.data());
+        const double* y = &sphereSh_[i * kSh_];
+        for (int c = 0; c < kColorChannels; ++c) {
+            const float* coefficient = coefficients + c * k_;
+            double value = 0.0;
+            for (int k = 0; k < k_; ++k) value += coefficient[k] * pb[k];
+            value *= sphereWeights_[i];
+            double* out = &sh[c * kSh_];
+            for (int k = 0; k < kSh_; ++k) out[k] += value * y[k];
         }
     }
+    for (int j = 0; j < m_; ++j) attributes[j] = static_cast<float>(sh[j]);
 }
 
-void RadianceQuadricMetric::fromMetric(const double* attributes, float* coefficients) const {
-    for (int c = 0; c < kColorChannels; ++c) {
-        const double* in = attributes + c * k_;
-        float* out = coefficients + c * k_;
-        for (int r = 0; r < k_; ++r) {
-            double sum = 0.0;
-            for (int i = r; i < k_; ++i) sum += fromMetric_[r * k_ + i] * in[i];
-            out[r] = static_cast<float>(sum / attributeScale_);
+void RadianceQuadricMetric::fromMetric(std::size_t v, const double* attributes, float* coefficients) const {
+    if (!convertsFrames_) {
+        for (int j = 0; j < m_; ++j) coefficients[j] = static_cast<float>(attributes[j] / attributeScale_);
+        return;
+    }
+    // Least squares over the survivor's hemisphere: c = M^-1 int B(w) f(w) dw (weights / 2pi as M's).
+    const Frame frame = frameFromStored(field_.frame(v));
+    const BasisSpec sh{BasisKind::SphericalHarmonics, field_.basis.degree};
+    thread_local std::vector<double> pb, y, rhs;
+    pb.resize(k_);
+    y.resize(kSh_);
+    rhs.assign(std::size_t(kColorChannels) * k_, 0.0);
+    for (std::size_t i = 0; i < hemispherePoints_.size(); ++i) {
+        const Eigen::Vector3d& local = hemispherePoints_[i];
+        const Eigen::Vector3d world = frame.toWorld(local);
+        evaluateBasis(field_.basis, local.x(), local.y(), local.z(), pb.data());
+        evaluateBasis(sh, world.x(), world.y(), world.z(), y.data());
+        for (int c = 0; c < kColorChannels; ++c) {
+            double value = 0.0;
+            for (int k = 0; k < kSh_; ++k) value += attributes[c * kSh_ + k] * y[k];
+            value *= hemisphereWeights_[i] / attributeScale_;
+            for (int k = 0; k < k_; ++k) rhs[c * k_ + k] += value * pb[k];
         }
     }
+    for (int c = 0; c < kColorChannels; ++c)
+        for (int r = 0; r < k_; ++r) {
+            double sum = 0.0;
+            for (int k = 0; k < k_; ++k) sum += gramInverse_[r * k_ + k] * rhs[c * k_ + k];
+            coefficients[c * k_ + r] = static_cast<float>(sum);
+        }
 }
 
 void RadianceQuadricMetric::attributes(std::uint32_t v, double* out) const {
@@ -264,7 +315,7 @@ double RadianceQuadricMetric::evaluateSum(const Sum& q, const Eigen::Vector3d& p
         const double plane = (double(G0[3 * j]) + G1[3 * j]) * p.x() + (double(G0[3 * j + 1]) + G1[3 * j + 1]) * p.y() +
                              (double(G0[3 * j + 2]) + G1[3 * j + 2]) * p.z() + (double(E0[j]) + E1[j]);
         cross += s[j] * plane;
-        norm[j / k_] += double(s[j]) * s[j];
+        norm[j / kSh_] += double(s[j]) * s[j];
     }
     value += -2.0 * cross;
     for (int c = 0; c < 3; ++c) value += g[kW + c] * norm[c];
@@ -286,7 +337,7 @@ double RadianceQuadricMetric::evaluateOptimal(const Sum& q, const Eigen::Vector3
         for (int j = 0; j < m_; ++j) {
             const double plane = (double(G0[3 * j]) + G1[3 * j]) * p.x() + (double(G0[3 * j + 1]) + G1[3 * j + 1]) * p.y() +
                                  (double(G0[3 * j + 2]) + G1[3 * j + 2]) * p.z() + (double(E0[j]) + E1[j]);
-            sum[j / k_] += plane * plane;
+            sum[j / kSh_] += plane * plane;
         }
         for (int c = 0; c < 3; ++c)
             if (g[kW + c] > 0.0) value -= sum[c] / g[kW + c];
@@ -374,12 +425,12 @@ void RadianceQuadricMetric::onCollapse(const CollapseMesh& mesh, const EdgeQuery
     optimal.resize(m_);
     const double* e1 = g1 + 3 * m_;
     for (int j = 0; j < m_; ++j) {
-        const double w = q1[kW + j / k_];
+        const double w = q1[kW + j / kSh_];
         optimal[j] = w > 0.0 ? (g1[3 * j] * p.x() + g1[3 * j + 1] * p.y() + g1[3 * j + 2] * p.z() + e1[j]) / w
                              : (1.0 - query.s) * a0[j] + query.s * a1[j];
     }
     for (int j = 0; j < m_; ++j) a1[j] = static_cast<float>(optimal[j]);
-    fromMetric(optimal.data(), field_.vertexCoefficients(v1));
+    fromMetric(v1, optimal.data(), field_.vertexCoefficients(v1));
 }
 
 }  // namespace rad

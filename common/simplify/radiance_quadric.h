@@ -19,13 +19,14 @@
 // faces' attribute planes at p), and Q(p, s*) = p^T A' p + 2 b'.p + c' with A' = A - G G^T / W...:
 // one 3x3 solve gives the optimal position of a full collapse, and s* the new vertex's RF.
 //
-// Attributes are the RF coefficients in a space where the Euclidean distance is the L2 distance
-// between the functions over their domain (Vanhoey et al. 2015 eq. 5-6): the coefficients of each
-// channel multiplied by L^T, M = L L^T the basis's Gram matrix over the hemisphere (SH: the identity
-// up to 1/(4 pi) normalisation; PB: computed exactly with a Gauss product rule). PB lives in each
-// vertex's local frame; neighbouring frames differ by the small rotation between their normals, and
-// the quadric treats their coefficients as comparable (the approximation the fit's filling of
-// unseen vertices makes too; docs/design-notes.md measures what it costs).
+// Attributes are the RFs in one space where the Euclidean distance is an L2 distance between the
+// functions (Vanhoey et al. 2015 eq. 5-6): SH coefficients as they are (orthonormal, global frame).
+// A PB function of degree d lives in its vertex's local frame, but each of its monomials
+// (t.w)^i (b.w)^j is a polynomial of degree <= d in the world direction w, so the function is
+// exactly an SH expansion of degree d in the world frame: PB fields are converted to it (a sphere
+// quadrature exact to degree 2d), so that neighbours with different frames are compared as the
+// functions they are; a full collapse's optimal function is projected back onto PB in the
+// survivor's frame (least squares over its hemisphere, the basis's Gram matrix there).
 //
 // Scale: positions are normalised by the bounding-box diagonal and the attributes by the RMS L2
 // norm of the field's functions, so neither the scan's size nor the radiance's range changes which
@@ -91,15 +92,22 @@ private:
     double evaluateSum(const Sum& q, const Eigen::Vector3d& normalised, const float* attributes) const;
     double evaluateOptimal(const Sum& q, const Eigen::Vector3d& normalised) const;
     Eigen::Vector3d normalise(const Eigen::Vector3d& world) const { return positionScale_ * (world - centre_); }
-    void toMetric(const float* coefficients, float* attributes) const;
-    void fromMetric(const double* attributes, float* coefficients) const;
+    void toMetric(std::size_t v, const float* coefficients, float* attributes) const;
+    void fromMetric(std::size_t v, const double* attributes, float* coefficients) const;
 
     RadianceField& field_;
     RadianceQuadricOptions options_;
-    int k_ = 0, m_ = 0;
+    int k_ = 0, m_ = 0;  // coefficients per channel of the field; attributes per vertex (3 x the metric's)
     Eigen::Vector3d centre_ = Eigen::Vector3d::Zero();
     double positionScale_ = 1.0, attributeScale_ = 1.0;
-    std::vector<double> toMetric_, fromMetric_;  // K x K, row major: L^T and its inverse
+    // PB fields: the world SH of degree d (kSh functions) at the points of a sphere rule, and a
+    // hemisphere rule with the PB Gram matrix's inverse for the way back.
+    bool convertsFrames_ = false;
+    int kSh_ = 0;
+    std::vector<Eigen::Vector3d> spherePoints_, hemispherePoints_;
+    std::vector<double> sphereWeights_, hemisphereWeights_;
+    std::vector<double> sphereSh_;           // kSh per sphere point
+    std::vector<double> gramInverse_;        // K x K, PB over the hemisphere
     // Per vertex: the geometric block A (6, upper triangle), b (3), c, W in doubles...
     std::vector<double> geometric_;              // kGeometric per vertex
     // ...and G (3 m) then E (m), in doubles too: the cost subtracts nearly equal sums (c and the

@@ -95,6 +95,43 @@ TEST(RadianceQuadric, AffineRadianceOnAPlaneCostsNothing) {
     EXPECT_NEAR(halfEdgeCost(metric, mesh, grid.at(1, 2), grid.at(1, 1)), 0.0, 1e-9);
 }
 
+TEST(RadianceQuadric, PbFramesTurnedAboutTheNormalDescribeTheSameFunction) {
+    // Every vertex holds f(w) = w.x + 0.5 in PB1, each in a frame turned by its own angle about +z:
+    // u = cos a x + sin a y, v = -sin a x + cos a y, so f = cos a u - sin a v + 0.5. The same
+    // function everywhere: no collapse may cost anything (raw coefficients differ from vertex to vertex).
+    const Grid grid(5);
+    rad::CollapseMesh mesh = grid.mesh();
+    const rad::BasisSpec basis{rad::BasisKind::HemisphericalPolynomial, 1};
+    rad::RadianceField field(basis, grid.vertices());
+    for (std::size_t v = 0; v < grid.vertices(); ++v) {
+        const double a = 0.7 * double(v);
+        rad::Frame frame;
+        frame.t = Vector3d(std::cos(a), std::sin(a), 0.0);
+        frame.b = Vector3d(-std::sin(a), std::cos(a), 0.0);
+        frame.n = Vector3d::UnitZ();
+        rad::storeFrame(frame, field.frame(v));
+        for (int c = 0; c < 3; ++c) {
+            float* k = field.channelCoefficients(v, c);
+            k[rad::polynomialIndex(0, 0)] = 0.5f;
+            k[rad::polynomialIndex(1, 0)] = float(std::cos(a));
+            k[rad::polynomialIndex(0, 1)] = float(-std::sin(a));
+        }
+    }
+    const rad::RadianceQuadricMetric metric(mesh, field);
+    double largest = 0.0;
+    for (std::uint32_t v0 = 0; v0 < grid.vertices(); ++v0) {
+        std::vector<std::uint32_t> ring;
+        mesh.neighbours(v0, ring);
+        for (std::uint32_t v1 : ring) largest = std::max(largest, halfEdgeCost(metric, mesh, v0, v1));
+    }
+    EXPECT_LT(largest, 1e-9);
+    // A different function at one vertex does cost.
+    rad::RadianceField other = field;
+    other.channelCoefficients(grid.at(2, 2), 0)[rad::polynomialIndex(1, 0)] += 0.5f;
+    const rad::RadianceQuadricMetric changed(mesh, other);
+    EXPECT_GT(halfEdgeCost(changed, mesh, grid.at(2, 2), grid.at(3, 2)), 1e-4);
+}
+
 TEST(RadianceQuadric, RadianceChangeCostsAndMatchesTheAreaWeightedSum) {
     // One vertex's radiance differs by delta in every coefficient (in the metric's space): moving
     // that vertex onto a neighbour must cost; the neighbour onto it too.
