@@ -30,9 +30,9 @@ namespace rad {
 enum class SimplificationMetric { Radiance, LightField2010, ColorQuadric, GeometryOnly, RadianceQuadric };
 
 // The radiance quadric's radiance term weighs attributeWeight x kRadianceQuadricBalance against its
-// plane terms' geometryWeight: at the default weights (0.01 / 0.99) 0.99 x 5e-5 / 0.01 ~ 0.5 % in
+// plane terms' geometryWeight: at the default weights (0.01 / 0.99) 0.99 x 1.25e-5 / 0.01 ~ 0.12 % in
 // normalised units, the balance the image-error benchmark measured best (docs/design-notes.md).
-inline constexpr double kRadianceQuadricBalance = 5e-5;
+inline constexpr double kRadianceQuadricBalance = 1.25e-5;
 inline constexpr double kRadianceQuadricPerceptualExponent = 0.5;
 std::string describe(SimplificationMetric metric);
 
