@@ -31,6 +31,26 @@ double srgbSlope(double linear) {
     return linear <= 0.0031308 ? 12.92 : 1.055 / 2.4 * std::pow(linear, 1.0 / 2.4 - 1.0);
 }
 
+// Adds weight (n.p + d)^2 to a block laid out as A (6, upper triangle), b (3), c: the plane terms and
+// each attribute's (g.p + e)^2 share this form.
+void addSquaredLinear(double* block, double weight, const Eigen::Vector3d& n, double d) {
+    block[0] += weight * n.x() * n.x();
+    block[1] += weight * n.x() * n.y();
+    block[2] += weight * n.x() * n.z();
+    block[3] += weight * n.y() * n.y();
+    block[4] += weight * n.y() * n.z();
+    block[5] += weight * n.z() * n.z();
+    for (int i = 0; i < 3; ++i) block[6 + i] += weight * d * n[i];
+    block[9] += weight * d * d;
+}
+
+// p^T A p + 2 b.p + c of such a block.
+double evaluateQuadratic(const double* block, const Eigen::Vector3d& p) {
+    return block[0] * p.x() * p.x() + block[3] * p.y() * p.y() + block[5] * p.z() * p.z() +
+           2.0 * (block[1] * p.x() * p.y() + block[2] * p.x() * p.z() + block[4] * p.y() * p.z()) +
+           2.0 * (block[6] * p.x() + block[7] * p.y() + block[8] * p.z()) + block[9];
+}
+
 Eigen::Matrix3d symmetric(const double* a) {
     Eigen::Matrix3d m;
     m << a[0], a[1], a[2], a[1], a[3], a[4], a[2], a[4], a[5];
@@ -173,19 +193,8 @@ RadianceQuadricMetric::RadianceQuadricMetric(const CollapseMesh& mesh, RadianceF
                 const double area = 0.5 * doubleArea;
                 const Eigen::Vector3d normal = cross / doubleArea;
                 const double d = -normal.dot(p0);
-                const double wg = area * options.geometryWeight;
-                q[kA + 0] += wg * normal.x() * normal.x();
-                q[kA + 1] += wg * normal.x() * normal.y();
-                q[kA + 2] += wg * normal.x() * normal.z();
-                q[kA + 3] += wg * normal.y() * normal.y();
-                q[kA + 4] += wg * normal.y() * normal.z();
-                q[kA + 5] += wg * normal.z() * normal.z();
-                for (int i = 0; i < 3; ++i) q[kB + i] += wg * d * normal[i];
-                q[kC] += wg * d * d;
-                const double planes[10] = {normal.x() * normal.x(), normal.x() * normal.y(), normal.x() * normal.z(),
-                                           normal.y() * normal.y(), normal.y() * normal.z(), normal.z() * normal.z(),
-                                           d * normal.x(), d * normal.y(), d * normal.z(), d * d};
-                for (int i = 0; i < 10; ++i) q[kPlanes + i] += area * planes[i];
+                addSquaredLinear(q + kA, area * options.geometryWeight, normal, d);
+                addSquaredLinear(q + kPlanes, area, normal, d);
                 double channelArea[3];
                 for (int c = 0; c < 3; ++c) {
                     channelArea[c] = area * (channelWeight[3 * t[0] + c] + channelWeight[3 * t[1] + c] + channelWeight[3 * t[2] + c]) / 3.0;
@@ -208,14 +217,7 @@ RadianceQuadricMetric::RadianceQuadricMetric(const CollapseMesh& mesh, RadianceF
                         grad = alpha * e1 + beta * e2;
                         offset = s0[j] - grad.dot(p0);
                     }
-                    q[kA + 0] += area * grad.x() * grad.x();
-                    q[kA + 1] += area * grad.x() * grad.y();
-                    q[kA + 2] += area * grad.x() * grad.z();
-                    q[kA + 3] += area * grad.y() * grad.y();
-                    q[kA + 4] += area * grad.y() * grad.z();
-                    q[kA + 5] += area * grad.z() * grad.z();
-                    for (int i = 0; i < 3; ++i) q[kB + i] += area * offset * grad[i];
-                    q[kC] += area * offset * offset;
+                    addSquaredLinear(q + kA, area, grad, offset);
                     for (int i = 0; i < 3; ++i) gradSum[3 * j + i] += area * grad[i];
                     gradSum[3 * m_ + j] += area * offset;
                 }
@@ -303,9 +305,7 @@ void RadianceQuadricMetric::sumOf(std::uint32_t v0, std::uint32_t v1, Sum& out) 
 // Q(p, s) = p^T A p + 2 b.p + c - 2 sum_j s_j (G_j.p + E_j) + W |s|^2.
 double RadianceQuadricMetric::evaluateSum(const Sum& q, const Eigen::Vector3d& p, const float* s) const {
     const double* g = q.g;
-    double value = g[kA + 0] * p.x() * p.x() + g[kA + 3] * p.y() * p.y() + g[kA + 5] * p.z() * p.z() +
-                   2.0 * (g[kA + 1] * p.x() * p.y() + g[kA + 2] * p.x() * p.z() + g[kA + 4] * p.y() * p.z()) +
-                   2.0 * (g[kB] * p.x() + g[kB + 1] * p.y() + g[kB + 2] * p.z()) + g[kC];
+    double value = evaluateQuadratic(g + kA, p);
     const double* G0 = q.grad0;
     const double* G1 = q.grad1;
     const double* E0 = G0 + 3 * m_;
@@ -325,9 +325,7 @@ double RadianceQuadricMetric::evaluateSum(const Sum& q, const Eigen::Vector3d& p
 // min over s of Q(p, s) = p^T A p + 2 b.p + c - sum_j (G_j.p + E_j)^2 / W.
 double RadianceQuadricMetric::evaluateOptimal(const Sum& q, const Eigen::Vector3d& p) const {
     const double* g = q.g;
-    double value = g[kA + 0] * p.x() * p.x() + g[kA + 3] * p.y() * p.y() + g[kA + 5] * p.z() * p.z() +
-                   2.0 * (g[kA + 1] * p.x() * p.y() + g[kA + 2] * p.x() * p.z() + g[kA + 4] * p.y() * p.z()) +
-                   2.0 * (g[kB] * p.x() + g[kB + 1] * p.y() + g[kB + 2] * p.z()) + g[kC];
+    double value = evaluateQuadratic(g + kA, p);
     {
         const double* G0 = q.grad0;
         const double* G1 = q.grad1;
