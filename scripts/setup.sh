@@ -175,8 +175,11 @@ if [ "${SKIP_DATA:-0}" != "1" ]; then
 fi
 
 log "configuring in $BUILD_DIR"
+# RADIANCE_PLUGINS_2025 / RADIANCE_BUILD_BENCH (ON unless set): the test command turns both off,
+# since pip install compiles the 2025 plugins it tests and no test runs a benchmark program.
 cmake -S "$REPO" -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DMESHLAB_SOURCE_DIR="$MESHLAB_SRC" \
-  -DMESHLAB2025_SOURCE_DIR="$MESHLAB2025_DIR" -DRADIANCE_PYTHON="$VENV/bin/python" >/dev/null
+  -DMESHLAB2025_SOURCE_DIR="$MESHLAB2025_DIR" -DRADIANCE_PYTHON="$VENV/bin/python" \
+  -DRADIANCE_PLUGINS_2025="${RADIANCE_PLUGINS_2025:-ON}" -DRADIANCE_BUILD_BENCH="${RADIANCE_BUILD_BENCH:-ON}" >/dev/null
 log "building with $JOBS jobs"
 cmake --build "$BUILD_DIR" -j "$JOBS"
 log "private MeshLab prefix"
