@@ -4,7 +4,7 @@ pymeshlab is not thread-safe, its loaders change the process's working directory
 loads leak, and a crash (or the kernel's out-of-memory kill) takes the whole process down. So every
 object is processed by a fresh Python process:
 
-    python -m pymeshlab_radiance.batch_job run     < job.json     (result: one JSON line on stdout)
+    python -m pymeshlab_radiance.batch_job run KEY < job.json     (result: one JSON line on stdout)
     python -m pymeshlab_radiance.batch_job probe   < query.json   (which filters/parameters exist)
 
 ``run_job(job, timeout=..., on_line=...)`` starts that process, feeds it the job, follows its stderr
@@ -55,7 +55,8 @@ def run_job(job, timeout=3600, on_line=None, mode="run"):
     what the job does: a crash, a kill or a timeout is a result with status 'failed' and the reason."""
     started = time.time()
     job = dict(job, parent_pid=os.getpid())
-    process = subprocess.Popen([sys.executable, "-m", "pymeshlab_radiance.batch_job", mode],
+    # The object's key on the command line only names the process for ps/top (the job comes on stdin).
+    process = subprocess.Popen([sys.executable, "-m", "pymeshlab_radiance.batch_job", mode, str(job.get("key", ""))],
                                stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                                env=child_environment(), text=True, errors="replace")
     timer = threading.Timer(timeout, _kill, args=(process,))
