@@ -42,8 +42,8 @@ at 50 % and 10 % into the progressive file; -p NAME=VALUE passes any other param
     "bake": f"""example (the full scan's normals and colours into a texture of its simplified copy):
   {PROG} simplify scan.ply -o coarse.ply --faces 2000 -p metric=3
   {PROG} bake scan.ply coarse.ply -o coarse_baked.ply --size 1024 --new-atlas --gltf
-writes coarse_baked.ply with its texture coordinates, coarse_baked_normal.png, the diffuse map, the
-LEAN moments (.exr) and coarse_baked_normal.glb; -p NAME=VALUE passes any other parameter of {BAKE}
+writes coarse_baked.ply with its texture coordinates, coarse_baked_normal.png, the diffuse map (when
+the scan has vertex colours), the LEAN moments (coarse_baked_lean.exr) and coarse_baked.glb; -p NAME=VALUE passes any other parameter of {BAKE}
 (e.g. -p space=1 for tangent space, -p bits=1 for 8 bit).""",
     "info": f"""example:
   {PROG} info fit_25.rply scan.ply
