@@ -158,7 +158,7 @@ def _start_client(workers, scheduler, memory_limit):
     if scheduler:
         return Client(scheduler, timeout="60s"), None
     cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                           memory_limit=memory_limit or "auto", dashboard_address=None)
+                           memory_limit=memory_limit or "auto", dashboard_address=":0")  # any free port: several runs may share a machine
     return Client(cluster), cluster
 
 

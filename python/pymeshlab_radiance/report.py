@@ -12,19 +12,28 @@ from .thumbnail import write_atomically
 
 COLUMNS = ("object", "status", "faces_before", "faces_after", "face_ratio", "image_error", "seconds",
            "output", "thumbnail", "message")
-# Image error figures as our filters log them (the fit's validation on held-out photographs, PSNR, RMS).
-_ERROR = re.compile(r"((?:held-out|validation|PSNR|RMS)[^;]*?(?:dB|error)[^;,)]*)", re.IGNORECASE)
+# Image error figures as the fit logs them: photographs held out of the fit (heldoutevery > 0), or
+# the left-out rasters on which it chose its model.
+_ERRORS = (
+    (re.compile(r"Held-out summary: .*?mean RMS fitted ([\d.]+)"), "held-out photographs: RMS {0} sRGB levels"),
+    (re.compile(r"RMS error in sRGB levels on them: per-vertex ([\d.]+), shared diffuse \+ reflected lobe ([\d.]+)"),
+     "left-out rasters: RMS {0} (per vertex), {1} (shared) sRGB levels"),
+)
 
 
 def image_error(row):
-    """The last image-error figure the recipe's filters logged, as text ('' if none measured it)."""
-    found = ""
-    for step in row.get("steps", []):
-        for line in step.get("log", []):
-            match = _ERROR.search(line)
-            if match:
-                found = match.group(1).strip()
-    return found
+    """The image error the recipe's filters logged, as text ('' if none measured it): the last
+    held-out summary, else the last model-choice figure."""
+    for pattern, text in _ERRORS:
+        found = ""
+        for step in row.get("steps", []):
+            for line in step.get("log", []):
+                match = pattern.search(line)
+                if match:
+                    found = text.format(*match.groups())
+        if found:
+            return found
+    return ""
 
 
 def table(rows):

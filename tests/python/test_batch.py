@@ -203,7 +203,7 @@ def test_objects_with_photographs_are_fitted_and_foreign_cameras_refused(scenes,
     manifest.write_text("# mesh<TAB>project\nphotos/mesh.ply\tphotos/project.mlp\ncolmap/object.ply\tcolmap/sparse/cameras.txt\n")
     recipe = tmp_path / "fit.toml"
     recipe.write_text('[[step]]\nfilter = "radiance_fit_radiance_functions_from_rasters"\n'
-                      'params = { degree = 2, depthtolerance = "0.5%" }\n[output]\nformat = "rply"\n')
+                      'params = { degree = 2, depthtolerance = "0.5%", heldoutevery = 3 }\n[output]\nformat = "rply"\n')
     output = tmp_path / "out"
     code, _, err = run_batch(recipe, manifest, output, "--workers", 1)
     assert code == 1, err
@@ -211,6 +211,13 @@ def test_objects_with_photographs_are_fitted_and_foreign_cameras_refused(scenes,
     fitted = rows["photos/mesh.ply"]
     assert fitted["status"] == "done" and fitted["rasters"] == 6, fitted
     assert rply.read_rply(str(output / "photos__mesh.rply")).basis == "PB2"
+    # Every 3rd photograph held out of the fit: the report's image error is the fit's held-out figure.
+    summary = [line for step in fitted["steps"] for line in step["log"] if line.startswith("Held-out summary: 2 views")]
+    assert len(summary) == 1, fitted["steps"]
+    with open(output / "report.csv") as f:
+        record = {r["object"]: r for r in csv.DictReader(f)}["photos/mesh.ply"]
+    rms = summary[0].split("mean RMS fitted ")[1].split(",")[0]
+    assert record["image_error"] == f"held-out photographs: RMS {rms} sRGB levels"
     refused = rows["colmap/object.ply"]
     assert refused["status"] == "failed"
     assert "COLMAP" in refused["message"] and "radiance_import_cameras_as_rasters" in refused["message"]
