@@ -250,7 +250,7 @@ def _run(job):
     except (pymeshlab.PyMeshLabException, _Refusal, TypeError, ValueError, OSError, MemoryError) as e:
         text = " ".join(str(e).split()) or type(e).__name__
         text = re.sub(r"^Failed to apply filter: \S+ Details: ", "", text)  # the filter is named in `stage`
-        if isinstance(e, MemoryError):
+        if isinstance(e, MemoryError) or "bad_alloc" in text:
             text = f"out of memory (limit {int(job.get('memory_limit') or 0) / 2**30:.2f} GiB per job): raise --memory-limit"
         result["message"] = f"{stage}: {text}"
         if stage.startswith("step"):

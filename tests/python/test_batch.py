@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 import pymeshlab_test_helpers as h
-from pymeshlab_radiance import rply
+from pymeshlab_radiance import batch_job, rply
 
 RECIPE = """
 [[step]]
@@ -222,3 +222,16 @@ def test_objects_with_photographs_are_fitted_and_foreign_cameras_refused(scenes,
     assert refused["status"] == "failed"
     assert "COLMAP" in refused["message"] and "radiance_import_cameras_as_rasters" in refused["message"]
     assert ".mlp" in refused["message"]  # the remedy
+
+
+def test_job_over_its_memory_limit_fails_its_row_with_the_remedy(first_run, tmp_path):
+    """300 MiB of address space is less than pymeshlab and its plugins already hold (about 0.5 GiB):
+    the job's first allocation fails, and the job says so instead of dying."""
+    job = {"key": "scan00.ply", "meshes": [str(first_run["scans"] / "scan00.ply")], "steps": [
+        {"filter": "meshing_surface_subdivision_midpoint", "params": {"iterations": 3}}],
+        "output": {"format": "ply", "params": {}}, "output_path": str(tmp_path / "scan00.ply"),
+        "thumbnail_path": None, "names": {}, "memory_limit": 300 * 2**20}
+    result = batch_job.run_job(job, timeout=120)
+    assert result["status"] == "failed" and result["returncode"] == 1, result
+    assert "out of memory (limit 0.29 GiB per job): raise --memory-limit" in result["message"]
+    assert not (tmp_path / "scan00.ply").exists()
