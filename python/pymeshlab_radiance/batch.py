@@ -197,6 +197,30 @@ def run_jobs(jobs, manifest_path, workers, scheduler, memory_limit, timeout, ret
 # ---------------------------------------------------------------------------------------------------
 # The command.
 
+def _lock(output_dir):
+    """One run per output folder at a time: the manifest has one writer."""
+    import fcntl
+
+    handle = open(os.path.join(output_dir, ".batch.lock"), "w")
+    try:
+        fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        raise BatchError(f"another batch run is writing into {output_dir}: wait for it to end, or choose "
+                         f"another output folder") from None
+    return handle
+
+
+def _remove_partials(output_dir):
+    """Temporary folders of jobs killed while saving in an earlier run (never a finished output)."""
+    import shutil
+
+    for folder in (output_dir, os.path.join(output_dir, THUMBNAILS)):
+        for name in os.listdir(folder):
+            if name.startswith(".partial-"):
+                path = os.path.join(folder, name)
+                shutil.rmtree(path, ignore_errors=True) if os.path.isdir(path) else os.unlink(path)
+
+
 def add_arguments(parser):
     parser.add_argument("recipe", help="the recipe (TOML): [[step]] filter/params, [output] format/params")
     parser.add_argument("input", help="a folder of meshes (with .mlp projects or cameras beside them) or a manifest file")
@@ -228,6 +252,8 @@ def run(args):
     memory_limit = parse_bytes(args.memory_limit) if args.memory_limit else 0
     check_recipe(recipe)
     os.makedirs(os.path.join(output_dir, THUMBNAILS), exist_ok=True)
+    lock = _lock(output_dir)  # noqa: F841  (held until the process ends)
+    _remove_partials(output_dir)
     manifest_path = os.path.join(output_dir, MANIFEST)
     jobs, done, unreadable = plan(items, recipe, output_dir, memory_limit)
     for row in unreadable:

@@ -59,7 +59,8 @@ def run_job(job, timeout=3600, on_line=None, mode="run"):
     process = subprocess.Popen([sys.executable, "-m", "pymeshlab_radiance.batch_job", mode, str(job.get("key", ""))],
                                stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                                env=child_environment(), text=True, errors="replace")
-    timer = threading.Timer(timeout, _kill, args=(process,))
+    stopped = threading.Event()
+    timer = threading.Timer(timeout, lambda: (stopped.set(), _kill(process)))
     timer.start()
     stdout = []
     reader = threading.Thread(target=lambda: stdout.append(process.stdout.read()), daemon=True)
@@ -75,7 +76,7 @@ def run_job(job, timeout=3600, on_line=None, mode="run"):
     process.wait()
     reader.join()
     timer.cancel()
-    timed_out = not timer.is_alive() and process.returncode == -signal.SIGKILL and time.time() - started >= timeout
+    timed_out = stopped.is_set()
     result = _parse_result("".join(stdout))
     if result is None:
         result = {"status": "failed", "message": _death_message(process.returncode, follow, job, timeout, timed_out)}

@@ -235,3 +235,13 @@ def test_job_over_its_memory_limit_fails_its_row_with_the_remedy(first_run, tmp_
     assert result["status"] == "failed" and result["returncode"] == 1, result
     assert "out of memory (limit 0.29 GiB per job): raise --memory-limit" in result["message"]
     assert not (tmp_path / "scan00.ply").exists()
+
+
+def test_job_over_its_time_limit_is_stopped_and_says_so(first_run, tmp_path):
+    job = {"key": "scan00.ply", "meshes": [str(first_run["scans"] / "scan00.ply")], "steps": [],
+           "output": {"format": "ply", "params": {}}, "output_path": str(tmp_path / "scan00.ply"),
+           "thumbnail_path": None, "names": {}, "memory_limit": 0}
+    result = batch_job.run_job(job, timeout=0.05)  # far less than starting Python and pymeshlab takes
+    assert result["status"] == "failed" and result["returncode"] == -signal.SIGKILL, result
+    assert result["message"].startswith("the job ran longer than 0.05 s") and "raise --timeout" in result["message"]
+    assert not (tmp_path / "scan00.ply").exists()
