@@ -242,14 +242,15 @@ def add_arguments(parser):
 
 def run(args):
     started = time.time()
-    from dask.utils import parse_bytes
-
     from .report import write_report
 
     recipe = load_recipe(args.recipe)
     output_dir = os.path.abspath(args.output)
     items = discover(args.input, exclude=output_dir)
-    memory_limit = parse_bytes(args.memory_limit) if args.memory_limit else 0
+    try:
+        memory_limit = batch_job.parse_size(args.memory_limit)
+    except ValueError as e:
+        raise BatchError(f"--memory-limit: {e}") from None
     check_recipe(recipe)
     os.makedirs(os.path.join(output_dir, THUMBNAILS), exist_ok=True)
     lock = _lock(output_dir)  # noqa: F841  (held until the process ends)

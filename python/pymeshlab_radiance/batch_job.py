@@ -41,6 +41,25 @@ _PACKAGE_PARENT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 # ---------------------------------------------------------------------------------------------------
 # The parent's side: launch, follow, collect.
 
+def parse_size(text):
+    """A memory size as the options take it: 4GiB, 500MB, 2e9, 0 (no limit) -> bytes."""
+    text = str(text).strip().lower().replace(" ", "")
+    if text in ("", "0", "none"):
+        return 0
+    units = (("kib", 2**10), ("mib", 2**20), ("gib", 2**30), ("tib", 2**40), ("kb", 10**3), ("mb", 10**6),
+             ("gb", 10**9), ("tb", 10**12), ("k", 2**10), ("m", 2**20), ("g", 2**30), ("b", 1))
+    for unit, factor in units:
+        if text.endswith(unit):
+            number = text[:-len(unit)]
+            break
+    else:
+        number, factor = text, 1
+    try:
+        return int(float(number) * factor)
+    except ValueError:
+        raise ValueError(f"'{text}' is not a memory size: write it as 4GiB, 500MB or a number of bytes") from None
+
+
 def child_environment():
     """The environment of a job process: this package importable from the same place."""
     env = dict(os.environ)

@@ -99,11 +99,20 @@ def _existing(path, what):
     return os.path.abspath(path)
 
 
+def _size(text):
+    from .batch_job import parse_size
+    try:
+        return parse_size(text)
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(str(e)) from None
+
+
 def _add_job_options(parser):
     parser.add_argument("-p", "--param", action="append", metavar="NAME=VALUE",
                         help="any other parameter of the filter (Python name; TOML value: 3, 0.5, true, \"text\", \"0.5%%\")")
     parser.add_argument("--timeout", type=float, default=3600, help="seconds the job may run")
-    parser.add_argument("--memory-limit", default="0", help="address-space limit of the job process (e.g. 4GiB; 0: none)")
+    parser.add_argument("--memory-limit", default="0", type=_size,
+                        help="address-space limit of the job process (e.g. 4GiB; 0: none)")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
@@ -118,7 +127,7 @@ def _run_steps(args, meshes, steps, output, project=None, save_params=None):
            "output": {"format": os.path.splitext(output)[1].lstrip("."), "params": save_params or {}},
            "output_path": output, "thumbnail_path": None,
            "names": {"stem": stem, "output_dir": os.path.dirname(output), "input_dir": os.path.dirname(meshes[0])},
-           "memory_limit": _bytes(args.memory_limit)}
+           "memory_limit": args.memory_limit}
     with bar(total=100 * len(steps), unit="%", desc="loading", enabled=not args.no_progress) as progress:
         result = run_job(job, timeout=args.timeout, on_line=FilterProgress(progress, [s["filter"] for s in steps]))
     if result["status"] != "done":
@@ -130,19 +139,6 @@ def _run_steps(args, meshes, steps, output, project=None, save_params=None):
     print(f"{result['faces_before']} -> {result['faces_after']} faces, {result['vertices_after']} vertices; "
           f"wrote {output} ({result['seconds_total']:.2f} s)")
     return 0, result
-
-
-def _bytes(text):
-    text = str(text).strip()
-    if text in ("", "0"):
-        return 0
-    units = {"kib": 2**10, "mib": 2**20, "gib": 2**30, "tib": 2**40, "kb": 10**3, "mb": 10**6, "gb": 10**9,
-             "tb": 10**12, "b": 1}
-    lower = text.lower()
-    for unit, factor in units.items():
-        if lower.endswith(unit):
-            return int(float(lower[:-len(unit)]) * factor)
-    return int(float(text))
 
 
 # ---------------------------------------------------------------------------------------------------
