@@ -329,10 +329,12 @@ private:
         std::push_heap(heap_.begin(), heap_.end(), CostsMore());
     }
 
-    // Geometry-only pricing of a handful of vertices costs less than waking the thread team; the
-    // initial pricing of the whole mesh and attribute metrics (eq. 7 integrates over a hemisphere
-    // per vertex) are worth it.
-    bool parallelWorth(long n) const { return n > 256 || (useMetric_ && n > 2); }
+    // Geometry-only pricing of a handful of vertices costs less than waking the thread team, and so
+    // do the few edges around a collapse under an accumulated quadric (microseconds each: a parallel
+    // region per collapse would cost as much on a quiet machine and far more on a busy one); the
+    // initial pricing of the whole mesh and the memoryless attribute metrics (eq. 7 integrates over
+    // a hemisphere per vertex) are worth it.
+    bool parallelWorth(long n) const { return n > 256 || (useMetric_ && !localCosts_ && n > 2); }
 
     // Prices `vertices` (half-edge) or every edge incident to them (full) in parallel, pushes.
     void reprice(const std::vector<std::uint32_t>& vertices);
