@@ -20,7 +20,7 @@ ctest --test-dir "$BUILD_DIR" --output-on-failure -j 2
 VENV="$BUILD_DIR/python-venv"
 echo "[test] pip install of the Python package into $VENV (compiles the MeshLab 2025.07 plugins)"
 "$VENV/bin/python" -m pip install -q --disable-pip-version-check --no-build-isolation --no-deps "$REPO"
-"$VENV/bin/python" -c "import pymeshlab_radiance, sys; sys.stdout.write('[test] plugins loaded from %s\\n' % pymeshlab_radiance.plugin_dir())"
+"$VENV/bin/python" -c "import pymeshlab_radiance, sys; pymeshlab_radiance.load(); sys.stdout.write('[test] plugins loaded from %s\\n' % pymeshlab_radiance.plugin_dir())"
 echo "[test] pytest through pymeshlab 2025.7"
 ( cd "$REPO" && RADIANCE_BUILD_DIR="$BUILD_DIR" "$VENV/bin/python" -m pytest -q -p no:cacheprovider tests/python )
 

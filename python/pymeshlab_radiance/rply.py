@@ -39,9 +39,12 @@ import os
 import re
 import time
 from dataclasses import dataclass, field
-from typing import Dict, List, Optional, Tuple
+from typing import Dict, List, NoReturn, Optional, Tuple, Union
 
 import numpy as np
+
+# A file name as the functions accept it: a string or a path-like object (pathlib.Path).
+PathLike = Union[str, "os.PathLike[str]"]
 
 __all__ = [
     "FORMAT_VERSION",
@@ -186,7 +189,7 @@ def _basis_name(basis: str) -> str:
 # Small helpers
 
 
-def _fail(message: str):
+def _fail(message: str) -> NoReturn:
     raise RadianceFileError(message)
 
 
@@ -886,7 +889,7 @@ class _FaceDecoder:
 # Reading
 
 
-def read_rply(path) -> RadianceMesh:
+def read_rply(path: PathLike) -> RadianceMesh:
     """Reads a Radiance PLY file (``docs/radiance-ply-format.md``, section "Reader"), or a plain binary
     little-endian triangle PLY (then without radiance).
 
@@ -1317,7 +1320,7 @@ def _face_chunks(faces: np.ndarray):
 _counter = itertools.count()
 
 
-def write_rply(path, mesh: RadianceMesh) -> None:
+def write_rply(path: PathLike, mesh: RadianceMesh) -> None:
     """Writes ``mesh`` to ``path`` as a Radiance PLY file (``docs/radiance-ply-format.md``, section
     "Writer"), byte-identical to what ``rad::writeRadiancePly`` writes for the same data.
 
