@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The PRT error estimates side by side (README, "Precomputed radiance transfer"): adaptive vs uniform
+# The PRT error estimates side by side (docs/prt-subdivision.md, "Figures: precomputed radiance transfer"): adaptive vs uniform
 # subdivision at equal triangle count on the column of Křivánek et al. 2004 and three real scans on a
 # plane, for each estimate (probed relative = the default, eq. 4, eq. 3, eq. 2, probed absolute),
 # relative (Weber) and absolute error. Run from the repository after the build and

@@ -305,7 +305,7 @@ def test_fit_on_real_photographs_predicts_held_out_views(chessboard):
     errors computed here (fitted functions from the .rply, colour projection from the photographs),
     then: the validated fit is, on average over the held-out views, no worse than the constant mean
     colour and better than the colour projection, as is and exposure-matched, and not worse than the
-    constant in at least 80 % of the views (the issue's target is 95 %: missed, see the README's fit section)."""
+    constant in at least 80 % of the views (the issue's target is 95 %: missed, see docs/fitting.md)."""
     log, fit = _fit_with_held_out_views(chessboard, 2)
     rows = {m.group(1): [float(g) for g in m.groups()[1:]] for m in HELD_OUT_LINE.finditer(log)}
     views = _views(chessboard)
