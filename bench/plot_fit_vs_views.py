@@ -3,22 +3,30 @@
 
     python3 bench/plot_fit_vs_views.py OUT.png SERIES:VIEWS:LOG [SERIES:VIEWS:LOG ...]
 
+writes OUT.png and OUT.svg (the same name with the other extension).
+
 Each LOG is the standard output of
     build/bench/bench_fit_capture CAPTURE --models per-vertex,shared,auto --meshlab-colors COLORS.ply
 (COLORS.ply from bench/meshlab_projection_capture.sh CAPTURE). SERIES groups the points of one
 object/material (one panel each); VIEWS is the capture's raster count. Plotted per panel: the mean
 over held-out views of the per-view RMS (8-bit sRGB) of the automatic fit, the per-vertex fit, the
 shared fit, the constant mean colour (the per-vertex fit's), MeshLab's colour projection, and the
-photographs' own noise. Needs matplotlib.
+photographs' own noise. Needs matplotlib (the package's extra `plots`; scripts/setup.sh installs it
+into build/python-venv): without it, a message says how to get it.
 """
+import os
 import re
 import sys
 from collections import defaultdict
 
-import matplotlib
+try:
+    import matplotlib
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+    matplotlib.use("Agg")
+    matplotlib.rcParams["svg.fonttype"] = "none"  # SVG text stays text
+    import matplotlib.pyplot as plt
+except ImportError:
+    plt = None
 
 
 def parse(path):
@@ -43,6 +51,9 @@ def parse(path):
 def main():
     if len(sys.argv) < 3:
         sys.exit(__doc__)
+    if plt is None:
+        sys.exit("plot_fit_vs_views.py: matplotlib is missing: install it with 'pip install matplotlib' (or the "
+                 "package's extra: pip install '.[plots]'), e.g. build/python-venv/bin/python bench/plot_fit_vs_views.py")
     series = defaultdict(list)
     for arg in sys.argv[2:]:
         name, views, path = arg.split(":", 2)
@@ -65,7 +76,10 @@ def main():
         ax.grid(alpha=0.3)
     axes[0][0].legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(sys.argv[1], dpi=80)
+    stem = os.path.splitext(sys.argv[1])[0]
+    for extension in (".png", ".svg"):
+        fig.savefig(stem + extension, dpi=80)
+    print(f"plot: {stem}.png, {stem}.svg")
 
 
 if __name__ == "__main__":

@@ -173,6 +173,7 @@ def main():
     errors = os.path.join(out, "simplification_errors.txt")
     run([f"{tools}/compare_radiance_meshes", fit_rply, *others, "--up", "0,1,0",
          "--heatmaps", os.path.join(simp, "heatmaps")], tee=errors)
+    # The plot as PNG and SVG (matplotlib, extra `plots`); without matplotlib a plain SVG and a message.
     run([sys.executable, os.path.join(REPO, "scripts", "plot_error_vs_memory.py"), errors,
          os.path.join(out, "simplification_error_vs_memory.svg"), "Fitted bunny: image error against memory"])
     timed("simplification (baselines, comparison)", start)
@@ -283,7 +284,7 @@ def main():
         for f in sorted(glob.glob(os.path.join(out, pattern))):
             print(f"  {os.path.getsize(f):>10,}  {f}")
     log(f"picture (photograph | fitted radiance | 4x difference): {out}/bunny_photo_vs_fit_view07.png")
-    log(f"simplification: {out}/simplification_errors.txt, {out}/simplification_error_vs_memory.svg,")
+    log(f"simplification: {out}/simplification_errors.txt, {out}/simplification_error_vs_memory.{{png,svg}},")
     print(f"       heat maps in {simp}/heatmaps (radiance_100 vs color_100: 10 % of the faces)")
     log(f"normal map: {bake}/bunny_2pct_{{normal,diffuse}}.png, _lean.exr; error in {out}/normal_map_error.txt; "
         f"see it with")

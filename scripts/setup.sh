@@ -160,7 +160,8 @@ log "MeshLab 2025.07 source tree: $MESHLAB2025_DIR ($(cat "$MESHLAB2025_DIR/ML_V
 # The Python side: a virtual environment in the build tree with pymeshlab (MeshLab 2025.07), numpy,
 # pytest, pygltflib (a glTF reader: tests/python/test_pymeshlab_gltf.py parses our .glb files with it),
 # tqdm (the command line's progress bars), Dask distributed (`meshlab-radiance batch`: the local
-# cluster and its tests) and the package builder; our package is installed into it by
+# cluster and its tests), matplotlib (PNG and SVG plots of the main job and the benchmarks; the
+# package's extra `plots`) and the package builder; our package is installed into it by
 # scripts/test.sh and the main job.
 VENV="$BUILD_DIR/python-venv"
 if [ ! -x "$VENV/bin/python" ]; then
@@ -169,7 +170,7 @@ if [ ! -x "$VENV/bin/python" ]; then
   python3 -m venv "$VENV"
 fi
 "$VENV/bin/python" -m pip install -q --disable-pip-version-check 'pymeshlab==2025.7.post1' 'numpy>=1.21' pytest pygltflib \
-  'tqdm>=4.60' 'dask[distributed]>=2023.1' 'scikit-build-core>=0.8' 2>&1 | grep -v "is ignored" || true
+  'tqdm>=4.60' 'dask[distributed]>=2023.1' 'matplotlib>=3.5' 'scikit-build-core>=0.8' 2>&1 | grep -v "is ignored" || true
 "$VENV/bin/python" -c "import pymeshlab" || { echo "[setup] pymeshlab does not import in $VENV" >&2; exit 1; }
 
 if [ "${SKIP_DATA:-0}" != "1" ]; then
