@@ -36,7 +36,6 @@ import threading
 import types
 from typing import List, Optional, Sequence
 
-from . import rply  # noqa: F401  (numpy reader/writer of .rply; imports no pymeshlab)
 
 __all__ = ["rply", "load", "plugin_dir", "plugin_files", "filter_names", "SUPPORTED_PYMESHLAB"]
 
@@ -63,6 +62,16 @@ _FILTERS: Sequence[str] = (
 
 _loaded_files: List[str] = []
 _load_lock = threading.RLock()  # re-entered: importing pymeshlab inside load() runs the import hook
+
+
+def __getattr__(name: str) -> types.ModuleType:
+    """``pymeshlab_radiance.rply`` imported on first use (numpy only), so that importing the package
+    stays light for the command line's parent process and the batch jobs."""
+    if name == "rply":
+        import importlib
+
+        return importlib.import_module(".rply", __name__)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def plugin_dir() -> str:

@@ -13,8 +13,8 @@ and returns the result; ``on_line`` receives (step, percent, text) for a progres
 never imports pymeshlab for that, so a Dask worker or the command line stays small and alive
 whatever the job does.
 
-The job process limits its own address space (RLIMIT_AS: pymeshlab with its libraries takes about
-0.5 GB of address space before any mesh), asks the kernel to kill it when its parent dies
+The job process loads pymeshlab and our plugins, then limits its own address space (RLIMIT_AS:
+pymeshlab with its libraries takes about 0.5 GB of address space before any mesh), asks the kernel to kill it when its parent dies
 (PR_SET_PDEATHSIG: a killed Dask worker leaves no orphan writing files), writes its output into a
 private temporary folder beside the destination and renames it into place, so an output file is
 either complete or absent.
@@ -175,15 +175,34 @@ class _Follower:
 
 def _child_setup(job):
     """Memory limit, death with the parent, stdout kept for the result only."""
-    limit = int(job.get("memory_limit") or 0)
-    if limit > 0:
-        import resource
-        resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+    _limit_memory(job)
     _die_with_parent(job.get("parent_pid"))
     result_out = os.fdopen(os.dup(1), "w")
     os.dup2(2, 1)  # pymeshlab's own prints (C++ and Python) go to stderr with its log
     sys.stdout = sys.stderr
     return result_out
+
+
+def _load_pymeshlab():
+    """pymeshlab and our plugins, loaded before the memory limit (the package loads its plugins lazily,
+    and the limit is meant for the job's meshes); the ImportError's text on failure, else None."""
+    try:
+        import pymeshlab_radiance
+
+        pymeshlab_radiance.load()
+        # The modules the eager package import brought before the limit, in its order: the limit counts
+        # what is mapped already, so a job keeps the headroom it had.
+        from pymeshlab_radiance import rply  # noqa: F401
+        return None
+    except ImportError as e:
+        return str(e)
+
+
+def _limit_memory(job):
+    limit = int(job.get("memory_limit") or 0)
+    if limit > 0:
+        import resource
+        resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
 
 
 def _die_with_parent(parent_pid):
@@ -334,11 +353,14 @@ def _probe(query):
 def main(argv=None):
     argv = sys.argv[1:] if argv is None else argv
     mode = argv[0] if argv else "run"
+    load_error = _load_pymeshlab()  # first, as an import of the package did before loading became lazy
     job = json.loads(sys.stdin.read())
     result_out = _child_setup(job)
     try:
+        if load_error:
+            raise ImportError(load_error)
         result = _run(job) if mode == "run" else _probe(job)
-    except ImportError as e:  # e.g. the memory limit is below what pymeshlab needs to load
+    except ImportError as e:  # no usable pymeshlab or plugins, or a module the limit kept from loading
         result = {"status": "failed", "message": f"cannot load pymeshlab and the plugins: {e}"}
     result_out.write(json.dumps(result) + "\n")
     result_out.flush()
