@@ -4,10 +4,8 @@
 
 namespace radml {
 
-namespace {
-
-// A view on a 32-bit QImage: Qt stores Format_RGB32 / ARGB32 pixels as 0xAARRGGBB words, i.e.
-// bytes B, G, R, A in memory on little-endian machines (and A, R, G, B on big-endian ones).
+// Qt stores Format_RGB32 / ARGB32 pixels as 0xAARRGGBB words, i.e. bytes B, G, R, A in memory on
+// little-endian machines (and A, R, G, B on big-endian ones).
 rad::ImageView8 viewOf(const QImage& image) {
     rad::ImageView8 view;
     view.data = image.constBits();
@@ -26,6 +24,8 @@ rad::ImageView8 viewOf(const QImage& image) {
     }
     return view;
 }
+
+namespace {
 
 bool isWordRgbFormat(QImage::Format f) {
     return f == QImage::Format_RGB32 || f == QImage::Format_ARGB32 || f == QImage::Format_ARGB32_Premultiplied;

@@ -1,0 +1,137 @@
+#include "cameras/image_undistortion.h"
+
+#include "radiance/view_colors.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <stdexcept>
+
+namespace rad {
+
+namespace {
+
+// Whether every pinhole pixel of `plan` maps inside the photograph and the map moves outward along
+// each ray from the principal point (checked on the border's pixel centres and 48 steps toward them).
+bool mapsInsideAndMonotonic(const UndistortionPlan& plan) {
+    const int w = plan.target.width, h = plan.target.height;
+    const double cx = plan.target.cx, cy = plan.target.cy;
+    const Eigen::Vector2d centre = plan.sourcePixel(cx, cy);
+    const auto inside = [&](const Eigen::Vector2d& p) {
+        return std::isfinite(p.x()) && std::isfinite(p.y()) && p.x() >= 0.0 && p.y() >= 0.0 && p.x() <= w && p.y() <= h;
+    };
+    const auto rayOk = [&](double u, double v) {
+        double previous = 0.0;
+        const int steps = 48;
+        for (int i = 1; i <= steps; ++i) {
+            const double t = double(i) / steps;
+            const Eigen::Vector2d p = plan.sourcePixel(cx + t * (u - cx), cy + t * (v - cy));
+            if (!inside(p)) return false;
+            const double distance = (p - centre).norm();
+            if (!(distance > previous)) return false;
+            previous = distance;
+        }
+        return true;
+    };
+    if (!inside(centre)) return false;
+    const int samples = 64;
+    for (int i = 0; i <= samples; ++i) {
+        const double fu = 0.5 + (w - 1.0) * i / samples, fv = 0.5 + (h - 1.0) * i / samples;
+        if (!rayOk(fu, 0.5) || !rayOk(fu, h - 0.5) || !rayOk(0.5, fv) || !rayOk(w - 0.5, fv)) return false;
+    }
+    return true;
+}
+
+std::uint64_t fnv1a64(const std::string& text) {
+    std::uint64_t hash = 1469598103934665603ull;
+    for (unsigned char c : text) {
+        hash ^= c;
+        hash *= 1099511628211ull;
+    }
+    return hash;
+}
+
+}  // namespace
+
+Eigen::Vector2d UndistortionPlan::sourcePixel(double u, double v) const {
+    const Eigen::Vector2d ideal((u - target.cx) / target.fx, (v - target.cy) / target.fy);
+    return lens.pixelOf(ideal);
+}
+
+std::string imageSizeProblem(const ImportedCamera& camera, int width, int height) {
+    if (width == camera.width && height == camera.height) return {};
+    // One scale s with |s W - width| <= 1 and |s H - height| <= 1 (a resized copy, rounded per axis).
+    const double low = std::max((width - 1.0) / camera.width, (height - 1.0) / camera.height);
+    const double high = std::min((width + 1.0) / camera.width, (height + 1.0) / camera.height);
+    if (width > 0 && height > 0 && low <= high) return {};
+    return "image '" + camera.imageName + "' is " + std::to_string(width) + " x " + std::to_string(height) +
+           " pixels, but its calibration is for " + std::to_string(camera.width) + " x " + std::to_string(camera.height) +
+           " (nor a resized copy of that shape); give the photographs the calibration was made with";
+}
+
+UndistortionPlan planUndistortion(const ImportedCamera& camera, int width, int height) {
+    UndistortionPlan plan;
+    plan.lens = camera.lens.scaled(double(width) / camera.width, double(height) / camera.height);
+    plan.target.rotation = camera.rotation;
+    plan.target.center = camera.center;
+    plan.target.width = width;
+    plan.target.height = height;
+    plan.target.cx = plan.lens.cx;
+    plan.target.cy = plan.lens.cy;
+    plan.resample = plan.lens.distorts();
+    for (int step = 0;; ++step) {
+        plan.zoom = std::pow(1.01, step);
+        plan.target.fx = plan.lens.fx * plan.zoom;
+        plan.target.fy = plan.lens.fy * plan.zoom;
+        if (!plan.resample || mapsInsideAndMonotonic(plan)) break;
+        if (plan.zoom > 10.0)
+            throw std::invalid_argument("the lens of image '" + camera.imageName +
+                                        "' sees too wide a field for a pinhole image (no zoom up to 10x keeps the "
+                                        "undistorted image inside the photograph); use a narrower lens or crop the "
+                                        "photographs before calibrating");
+    }
+    return plan;
+}
+
+Image8 undistortImage(const ImageView8& photograph, const UndistortionPlan& plan, const ProgressCallback& progress) {
+    if (photograph.width != plan.target.width || photograph.height != plan.target.height)
+        throw std::invalid_argument("undistortImage: the photograph's size differs from the plan's");
+    const int w = plan.target.width, h = plan.target.height;
+    Image8 out(w, h);
+    LoopProgress loop(progress, "Undistorting", std::size_t(h));
+#pragma omp parallel for schedule(dynamic, 16)
+    for (int row = 0; row < h; ++row) {
+        if (loop.stopRequested()) continue;
+        for (int column = 0; column < w; ++column) {
+            const Eigen::Vector2d source = plan.sourcePixel(column + 0.5, row + 0.5);
+            float linear[3] = {0.0f, 0.0f, 0.0f};
+            sampleBilinearLinear(photograph, source.x(), source.y(), linear);
+            std::uint8_t* pixel = out.pixel(column, row);
+            for (int c = 0; c < 3; ++c) pixel[c] = encodeSrgb8(linear[c]);
+        }
+        loop.itemDone(omp_get_thread_num() == 0);
+    }
+    loop.finish();
+    return out;
+}
+
+std::string undistortedFileName(const std::string& imageName, const UndistortionPlan& plan, const std::string& sourceIdentity) {
+    char targetText[256];
+    std::snprintf(targetText, sizeof targetText, "%.17g %.17g %.17g %.17g %d %d %.17g", plan.target.fx, plan.target.fy,
+                  plan.target.cx, plan.target.cy, plan.target.width, plan.target.height, plan.zoom);
+    // "v1": the resampling itself (bilinear on linear light, sRGB out); change it when that changes.
+    const std::uint64_t hash = fnv1a64("v1|" + plan.lens.describe() + "|" + targetText + "|" + sourceIdentity);
+    std::string stem = imageName;
+    const std::size_t slash = stem.find_last_of('/'), dot = stem.find_last_of('.');
+    if (dot != std::string::npos && (slash == std::string::npos || dot > slash)) stem.erase(dot);
+    std::string flat;
+    for (char c : stem) flat += c == '/' || c == '\\' ? std::string("__") : std::string(1, c);
+    char hex[17];
+    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(hash));
+    return flat + "." + hex + ".png";
+}
+
+}  // namespace rad
