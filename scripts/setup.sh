@@ -26,6 +26,7 @@ APT_PACKAGES=(
   libeigen3-dev                # Debian removed MeshLab's bundled Eigen; vcglib and our cores use it
   libembree-dev                # ray casting (visibility, PRT transfer, baking)
   libstb-dev                   # stb_image / stb_image_write: JPEG and PNG photographs, PNG output, Radiance .hdr maps
+  libexpat1-dev                # expat: Agisoft Metashape camera XML (Import Cameras as Raster Layers)
   zlib1g-dev                   # zlib: 16-bit PNG normal maps (our encoder; stb_image_write writes only 8-bit PNG)
   libopenexr-dev               # OpenEXR: the HDR environment maps (.exr) used for lighting
   libgtest-dev                 # unit tests
@@ -158,7 +159,8 @@ fi
 log "MeshLab 2025.07 source tree: $MESHLAB2025_DIR ($(cat "$MESHLAB2025_DIR/ML_VERSION"))"
 
 # The Python side: a virtual environment in the build tree with pymeshlab (MeshLab 2025.07), numpy,
-# pytest, pygltflib (a glTF reader: tests/python/test_pymeshlab_gltf.py parses our .glb files with it)
+# pytest, pygltflib (a glTF reader: tests/python/test_pymeshlab_gltf.py parses our .glb files with it),
+# pycolmap (COLMAP's own model writer and camera models: tests/python/test_pymeshlab_import_cameras.py)
 # and the package builder; our package is installed into it by scripts/test.sh and the main job.
 VENV="$BUILD_DIR/python-venv"
 if [ ! -x "$VENV/bin/python" ]; then
@@ -166,7 +168,7 @@ if [ ! -x "$VENV/bin/python" ]; then
   mkdir -p "$BUILD_DIR"
   python3 -m venv "$VENV"
 fi
-"$VENV/bin/python" -m pip install -q --disable-pip-version-check 'pymeshlab==2025.7.post1' 'numpy>=1.21' pytest pygltflib \
+"$VENV/bin/python" -m pip install -q --disable-pip-version-check 'pymeshlab==2025.7.post1' 'numpy>=1.21' pytest pygltflib pycolmap \
   'scikit-build-core>=0.8' 2>&1 | grep -v "is ignored" || true
 "$VENV/bin/python" -c "import pymeshlab" || { echo "[setup] pymeshlab does not import in $VENV" >&2; exit 1; }
 

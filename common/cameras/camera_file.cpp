@@ -1,6 +1,8 @@
 #include "cameras/camera_file.h"
 
 #include "cameras/colmap_model_reader.h"
+#include "cameras/metashape_xml_reader.h"
+#include "cameras/nerfstudio_transforms_reader.h"
 
 #include <fstream>
 #include <sys/stat.h>
@@ -44,7 +46,8 @@ CameraImport readCameraFile(const std::string& path) {
                                    "images.txt", "points3D.txt", "rigs.txt", "frames.txt"})
         if (name == colmapFile) return readColmapModel(folderOf(path));
     const char first = firstSignificantCharacter(path);
-    (void)first;
+    if (first == '<') return readMetashapeXml(path);
+    if (first == '{') return readNerfstudioTransforms(path);
     throw CameraFileError("'" + path + "' is not a camera file this import reads; give " + kFormats);
 }
 

@@ -336,3 +336,108 @@ def test_bad_input_is_refused_and_nothing_is_added(tmp_path):
     refuse(ms, "is not a camera file this import reads", tmp_path / "scan.ply", images)
     refuse(ms, "does not exist", tmp_path / "none.xml", images)
     assert ms.raster_number() == 2
+
+
+def rotation_z(angle):
+    c, s = math.cos(angle), math.sin(angle)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def write_metashape_xml(path, rec, chunk_rotation, chunk_translation, chunk_scale):
+    """The reconstruction's OPENCV / PINHOLE cameras as Metashape would export them: cx, cy as
+    offsets from the image centre, P1 = OpenCV's p2 and P2 = OpenCV's p1, camera-to-chunk
+    transforms, the chunk placed in the world by (rotation, translation, scale). The chunk's
+    coordinates are COLMAP's world coordinates."""
+    sensors, cameras = [], []
+    for camera_id, camera in sorted(rec.cameras.items()):
+        p = [float(x) for x in camera.params]
+        fx, fy, cx, cy = (p[0], p[1], p[2], p[3]) if camera.model_name != "SIMPLE_PINHOLE" else (p[0], p[0], p[1], p[2])
+        k1, k2, p1, p2 = (p[4:8] if camera.model_name == "OPENCV" else [0.0] * 4)
+        sensors.append(
+            f'<sensor id="{camera_id}" label="s{camera_id}" type="frame"><resolution width="{WIDTH}" height="{HEIGHT}"/>'
+            f'<calibration type="frame" class="adjusted"><resolution width="{WIDTH}" height="{HEIGHT}"/>'
+            f'<f>{fy!r}</f><cx>{cx - WIDTH / 2!r}</cx><cy>{cy - HEIGHT / 2!r}</cy><b1>{fx - fy!r}</b1>'
+            f'<k1>{k1!r}</k1><k2>{k2!r}</k2><p1>{p2!r}</p1><p2>{p1!r}</p2></calibration></sensor>')
+    for image_id, image in sorted(rec.images.items()):
+        pose = image.cam_from_world()
+        R = pose.rotation.matrix()
+        C = -R.T @ np.asarray(pose.translation).reshape(3)
+        m = np.eye(4)
+        m[:3, :3] = R.T
+        m[:3, 3] = C
+        label = os.path.splitext(image.name)[0]  # Metashape's labels drop the extension
+        cameras.append(f'<camera id="{image_id}" sensor_id="{image.camera_id}" label="{label}">'
+                       f'<transform>{" ".join(repr(float(x)) for x in m.ravel())}</transform></camera>')
+    cameras.append('<camera id="90" sensor_id="1" label="disabled_one" enabled="false">'
+                   '<transform>1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1</transform></camera>')
+    cameras.append('<camera id="91" sensor_id="1" label="not_aligned"/>')
+    rotation = " ".join(repr(float(x)) for x in chunk_rotation.ravel())
+    translation = " ".join(repr(float(x)) for x in chunk_translation)
+    path.write_text(
+        '<?xml version="1.0" encoding="UTF-8"?>\n<document version="1.5.0"><chunk label="c" enabled="true">'
+        f'<sensors>{"".join(sensors)}</sensors><cameras>{"".join(cameras)}</cameras>'
+        f'<transform><rotation>{rotation}</rotation><translation>{translation}</translation>'
+        f'<scale>{chunk_scale!r}</scale></transform></chunk></document>\n')
+
+
+def write_nerfstudio(path, rec):
+    """The reconstruction as nerfstudio's transforms.json: per-frame intrinsics, camera-to-world
+    matrices with OpenGL's axes (columns 2 and 3 of OpenCV's negated)."""
+    import json
+
+    frames = []
+    for image_id, image in sorted(rec.images.items()):
+        camera = rec.cameras[image.camera_id]
+        p = [float(x) for x in camera.params]
+        pose = image.cam_from_world()
+        R = pose.rotation.matrix()
+        m = np.eye(4)
+        m[:3, :3] = R.T @ np.diag([1.0, -1.0, -1.0])
+        m[:3, 3] = -R.T @ np.asarray(pose.translation).reshape(3)
+        frame = {"file_path": "images/" + image.name, "transform_matrix": m.tolist(), "w": WIDTH, "h": HEIGHT,
+                 "fl_x": p[0], "fl_y": p[1], "cx": p[2], "cy": p[3], "camera_model": "OPENCV"}
+        if camera.model_name == "OPENCV":
+            frame.update(k1=p[4], k2=p[5], p1=p[6], p2=p[7])
+        frames.append(frame)
+    path.write_text(json.dumps({"frames": frames}, indent=1))
+
+
+def saved_cameras(ms, folder, name):
+    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=scene_points()))
+    ms.save_project(str(folder / name))
+    return read_project_cameras(folder / name)
+
+
+def test_metashape_and_nerfstudio_files_give_the_colmap_rasters(tmp_path):
+    """The same capture as COLMAP binary model, Metashape XML (with a chunk transform) and nerfstudio
+    JSON: each imported raster projects points as the COLMAP one (the Metashape ones after the
+    chunk's similarity), and the undistorted images agree."""
+    rec, expected = make_capture(tmp_path, {1: CAMERAS[1], 2: CAMERAS[2]})
+    reference = pymeshlab.MeshSet()
+    import_cameras(reference, tmp_path / "sparse_bin", tmp_path / "images", cachefolder=str(tmp_path / "c0"))
+    colmap = saved_cameras(reference, tmp_path, "colmap.mlp")
+
+    R, T, s = rotation_z(0.7), np.array([5.0, -2.0, 1.5]), 2.5
+    write_metashape_xml(tmp_path / "cameras.xml", rec, R, T, s)
+    ms = pymeshlab.MeshSet()
+    import_cameras(ms, tmp_path / "cameras.xml", tmp_path / "images", cachefolder=str(tmp_path / "c1"))
+    assert ms.raster_number() == 2  # the disabled and the unaligned camera are skipped
+    metashape = saved_cameras(ms, tmp_path, "metashape.mlp")
+
+    write_nerfstudio(tmp_path / "transforms.json", rec)
+    ns = pymeshlab.MeshSet()
+    import_cameras(ns, tmp_path / "transforms.json", tmp_path, cachefolder=str(tmp_path / "c2"))
+    nerf = saved_cameras(ns, tmp_path, "nerfstudio.mlp")
+
+    for name in expected:
+        label = os.path.splitext(name)[0]
+        reference_values, reference_image = colmap[name]
+        metashape_values, metashape_image = metashape[label]
+        nerf_values, nerf_image = nerf["images/" + name]
+        for X, _ in expected[name]:
+            uv = vcg_project(reference_values, X)
+            assert np.abs(vcg_project(metashape_values, s * R @ X + T) - uv).max() < 2e-3, (name, X)
+            assert np.abs(vcg_project(nerf_values, X) - uv).max() < 2e-3, (name, X)
+        a = h.read_png(reference_image)[0]
+        for other in (metashape_image, nerf_image):
+            assert np.abs(h.read_png(other)[0] - a).max() <= 1.5 / 255, other
