@@ -161,7 +161,7 @@ public:
     void apply(FilterContext& ctx) const override {
         QElapsedTimer timer;
         timer.start();
-        const QString cameraFile = ctx.parameters.getString("camerafile");
+        const QString cameraFile = ctx.parameters.getOpenFileName("camerafile").trimmed();
         if (cameraFile.trimmed().isEmpty())
             throw Refusal("Camera file: none given; give a COLMAP model folder or file, a Metashape XML or a nerfstudio "
                           "transforms.json.");

@@ -30,9 +30,10 @@ for i, r in enumerate(root.iter("MLRaster"), start=1):
     C = -get("TranslationVector")[:3]
     t = -R @ C
     w, h = get("ViewportPx").astype(int)
-    fx = get("FocalMm")[0] / get("PixelSizeMm")[0]
-    fy = get("FocalMm")[0] / get("PixelSizeMm")[1]
-    cx, cy = get("CenterPx")[0], h - get("CenterPx")[1]
+    fx = float(get("FocalMm")[0] / get("PixelSizeMm")[0])
+    fy = float(get("FocalMm")[0] / get("PixelSizeMm")[1])
+    cx, cy = float(get("CenterPx")[0]), float(h - get("CenterPx")[1])
+    t = [float(x) for x in t]
     # Rotation matrix -> unit quaternion (w, x, y, z).
     qw = math.sqrt(max(0.0, 1 + R[0, 0] + R[1, 1] + R[2, 2])) / 2
     qx = math.copysign(math.sqrt(max(0.0, 1 + R[0, 0] - R[1, 1] - R[2, 2])) / 2, R[2, 1] - R[1, 2])
