@@ -98,7 +98,7 @@ def recorded_script(scenes, tmp_path_factory):
     # The photographs' cameras as a COLMAP text model (PINHOLE; only that it imports matters here).
     (work / "colmap").mkdir()
     (work / "colmap" / "cameras.txt").write_text("1 PINHOLE 64 48 60 60 32 24\n")
-    photo = sorted(p.name for p in (work / "photos").iterdir() if p.suffix == ".png")[0]
+    photo = "images/" + sorted(p.name for p in (work / "photos" / "images").iterdir() if p.suffix == ".png")[0]
     (work / "colmap" / "images.txt").write_text(f"1 1 0 0 0 0 0 3 1 {photo}\n\n")
     imported = pymeshlab.MeshSet()
     imported.apply_filter(h.IMPORT_CAMERAS, camerafile=str(work / "colmap"), imagefolder=str(work / "photos"))
