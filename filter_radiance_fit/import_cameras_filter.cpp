@@ -1,16 +1,18 @@
 // "Import Cameras as Raster Layers": photographs calibrated by COLMAP (binary or text model), Agisoft
 // Metashape (camera XML) or nerfstudio (transforms.json) become raster layers with exact pinhole
 // cameras. The cores read the file (common/cameras/camera_file.h) and undistort the photographs
-// (common/cameras/image_undistortion.h); this adapter finds the photographs, decodes them (Qt, which
-// honours EXIF orientation), keeps the pinhole images in a cache folder, and adds the layers only
-// once every photograph was read and made (all or nothing).
+// (common/cameras/image_undistortion.h); this adapter finds the photographs, decodes them (the
+// cores' JPEG / PNG reader, EXIF orientation applied: pymeshlab's Qt has no JPEG plugin), keeps the
+// pinhole images in a cache folder, and adds the layers only once every photograph was read and
+// made (all or nothing).
 #include "radiance_fit_plugin.h"
 
-#include "raster_views.h"
 #include "shot_conversion.h"
 
 #include "cameras/camera_file.h"
 #include "cameras/image_undistortion.h"
+#include "image/exif_orientation.h"
+#include "image/image_io.h"
 #include "image/parallel_png_encoder.h"
 #include "io/atomic_file.h"
 
@@ -19,7 +21,6 @@
 #include <QElapsedTimer>
 #include <QFileInfo>
 #include <QImage>
-#include <QImageReader>
 
 #include <algorithm>
 #include <type_traits>
@@ -31,14 +32,14 @@ namespace {
 struct PlannedRaster {
     rad::ImportedCamera camera;
     QString photograph;          // the photograph's path
-    bool applyOrientation = true;  // apply the file's EXIF orientation when decoding
-    bool reoriented = false;     // ... and that orientation changes the pixels
+    int orientation = 1;         // the EXIF orientation applied when decoding (1: none)
+    bool reoriented = false;     // whether it changes the pixels
     rad::UndistortionPlan plan;  // at the (oriented) photograph's size
     QString shown;               // the file the layer shows: the photograph, or its pinhole image in the cache
     QImage image;                // decoded (step 3)
 };
 
-const char* const kImageExtensions[] = {"", ".jpg", ".JPG", ".jpeg", ".JPEG", ".png", ".PNG", ".tif", ".TIF", ".tiff", ".TIFF"};
+const char* const kImageExtensions[] = {"", ".jpg", ".JPG", ".jpeg", ".JPEG", ".png", ".PNG"};
 
 // The photograph a camera names, in `folder`: the name as written, else with a usual image
 // extension (Metashape's camera labels usually have none). Empty when none exists.
@@ -56,45 +57,45 @@ std::string planRaster(const QDir& folder, PlannedRaster& r) {
     r.photograph = findPhotograph(folder, r.camera.imageName);
     if (r.photograph.isEmpty())
         return "image '" + r.camera.imageName + "' is not in the image folder '" + folder.absolutePath().toStdString() + "'";
-    QImageReader reader(r.photograph);
-    const QSize stored = reader.size();
-    if (!stored.isValid())
-        return "image '" + r.photograph.toStdString() + "' cannot be read as an image (" +
-               reader.errorString().toStdString() + ")";
+    const std::string path = r.photograph.toStdString();
+    int width = 0, height = 0;
+    try {
+        rad::readImageSize(path, width, height);
+    } catch (const rad::ImageFileError& e) {
+        return std::string(e.what()) + " (JPEG and PNG photographs are read)";
+    }
     // The calibration describes the photograph as it is shown, EXIF orientation applied; a tool that
     // ignored the orientation (COLMAP reads the stored pixels) calibrated the stored size instead,
     // which tells the two apart when the orientation turns the image by 90 degrees.
-    const QImageIOHandler::Transformations transform = reader.transformation();
-    const QSize oriented = (transform & QImageIOHandler::TransformationRotate90) ? stored.transposed() : stored;
-    std::string problem = rad::imageSizeProblem(r.camera, oriented.width(), oriented.height());
-    QSize used = oriented;
-    r.applyOrientation = true;
-    if (!problem.empty() && oriented != stored && rad::imageSizeProblem(r.camera, stored.width(), stored.height()).empty()) {
+    const int orientation = rad::readExifOrientation(path);
+    const bool swap = rad::orientationSwapsAxes(orientation);
+    const int shownWidth = swap ? height : width, shownHeight = swap ? width : height;
+    std::string problem = rad::imageSizeProblem(r.camera, shownWidth, shownHeight);
+    r.orientation = orientation;
+    int usedWidth = shownWidth, usedHeight = shownHeight;
+    if (!problem.empty() && swap && rad::imageSizeProblem(r.camera, width, height).empty()) {
         problem.clear();
-        used = stored;
-        r.applyOrientation = false;
+        r.orientation = 1;
+        usedWidth = width;
+        usedHeight = height;
     }
     if (!problem.empty()) return problem;
-    r.reoriented = r.applyOrientation && transform != QImageIOHandler::TransformationNone;
-    r.plan = rad::planUndistortion(r.camera, used.width(), used.height());
+    r.reoriented = r.orientation != 1;
+    r.plan = rad::planUndistortion(r.camera, usedWidth, usedHeight);
     return {};
 }
 
-// A decoded photograph as the cores see it (32-bit pixels), or a null image.
-QImage decodePhotograph(const PlannedRaster& r, std::string& problem) {
-    QImageReader reader(r.photograph);
-    reader.setAutoTransform(r.applyOrientation);
-    QImage image = reader.read();
-    if (image.isNull()) {
-        problem = "image '" + r.photograph.toStdString() + "' cannot be decoded (" + reader.errorString().toStdString() +
-                  "); replace the file";
-        return {};
+// A photograph decoded (once) and turned as its EXIF orientation asks; throws Refusal.
+rad::Image8 decodePhotograph(const PlannedRaster& r) {
+    rad::Image8 image;
+    try {
+        image = rad::applyExifOrientation(rad::readImage8(r.photograph.toStdString()), r.orientation);
+    } catch (const rad::ImageFileError& e) {
+        throw Refusal(std::string(e.what()) + "; replace the file");
     }
-    if (image.width() != r.plan.target.width || image.height() != r.plan.target.height) {
-        problem = "image '" + r.photograph.toStdString() + "' decodes to another size than its header says; replace the file";
-        return {};
-    }
-    return image.convertToFormat(QImage::Format_RGB32);
+    if (image.width != r.plan.target.width || image.height != r.plan.target.height)
+        throw Refusal("image '" + r.photograph.toStdString() + "' decodes to another size than its header says; replace the file");
+    return image;
 }
 
 QImage toQImage(const rad::Image8& image) {
@@ -104,21 +105,6 @@ QImage toQImage(const rad::Image8& image) {
         const std::uint8_t* in = image.rgb.data() + std::size_t(row) * image.width * 3;
         for (int c = 0; c < image.width; ++c) line[c] = qRgb(in[3 * c], in[3 * c + 1], in[3 * c + 2]);
     }
-    return out;
-}
-
-// The pixels of `r`'s pinhole image from a 32-bit photograph: resampled through the lens when it
-// distorts, else the photograph as it is (the orientation was applied when decoding).
-rad::Image8 pinholePixels(const QImage& photograph, const PlannedRaster& r, const rad::ProgressCallback& progress) {
-    const rad::ImageView8 view = viewOf(photograph);
-    if (r.plan.resample) return rad::undistortImage(view, r.plan, progress);
-    rad::Image8 out(view.width, view.height);
-    for (int row = 0; row < view.height; ++row)
-        for (int c = 0; c < view.width; ++c) {
-            const std::uint8_t* p = view.pixel(c, row);
-            std::uint8_t* q = out.pixel(c, row);
-            for (int k = 0; k < 3; ++k) q[k] = p[view.channelOffset[k]];
-        }
     return out;
 }
 
@@ -223,10 +209,9 @@ public:
             PlannedRaster& r = rasters[i];
             const int begin = 5 + int(95 * i / rasters.size()), end = 5 + int(95 * (i + 1) / rasters.size());
             ctx.progress.setPhase(begin, end, "Undistorting photographs");
+            if (!ctx.progress(0)) throw rad::OperationCancelled();
             if (!r.plan.resample && !r.reoriented) {
-                std::string problem;
-                r.image = decodePhotograph(r, problem);
-                if (r.image.isNull()) throw Refusal(problem);
+                r.image = toQImage(decodePhotograph(r));
                 r.shown = r.photograph;
                 ++asIs;
                 continue;
@@ -236,7 +221,7 @@ public:
             const std::string identity = source.absoluteFilePath().toStdString() + "|" +
                                          std::to_string(source.size()) + "|" +
                                          std::to_string(source.lastModified().toMSecsSinceEpoch()) + "|" +
-                                         (r.applyOrientation ? "oriented" : "stored");
+                                         "orientation " + std::to_string(r.orientation);
             r.shown = QDir(cacheFolder).filePath(
                 QString::fromStdString(rad::undistortedFileName(r.camera.imageName, r.plan, identity)));
             if (QFileInfo(r.shown).isFile()) {
@@ -248,10 +233,8 @@ public:
                     continue;
                 }
             }
-            std::string problem;
-            const QImage photograph = decodePhotograph(r, problem);
-            if (photograph.isNull()) throw Refusal(problem);
-            const rad::Image8 pixels = pinholePixels(photograph, r, ctx.progress.forCore());
+            rad::Image8 pixels = decodePhotograph(r);
+            if (r.plan.resample) pixels = rad::undistortImage(pixels.view(), r.plan, ctx.progress.forCore());
             const std::vector<unsigned char> png = rad::encodePngParallel(pixels.rgb.data(), pixels.width, pixels.height, 3, 8, 1);
             try {
                 rad::writeFileAtomically(r.shown.toStdString(), {{png.data(), png.size()}});

@@ -4,8 +4,10 @@
 
 namespace radml {
 
-// Qt stores Format_RGB32 / ARGB32 pixels as 0xAARRGGBB words, i.e. bytes B, G, R, A in memory on
-// little-endian machines (and A, R, G, B on big-endian ones).
+namespace {
+
+// A view on a 32-bit QImage: Qt stores Format_RGB32 / ARGB32 pixels as 0xAARRGGBB words, i.e.
+// bytes B, G, R, A in memory on little-endian machines (and A, R, G, B on big-endian ones).
 rad::ImageView8 viewOf(const QImage& image) {
     rad::ImageView8 view;
     view.data = image.constBits();
@@ -24,8 +26,6 @@ rad::ImageView8 viewOf(const QImage& image) {
     }
     return view;
 }
-
-namespace {
 
 bool isWordRgbFormat(QImage::Format f) {
     return f == QImage::Format_RGB32 || f == QImage::Format_ARGB32 || f == QImage::Format_ARGB32_Premultiplied;

@@ -28,7 +28,4 @@ struct RasterViews {
 
 RasterViews collectRasterViews(MeshDocument& md, bool visibleOnly);
 
-// A zero-copy view on a QImage of Format_RGB32, ARGB32 or ARGB32_Premultiplied (others: convert first).
-rad::ImageView8 viewOf(const QImage& image);
-
 }  // namespace radml

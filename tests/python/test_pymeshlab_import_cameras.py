@@ -441,3 +441,45 @@ def test_metashape_and_nerfstudio_files_give_the_colmap_rasters(tmp_path):
         a = h.read_png(reference_image)[0]
         for other in (metashape_image, nerf_image):
             assert np.abs(h.read_png(other)[0] - a).max() <= 1.5 / 255, other
+
+
+def add_exif_orientation(jpeg, orientation):
+    """The JPEG's bytes with an APP1 Exif segment holding only the orientation tag (TIFF 6.0, little
+    endian: IFD0 with one SHORT entry 0x0112) inserted after the start-of-image marker."""
+    import struct
+
+    tiff = b"II*\x00" + struct.pack("<I", 8) + struct.pack("<H", 1) + struct.pack("<HHIHH", 0x0112, 3, 1, orientation, 0) \
+        + struct.pack("<I", 0)
+    payload = b"Exif\x00\x00" + tiff
+    data = jpeg.read_bytes()
+    assert data[:2] == b"\xff\xd8"
+    jpeg.write_bytes(data[:2] + b"\xff\xe1" + struct.pack(">H", len(payload) + 2) + payload + data[2:])
+
+
+def test_exif_orientation_is_honoured(tmp_path):
+    """A JPEG (written by ImageMagick) stored turned counter-clockwise, with EXIF orientation 6
+    (display turned clockwise): the raster shows the upright photograph at the calibration's size.
+    Without the tag, the same file is refused (the wrong shape)."""
+    import subprocess
+
+    _, expected = make_capture(tmp_path, {2: CAMERAS[2]})
+    upright = np.round(h.read_png(tmp_path / "images" / "view_2.png")[0] * 255).astype(np.uint8)
+    write_png(tmp_path / "stored.png", np.ascontiguousarray(np.rot90(upright, 1)))  # counter-clockwise
+    photos = tmp_path / "jpeg"
+    photos.mkdir()
+    subprocess.run(["convert", str(tmp_path / "stored.png"), "-quality", "98", str(photos / "view_2.jpg")], check=True)
+    model = tmp_path / "jpeg_model"
+    model.mkdir()
+    shutil.copy(tmp_path / "sparse_txt" / "cameras.txt", model)
+    (model / "images.txt").write_text((tmp_path / "sparse_txt" / "images.txt").read_text().replace("view_2.png", "view_2.jpg"))
+    refused = h.load()
+    refused.add_mesh(pymeshlab.Mesh(vertex_matrix=scene_points()))
+    refuse(refused, f"{HEIGHT} x {WIDTH} pixels", model, photos)
+    add_exif_orientation(photos / "view_2.jpg", 6)
+    ms = pymeshlab.MeshSet()
+    import_cameras(ms, model, photos)
+    values, path = saved_cameras(ms, tmp_path, "jpeg.mlp")["view_2.jpg"]
+    assert values["ViewportPx"].tolist() == [WIDTH, HEIGHT]
+    shown = h.read_png(path)[0][:, :, :3]
+    assert shown.shape == upright.shape, shown.shape
+    assert np.abs(shown * 255 - upright).mean() < 2.0, "the raster is not the upright photograph"
