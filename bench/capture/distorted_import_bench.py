@@ -12,7 +12,7 @@ The distorted photographs: for every pixel centre of the distorted image, the le
 figures include both resamplings' blur, as a real lens's photographs would not.
 
   --large N: also times the import of N synthetic 24 MP photographs with distortion (and prints the
-  process's peak memory).
+  process's peak memory; give no capture to time only that, in a fresh process).
 
 Run with the Python that has pymeshlab, pycolmap and our plugins:
   PYTHONPATH=<checkout>/python PYMESHLAB_RADIANCE_PLUGIN_DIR=<build>/pymeshlab_plugins \\
@@ -240,11 +240,14 @@ def large_import(work, count):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("capture", help="a capture folder (mesh.ply, project.mlp, photos/)")
+    parser.add_argument("capture", nargs="?", help="a capture folder (mesh.ply, project.mlp, photos/)")
     parser.add_argument("--work", required=True, help="folder for the distorted photographs and the models")
     parser.add_argument("--large", type=int, default=0, help="also time the import of N synthetic 24 MP photographs")
     args = parser.parse_args()
     work = os.path.abspath(args.work)
+    if args.capture is None:  # only the timing of large photographs (a fresh process: its peak memory is the import's)
+        large_import(work, args.large)
+        return 0
     images = os.path.join(work, "images")
     os.makedirs(images, exist_ok=True)
     capture = os.path.abspath(args.capture)
