@@ -44,8 +44,10 @@ bool mapsInsideAndMonotonic(const UndistortionPlan& plan) {
 }
 
 // sRGB encoding of a linear value to its 8-bit code by the 255 decision thresholds (the linear
-// values whose encoding is exactly c + 0.5): a binary search instead of a pow per channel, the same
-// code as radiance/view_colors.h's encodeSrgb8 except exactly at a threshold.
+// values whose encoding is exactly c + 0.5), found through a table of 65536 buckets (no pow, no
+// search): a bucket holds at most one threshold (they are at least 3e-4 apart, the buckets 1.5e-5
+// wide), so the bucket's first code and one comparison give the code. Equals
+// radiance/view_colors.h's encodeSrgb8 except exactly at a threshold.
 class SrgbEncoder {
 public:
     SrgbEncoder() {
@@ -53,13 +55,23 @@ public:
             const double s = (c + 0.5) / 255.0;
             threshold_[c] = float(s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4));
         }
+        threshold_[255] = 2.0f;  // above every clamped input
+        int code = 0;
+        for (int i = 0; i < kBuckets; ++i) {
+            while (code < 255 && threshold_[code] <= float(i) / (kBuckets - 1)) ++code;
+            first_[i] = std::uint8_t(code);
+        }
     }
     std::uint8_t operator()(float linear) const {
-        return std::uint8_t(std::upper_bound(threshold_, threshold_ + 255, linear) - threshold_);
+        const float x = linear > 0.0f ? (linear < 1.0f ? linear : 1.0f) : 0.0f;
+        const int code = first_[int(x * (kBuckets - 1))];
+        return std::uint8_t(code + (x >= threshold_[code] ? 1 : 0));
     }
 
 private:
-    float threshold_[255];
+    static constexpr int kBuckets = 65536;
+    float threshold_[256];
+    std::uint8_t first_[kBuckets];
 };
 
 std::uint64_t fnv1a64(const std::string& text) {
