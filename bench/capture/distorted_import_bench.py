@@ -8,8 +8,8 @@ first camera), and the import time.
 
 The distorted photographs: for every pixel centre of the distorted image, the lens is inverted
 (Newton's method, to 1e-12) to the ideal pinhole ray, and the capture's photograph is sampled there
-(bilinear, on linear light). The import then resamples once more through the forward model: the
-figures include both resamplings' blur, as a real lens's photographs would not.
+(Keys cubic by default, or bilinear, on linear light). The import then resamples once more through
+the forward model: the figures include both resamplings' blur, as a real lens's photographs would not.
 
   --large N: also times the import of N synthetic 24 MP photographs with distortion (and prints the
   process's peak memory; give no capture to time only that, in a fresh process).
@@ -154,11 +154,37 @@ def bilinear(linear, u, v):
             + a * b * linear[r0 + 1, c0 + 1])
 
 
-def distorted_photograph(rgb, fx, fy, cx, cy):
+def keys_weights(t):
+    """Keys (1981) cubic convolution weights (a = -0.5) of the 4 taps around fraction t."""
+    a = -0.5
+    d = np.stack([1 + t, t, 1 - t, 2 - t], axis=-1)
+    near = ((a + 2) * d - (a + 3)) * d * d + 1
+    far = ((a * d - 5 * a) * d + 8 * a) * d - 4 * a
+    return np.where(d <= 1, near, far)
+
+
+def bicubic(linear, u, v):
+    """Keys cubic interpolation (sharper than bilinear: the bench's own resampling should blur as
+    little as it can, so that the figures measure the import's), clamped to [0, 1]."""
+    H, W = linear.shape[:2]
+    fu, fv = np.clip(u - 0.5, 0, W - 1), np.clip(v - 0.5, 0, H - 1)
+    c0, r0 = np.floor(fu).astype(int), np.floor(fv).astype(int)
+    wu, wv = keys_weights(fu - c0), keys_weights(fv - r0)
+    out = np.zeros(u.shape + (3,))
+    for i in range(4):
+        rows = np.clip(r0 - 1 + i, 0, H - 1)
+        for j in range(4):
+            cols = np.clip(c0 - 1 + j, 0, W - 1)
+            out += (wv[..., i] * wu[..., j])[..., None] * linear[rows, cols]
+    return np.clip(out, 0.0, 1.0)
+
+
+def distorted_photograph(rgb, fx, fy, cx, cy, interpolation):
     H, W = rgb.shape[:2]
     v, u = np.mgrid[0:H, 0:W] + 0.5
     x, y = undistort((u - cx) / fx, (v - cy) / fy)
-    return srgb_encode(bilinear(srgb_decode(rgb), fx * x + cx, fy * y + cy))
+    sample = bicubic if interpolation == "cubic" else bilinear
+    return srgb_encode(sample(srgb_decode(rgb), fx * x + cx, fy * y + cy))
 
 
 def write_models(cameras, work):
@@ -262,13 +288,15 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("capture", nargs="?", help="a capture folder (mesh.ply, project.mlp, photos/)")
     parser.add_argument("--work", required=True, help="folder for the distorted photographs and the models")
+    parser.add_argument("--interpolation", choices=("cubic", "linear"), default="cubic",
+                        help="how the bench resamples the capture's photographs into distorted ones")
     parser.add_argument("--large", type=int, default=0, help="also time the import of N synthetic 24 MP photographs")
     args = parser.parse_args()
     work = os.path.abspath(args.work)
     if args.capture is None:  # only the timing of large photographs (a fresh process: its peak memory is the import's)
         large_import(work, args.large)
         return 0
-    images = os.path.join(work, "images")
+    images = os.path.join(work, "images_" + args.interpolation)
     os.makedirs(images, exist_ok=True)
     capture = os.path.abspath(args.capture)
     cameras = project_cameras(os.path.join(capture, "project.mlp"))
@@ -276,8 +304,9 @@ def main():
     for label, path, R, C, fx, fy, cx, cy, W, H in cameras:
         out = os.path.join(images, label + ".png")
         if not os.path.exists(out):
-            write_png(out, distorted_photograph(read_png_rgb(path), fx, fy, cx, cy))
-    print(f"{len(cameras)} photographs distorted (k1 {K1}, k2 {K2}, p1 {P1}, p2 {P2}) in {time.time() - start:.1f} s")
+            write_png(out, distorted_photograph(read_png_rgb(path), fx, fy, cx, cy, args.interpolation))
+    print(f"{len(cameras)} photographs distorted (k1 {K1}, k2 {K2}, p1 {P1}, p2 {P2}; {args.interpolation} "
+          f"resampling) in {time.time() - start:.1f} s")
     write_models(cameras, work)
     mesh = os.path.join(capture, "mesh.ply")
     viewpoint = cameras[0][3]
@@ -288,7 +317,7 @@ def main():
                              ("COLMAP text", os.path.join(work, "sparse_txt")),
                              ("Metashape XML", os.path.join(work, "cameras.xml"))):
         mean, view, seen, t = fit(mesh, viewpoint, camerafile=camerafile, imagefolder=images,
-                                  cache=os.path.join(work, "cache_" + name.split()[-1].lower()))
+                                  cache=os.path.join(work, f"cache_{args.interpolation}_" + name.split()[-1].lower()))
         both = seen & reference_seen
         d_mean = np.abs(mean[both] - reference_mean[both]).mean() * 255.0
         d_view = np.abs(view[both] - reference_view[both]).mean() * 255.0

@@ -3,8 +3,8 @@
 //
 // The map is exact and the image is resampled once: for each pixel of the pinhole image, the ideal
 // ray through its centre is pushed through the lens's forward model (cameras/lens_model.h), which
-// gives the point of the photograph to sample (bilinearly, on linear-light values). No inverse of
-// the distortion is approximated. The pinhole image has the photograph's size and principal point;
+// gives the point of the photograph to sample (Keys cubic convolution on linear-light values, which
+// blurs less than bilinear interpolation). No inverse of the distortion is approximated. The pinhole image has the photograph's size and principal point;
 // its focal lengths are the lens's times a zoom >= 1, the smallest (in 1 % steps) for which every
 // pinhole pixel maps inside the photograph and the map is monotonic along every ray from the
 // principal point: barrel and fisheye lenses lose a thin border instead of getting black corners
