@@ -92,15 +92,22 @@ void sampleCubicLinear(const ImageView8& image, double u, double v, const float*
     weights(float(x - x0), wx);
     weights(float(y - y0), wy);
     float sum[3] = {0.0f, 0.0f, 0.0f};
+    const int o0 = image.channelOffset[0], o1 = image.channelOffset[1], o2 = image.channelOffset[2];
+    const bool inside = x0 >= 1 && y0 >= 1 && x0 + 2 < image.width && y0 + 2 < image.height;
     for (int j = 0; j < 4; ++j) {
-        const int r = std::min(std::max(y0 - 1 + j, 0), image.height - 1);
-        float rowSum[3] = {0.0f, 0.0f, 0.0f};
+        const int r = inside ? y0 - 1 + j : std::min(std::max(y0 - 1 + j, 0), image.height - 1);
+        float r0 = 0.0f, r1 = 0.0f, r2 = 0.0f;
         for (int i = 0; i < 4; ++i) {
-            const int c = std::min(std::max(x0 - 1 + i, 0), image.width - 1);
+            // Most points are at least 2 pixels inside: no clamping there.
+            const int c = inside ? x0 - 1 + i : std::min(std::max(x0 - 1 + i, 0), image.width - 1);
             const std::uint8_t* p = image.pixel(c, r);
-            for (int k = 0; k < 3; ++k) rowSum[k] += wx[i] * decode[p[image.channelOffset[k]]];
+            r0 += wx[i] * decode[p[o0]];
+            r1 += wx[i] * decode[p[o1]];
+            r2 += wx[i] * decode[p[o2]];
         }
-        for (int k = 0; k < 3; ++k) sum[k] += wy[j] * rowSum[k];
+        sum[0] += wy[j] * r0;
+        sum[1] += wy[j] * r1;
+        sum[2] += wy[j] * r2;
     }
     for (int k = 0; k < 3; ++k) out[k] = std::min(std::max(sum[k], 0.0f), 1.0f);
 }
