@@ -3,10 +3,14 @@
 # (every K-th raster of project.mlp left out, 1-based, as bench_fit_capture --held-out-every K and the
 # filter's heldOutEvery), through meshlabserver, timed; the vertex colours it writes are what
 # bench_fit_capture --meshlab-colors scores on the held-out photographs.
-#   bench/meshlab_projection_capture.sh CAPTURE [K] [OUT_DIR]
+#   bench/meshlab_projection_capture.sh CAPTURE [K] [OUT_DIR] [DEPTH]
 #     CAPTURE: mesh.ply + project.mlp (rasters with photos/ paths relative to CAPTURE), as made by
 #              the capture tools (bench/capture on the capture branch)
 #     K: default 5;  OUT_DIR: default $BUILD_DIR/meshlab-projection/<capture name>
+#     DEPTH: the filter's "depth threshold" (deptheta), in scene units: a point farther than this
+#            behind the surface a camera sees still takes that camera's colour. Default 0.5, MeshLab's
+#            own default, which on an object 1-2 units across lets colours through thin parts (an
+#            ear, a trunk); pass about 1 % of the bounding-box diagonal for MeshLab at its best.
 # Writes OUT_DIR/train.mlp, OUT_DIR/meshlab_colors.ply, OUT_DIR/meshlab.log; prints meshlabserver's
 # wall time (loading + projection + saving), the filter's own time from MeshLab's log, and the
 # wall time of loading only (so projection ~ difference).
@@ -14,7 +18,7 @@ set -euo pipefail
 REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD_DIR="${BUILD_DIR:-$REPO/build}"
 PREFIX="${MESHLAB_PREFIX:-$BUILD_DIR/meshlab-prefix}"
-CAP="$(cd "$1" && pwd)"; K="${2:-5}"
+CAP="$(cd "$1" && pwd)"; K="${2:-5}"; DEPTH="${4:-0.5}"
 OUT="${3:-$BUILD_DIR/meshlab-projection/$(basename "$CAP")}"
 mkdir -p "$OUT/config/VCG"
 OUT="$(cd "$OUT" && pwd)"
@@ -27,11 +31,11 @@ awk -v k="$K" -v cap="$CAP" '
   { gsub(/fileName="photos\//, "fileName=\"" cap "/photos/") }
   !skip { print }
   /<\/MLRaster>/ { skip = 0 }' "$CAP/project.mlp" >"$OUT/train.mlp"
-cat >"$OUT/projection.mlx" <<'MLX'
+cat >"$OUT/projection.mlx" <<MLX
 <!DOCTYPE FilterScript>
 <FilterScript>
  <filter name="Project active rasters color to current mesh">
-  <Param type="RichFloat" name="deptheta" value="0.5"/>
+  <Param type="RichFloat" name="deptheta" value="$DEPTH"/>
   <Param type="RichBool" name="onselection" value="false"/>
   <Param type="RichBool" name="useangle" value="true"/>
   <Param type="RichBool" name="usedistance" value="true"/>
@@ -43,6 +47,7 @@ cat >"$OUT/projection.mlx" <<'MLX'
 </FilterScript>
 MLX
 server() { /usr/bin/time -f "%e s wall, %M KB peak" xvfb-run -a -s "-screen 0 1280x1024x24" "$PREFIX/bin/meshlabserver" "$@"; }
+echo "depth threshold: $DEPTH"
 echo "rasters: $(grep -c '<MLRaster' "$OUT/train.mlp") of $(grep -c '<MLRaster' "$CAP/project.mlp") (every ${K}th left out)"
 server -i "$CAP/mesh.ply" -p "$OUT/train.mlp" >"$OUT/load.log" 2>&1
 echo "loading only: $(tail -n 1 "$OUT/load.log")"

@@ -160,8 +160,10 @@ log "MeshLab 2025.07 source tree: $MESHLAB2025_DIR ($(cat "$MESHLAB2025_DIR/ML_V
 
 # The Python side: a virtual environment in the build tree with pymeshlab (MeshLab 2025.07), numpy,
 # pytest, pygltflib (a glTF reader: tests/python/test_pymeshlab_gltf.py parses our .glb files with it),
-# pycolmap (COLMAP's own model writer and camera models: tests/python/test_pymeshlab_import_cameras.py)
-# and the package builder; our package is installed into it by scripts/test.sh and the main job.
+# pycolmap (COLMAP's own model writer and camera models: tests/python/test_pymeshlab_import_cameras.py),
+# tqdm (the command line's progress bars), Dask distributed (`meshlab-radiance batch`: the local
+# cluster and its tests) and the package builder; our package is installed into it by
+# scripts/test.sh and the main job.
 VENV="$BUILD_DIR/python-venv"
 if [ ! -x "$VENV/bin/python" ]; then
   log "python virtual environment $VENV"
@@ -169,7 +171,7 @@ if [ ! -x "$VENV/bin/python" ]; then
   python3 -m venv "$VENV"
 fi
 "$VENV/bin/python" -m pip install -q --disable-pip-version-check 'pymeshlab==2025.7.post1' 'numpy>=1.21' pytest pygltflib pycolmap \
-  'scikit-build-core>=0.8' 2>&1 | grep -v "is ignored" || true
+  'tqdm>=4.60' 'dask[distributed]>=2023.1' 'scikit-build-core>=0.8' 2>&1 | grep -v "is ignored" || true
 "$VENV/bin/python" -c "import pymeshlab" || { echo "[setup] pymeshlab does not import in $VENV" >&2; exit 1; }
 
 if [ "${SKIP_DATA:-0}" != "1" ]; then
@@ -177,8 +179,11 @@ if [ "${SKIP_DATA:-0}" != "1" ]; then
 fi
 
 log "configuring in $BUILD_DIR"
+# RADIANCE_PLUGINS_2025 / RADIANCE_BUILD_BENCH (ON unless set): the test command turns both off,
+# since pip install compiles the 2025 plugins it tests and no test runs a benchmark program.
 cmake -S "$REPO" -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DMESHLAB_SOURCE_DIR="$MESHLAB_SRC" \
-  -DMESHLAB2025_SOURCE_DIR="$MESHLAB2025_DIR" -DRADIANCE_PYTHON="$VENV/bin/python" >/dev/null
+  -DMESHLAB2025_SOURCE_DIR="$MESHLAB2025_DIR" -DRADIANCE_PYTHON="$VENV/bin/python" \
+  -DRADIANCE_PLUGINS_2025="${RADIANCE_PLUGINS_2025:-ON}" -DRADIANCE_BUILD_BENCH="${RADIANCE_BUILD_BENCH:-ON}" >/dev/null
 log "building with $JOBS jobs"
 cmake --build "$BUILD_DIR" -j "$JOBS"
 log "private MeshLab prefix"

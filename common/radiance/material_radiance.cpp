@@ -64,23 +64,59 @@ RadianceField makeMaterialRadiance(const float* positions, const float* normals,
     return field;
 }
 
+namespace {
+
+// (1/2pi) int over {w.n >= 0} of P_l(w.n) dw = int_0^1 P_l(t) dt = (P_{l-1}(0) - P_{l+1}(0)) / (2l + 1).
+double legendreAtZero(int n) {
+    if (n % 2 != 0) return 0.0;
+    double value = 1.0;  // P_2k(0) = (-1)^k (2k-1)!! / (2k)!!
+    for (int k = 1; k <= n / 2; ++k) value *= -(2.0 * k - 1.0) / (2.0 * k);
+    return value;
+}
+double hemisphereMeanOfLegendre(int l) {
+    return l == 0 ? 1.0 : (legendreAtZero(l - 1) - legendreAtZero(l + 1)) / (2.0 * l + 1.0);
+}
+
+}  // namespace
+
 void meanHemisphereColors(const RadianceField& field, float* rgbOut) {
-    const int precision = 2 * field.basis.degree + 10;
-    const HemisphereQuadrature rule = hemisphereRule(lebedevPointCountForPrecision(std::min(precision, 59)));
+    // The mean is linear in the coefficients: mean_c = sum_k c_ck mu_k, mu_k the mean of basis function
+    // k over the vertex's hemisphere. PB functions live in the vertex's frame, so mu is one vector,
+    // integrated once (exactly: the integrand is a polynomial even in z, see lebedev_quadrature.h).
+    // An SH function of degree l averages over the hemisphere around n to H_l Y_lm(n) (Funk-Hecke: the
+    // hemisphere is zonal about n), H_l = int_0^1 P_l. A reflected function's mean is its own: the
+    // reflection about n maps the hemisphere onto itself.
+    const int k = field.coefficientsPerChannel();
+    std::vector<double> mu(k, 0.0), shMean(k, 0.0);
+    if (field.basis.usesLocalFrame()) {
+        const int precision = 2 * field.basis.degree + 10;
+        const HemisphereQuadrature rule = hemisphereRule(lebedevPointCountForPrecision(std::min(precision, 59)));
+        std::vector<double> values(k);
+        for (std::size_t i = 0; i < rule.size(); ++i) {
+            evaluateBasis(field.basis, rule.x[i], rule.y[i], rule.z[i], values.data());
+            for (int j = 0; j < k; ++j) mu[j] += rule.w[i] * values[j] / (2.0 * M_PI);
+        }
+    } else {
+        for (int l = 0; l <= field.basis.degree; ++l)
+            for (int j = l * l; j < (l + 1) * (l + 1) && j < k; ++j) shMean[j] = hemisphereMeanOfLegendre(l);
+    }
     const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(field.vertexCount());
 #pragma omp parallel
     {
-        double scratch[kMaxCoefficientsPerChannel];
+        std::vector<double> weights(mu);
 #pragma omp for schedule(static)
         for (std::ptrdiff_t v = 0; v < n; ++v) {
-            const VertexRadiance rf = vertexRadiance(field, static_cast<std::size_t>(v));
-            Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-            for (std::size_t i = 0; i < rule.size(); ++i) {
-                const Eigen::Vector3d w = rf.frame.toWorld(Eigen::Vector3d(rule.x[i], rule.y[i], rule.z[i]));
-                sum += rule.w[i] * evaluateRadiance(rf, w, scratch);
+            if (!field.basis.usesLocalFrame()) {
+                const Eigen::Vector3d normal = frameFromStored(field.frame(static_cast<std::size_t>(v))).n;
+                evaluateBasis(field.basis, normal.x(), normal.y(), normal.z(), weights.data());
+                for (int j = 0; j < k; ++j) weights[j] *= shMean[j];
             }
-            sum /= 2.0 * M_PI;
-            for (int c = 0; c < 3; ++c) rgbOut[3 * v + c] = static_cast<float>(sum[c]);
+            const float* coefficients = field.vertexCoefficients(static_cast<std::size_t>(v));
+            for (int c = 0; c < 3; ++c) {
+                double sum = 0.0;
+                for (int j = 0; j < k; ++j) sum += double(coefficients[c * k + j]) * weights[j];
+                rgbOut[3 * v + c] = static_cast<float>(sum);
+            }
         }
     }
 }

@@ -32,8 +32,8 @@ std::string checkMaterialRadianceInput(const float* positions, const float* norm
 
 // Average of L over the hemisphere of every vertex, (1/2pi) integral of L dw: the RF's "diffuse"
 // colour that colour-based tools (vertex colour, extended QEM) see. rgbOut: 3 floats per vertex.
-// Exact for PB (the integrand is a polynomial even in z, see lebedev_quadrature.h); for SH a
-// hemisphere rule of precision >= 2d + 10. Parallel (OpenMP).
+// Exact: linear in the coefficients, with the basis's hemisphere means (PB: one quadrature; SH:
+// Funk-Hecke). Parallel (OpenMP).
 void meanHemisphereColors(const RadianceField& field, float* rgbOut);
 
 }  // namespace rad

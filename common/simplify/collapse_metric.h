@@ -60,6 +60,10 @@ public:
     // A metric whose cost already measures the geometry (an accumulated quadric) returns true: the
     // engine then adds no memoryless QEM of its own, whatever its geometry weight.
     virtual bool ownsGeometry() const { return false; }
+    // True when a full collapse's placement and cost depend only on the metric's state of its two
+    // ends and their positions (an accumulated quadric), not on their stars: the engine then
+    // re-prices only the survivor's edges after a collapse, instead of its whole ring's.
+    virtual bool costDependsOnEndpointsOnly() const { return false; }
     // Full collapse: where the new vertex goes. Return false to let the engine place it (the
     // memoryless QEM's optimum); true with `position` set to choose it.
     virtual bool placeEdge(const CollapseMesh& mesh, std::uint32_t v0, std::uint32_t v1, Eigen::Vector3d& position) const {

@@ -51,6 +51,9 @@ struct QueueEntry {
     std::uint32_t a, b;            // half-edge: a -> b; full: edge (a, b)
     std::uint32_t stampA, stampB;  // versions of a and b when priced; half-edge mode: stampB = 1 marks a
                                    // lazy entry (source not priced since its star changed)
+    // Full mode: where the new vertex goes. Placement depends only on state that bumps a's or b's
+    // version when it changes, so a non-stale entry's position is the one placing would give now.
+    double position[3];
 };
 
 // Min-heap on cost; ties by indices so runs are deterministic whatever the thread count.
@@ -89,6 +92,9 @@ public:
         useMetric_ = metric_ != nullptr && options_.attributeWeight > 0.0;
         // An accumulated quadric that measures the geometry itself replaces the memoryless QEM.
         geometryWeight_ = useMetric_ && metric_->ownsGeometry() ? 0.0 : options_.geometryWeight;
+        localCosts_ = options_.kind == CollapseKind::Full && useMetric_ && geometryWeight_ == 0.0 &&
+                      metric_->costDependsOnEndpointsOnly();
+        if (localCosts_) dormant_.assign(mesh.vertexCount(), 0);
     }
 
     EdgeCollapseResult run(const std::function<void(const CollapseStep&)>& onStep);
@@ -189,7 +195,7 @@ private:
     // (the metric prices them together), then validity is checked in order of increasing cost
     // until one passes: usually the first.
     QueueEntry priceSource(std::uint32_t v0) const {
-        QueueEntry best{kInfinity, v0, v0, version_[v0], 0};
+        QueueEntry best{kInfinity, v0, v0, version_[v0], 0, {0.0, 0.0, 0.0}};
         if (!mesh_.vertexAlive(v0) || mesh_.incidentFaces(v0).empty()) return best;
         Workspace& w = workspace();
         mesh_.star(v0, w.star0);
@@ -244,20 +250,32 @@ private:
             if (!placedByMetric) p = optimalPosition(q, p0, p1);
             geometricError = std::max(0.0, q.evaluate(p));
         }
+        return {p, edgeParameter(v0, v1, p), geometricError};
+    }
+
+    // The parameter of p's projection on p0 + s (p1 - p0), clamped to [0, 1].
+    double edgeParameter(std::uint32_t v0, std::uint32_t v1, const Eigen::Vector3d& p) const {
+        const Eigen::Vector3d p0 = mesh_.position(v0), p1 = mesh_.position(v1);
         const double length2 = (p1 - p0).squaredNorm();
-        const double s = length2 > 0.0 ? std::clamp((p - p0).dot(p1 - p0) / length2, 0.0, 1.0) : 0.5;
-        return {p, s, geometricError};
+        return length2 > 0.0 ? std::clamp((p - p0).dot(p1 - p0) / length2, 0.0, 1.0) : 0.5;
+    }
+
+    // The placement a queued, non-stale full-mode entry was priced with.
+    Placement storedPlacement(const QueueEntry& e) const {
+        const Eigen::Vector3d p(e.position[0], e.position[1], e.position[2]);
+        return {p, edgeParameter(e.a, e.b, p), 0.0};
     }
 
     // Full mode: the cost of collapsing edge (v0, v1) into slot v1, +inf when not allowed.
     QueueEntry priceEdge(std::uint32_t v0, std::uint32_t v1) const {
-        QueueEntry entry{kInfinity, v0, v1, version_[v0], version_[v1]};
+        QueueEntry entry{kInfinity, v0, v1, version_[v0], version_[v1], {0.0, 0.0, 0.0}};
         if (!mesh_.vertexAlive(v0) || !mesh_.vertexAlive(v1)) return entry;
         Workspace& w = workspace();
         mesh_.star(v0, w.star0);
         neighboursFromStar(w.star0, w.neighbours0);
         const bool open0 = CollapseMesh::isOpenStar(w.star0);
         const Placement place = placeEdge(v0, v1);
+        for (int k = 0; k < 3; ++k) entry.position[k] = place.position[k];
         if (!collapseAllowed(v0, v1, open0, place.position, true, w)) return entry;
         double cost = geometryWeight_ * place.geometricError;
         if (useMetric_) {
@@ -297,7 +315,7 @@ private:
         if (!contains(w.neighbours0, e.b)) return false;
         const bool open0 = CollapseMesh::isOpenStar(w.star0);
         if (options_.kind == CollapseKind::HalfEdge) return collapseAllowed(e.a, e.b, open0, mesh_.position(e.b), false, w);
-        return collapseAllowed(e.a, e.b, open0, placeEdge(e.a, e.b).position, true, w);
+        return collapseAllowed(e.a, e.b, open0, storedPlacement(e).position, true, w);
     }
 
     bool stale(const QueueEntry& e) const {
@@ -311,10 +329,12 @@ private:
         std::push_heap(heap_.begin(), heap_.end(), CostsMore());
     }
 
-    // Geometry-only pricing of a handful of vertices costs less than waking the thread team; the
-    // initial pricing of the whole mesh and attribute metrics (eq. 7 integrates over a hemisphere
-    // per vertex) are worth it.
-    bool parallelWorth(long n) const { return n > 256 || (useMetric_ && n > 2); }
+    // Geometry-only pricing of a handful of vertices costs less than waking the thread team, and so
+    // do the few edges around a collapse under an accumulated quadric (microseconds each: a parallel
+    // region per collapse would cost as much on a quiet machine and far more on a busy one); the
+    // initial pricing of the whole mesh and the memoryless attribute metrics (eq. 7 integrates over
+    // a hemisphere per vertex) are worth it.
+    bool parallelWorth(long n) const { return n > 256 || (useMetric_ && !localCosts_ && n > 2); }
 
     // Prices `vertices` (half-edge) or every edge incident to them (full) in parallel, pushes.
     void reprice(const std::vector<std::uint32_t>& vertices);
@@ -331,6 +351,8 @@ private:
     double minNormalCosine_ = 0.0;
     double geometryWeight_ = 0.0;
     bool useMetric_ = false;
+    bool localCosts_ = false;            // full mode, metric's costs depend on the two ends only
+    std::vector<std::uint8_t> dormant_;  // localCosts_: has an edge dropped as invalid since last priced
     std::size_t pricings_ = 0;
 };
 
@@ -408,6 +430,7 @@ EdgeCollapseResult Simplifier::run(const std::function<void(const CollapseStep&)
         }
         if (!stillAllowed(top)) {
             ++result.staleEntries;
+            if (localCosts_) dormant_[top.a] = dormant_[top.b] = 1;
             if (options_.kind == CollapseKind::HalfEdge) {
                 ++version_[top.a];  // the old entry is dead; price the source again
                 push(priceSource(top.a));
@@ -434,7 +457,7 @@ EdgeCollapseResult Simplifier::run(const std::function<void(const CollapseStep&)
             mesh_.collapse(v0, v1);
         } else {
             Workspace& w = workspace();
-            const Placement place = placeEdge(v0, v1);
+            const Placement place = storedPlacement(top);
             mesh_.star(v0, w.star0);
             mesh_.star(v1, w.star1);
             applied = edgeQuery(v0, v1, place, w);
@@ -458,15 +481,26 @@ EdgeCollapseResult Simplifier::run(const std::function<void(const CollapseStep&)
         ++version_[v0];
         if (options_.kind == CollapseKind::Full) mesh_.neighbours(v1, ring);
         affected.assign(1, v1);
-        for (std::uint32_t v : ring)
-            if (v != v1) affected.push_back(v);
+        if (localCosts_) {
+            // Only the survivor's edges changed cost; the ring's other edges keep their entries and
+            // are re-validated when popped. Those found invalid then are priced again once a
+            // collapse next to them may have made them valid.
+            for (std::uint32_t v : ring)
+                if (v != v1 && dormant_[v]) {
+                    dormant_[v] = 0;
+                    affected.push_back(v);
+                }
+        } else {
+            for (std::uint32_t v : ring)
+                if (v != v1) affected.push_back(v);
+        }
         for (std::uint32_t v : affected) ++version_[v];
         if (options_.kind == CollapseKind::HalfEdge && options_.lazyRepricing) {
             // Queue each affected source at its previous cost (a guess: costs mostly grow as the
             // mesh coarsens) and price it only when it reaches the front.
             for (std::uint32_t v : affected) {
                 const double guess = lastCost_[v] < kInfinity ? lastCost_[v] : top.cost;
-                heap_.push_back({guess, v, v, version_[v], 1});
+                heap_.push_back({guess, v, v, version_[v], 1, {0.0, 0.0, 0.0}});
                 std::push_heap(heap_.begin(), heap_.end(), CostsMore());
             }
         } else {

@@ -12,8 +12,11 @@
 //  - Half-edge mode: one entry per source vertex v0 holding its cheapest valid target (all targets
 //    of v0 share the star of v0, which is what eq. 7 and the memoryless QEM depend on, so they are
 //    priced together). After v0 -> v1, v1 and its neighbours are re-priced.
-//  - Full mode: one entry per edge; after (v0, v1) -> v1 every edge incident to v1 or to one of
-//    its neighbours is re-priced.
+//  - Full mode: one entry per edge, holding where the new vertex goes; after (v0, v1) -> v1 every
+//    edge incident to v1 or to one of its neighbours is re-priced. When the metric's cost depends on
+//    the two ends only (an accumulated quadric, CollapseMetric::costDependsOnEndpointsOnly), only
+//    v1's edges are: the ring's other entries stay queued and are re-validated when popped, and an
+//    edge dropped as invalid is priced again once a collapse changes the star of one of its ends.
 // Re-pricing after a collapse runs in parallel (OpenMP) over the affected vertices/edges (or, with
 // lazyRepricing in half-edge mode, when a touched source reaches the front of the queue). Validity
 // can also change without the star changing (a neighbour's valence, the link of the target), so an

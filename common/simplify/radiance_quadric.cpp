@@ -25,6 +25,7 @@ constexpr int kC = 9;
 constexpr int kW = 10;       // 3: the attribute weight of each colour channel
 constexpr int kPlanes = 13;  // the plane terms alone: A (6), b (3), c, for placing full collapses
 constexpr int kGeometric = 23;
+static_assert(kGeometric == 23, "FaceQuadric::geometric holds one vertex's geometric block");
 
 // d sRGB / d linear at L (IEC 61966-2-1), the local scale of an error in 8-bit units.
 double srgbSlope(double linear) {
@@ -153,78 +154,103 @@ RadianceQuadricMetric::RadianceQuadricMetric(const CollapseMesh& mesh, RadianceF
     attributeScale_ = std::sqrt(options.radianceWeight) / (rms > 0.0 ? rms : 1.0);
     for (float& a : attributes_) a = static_cast<float>(a * attributeScale_);
 
-    // Each vertex's quadric: the sum of its faces' (a face is computed once per corner, which keeps
-    // the loop parallel without atomics).
     // Per channel and vertex: how much an error there weighs, (sRGB slope at the vertex's mean colour)
     // ^ perceptualExponent, normalised to mean 1 over the vertices; a face takes its corners' mean.
+    const std::vector<float> channelWeight = perceptualChannelWeights(field, options.perceptualExponent);
+    buildVertexQuadrics(mesh, channelWeight);
+}
+
+std::vector<float> RadianceQuadricMetric::perceptualChannelWeights(const RadianceField& field, double exponent) {
+    const std::size_t nv = field.vertexCount();
     std::vector<float> channelWeight(3 * nv, 1.0f);
-    if (options.perceptualExponent > 0.0) {
-        std::vector<float> mean(3 * nv);
-        meanHemisphereColors(field, mean.data());
-        double total = 0.0;
-        for (std::size_t i = 0; i < 3 * nv; ++i) {
-            channelWeight[i] = static_cast<float>(std::pow(srgbSlope(std::max(0.0f, mean[i])), options.perceptualExponent));
-            total += channelWeight[i];
-        }
-        const double norm = total > 0.0 ? 3.0 * nv / total : 1.0;
-        for (float& w : channelWeight) w = static_cast<float>(w * norm);
+    if (!(exponent > 0.0)) return channelWeight;
+    std::vector<float> mean(3 * nv);
+    meanHemisphereColors(field, mean.data());
+    double total = 0.0;
+    for (std::size_t i = 0; i < 3 * nv; ++i) {
+        channelWeight[i] = static_cast<float>(std::pow(srgbSlope(std::max(0.0f, mean[i])), exponent));
+        total += channelWeight[i];
     }
+    const double norm = total > 0.0 ? 3.0 * nv / total : 1.0;
+    for (float& w : channelWeight) w = static_cast<float>(w * norm);
+    return channelWeight;
+}
+
+// Each vertex's quadric is the sum of its faces'. Threads own contiguous vertex ranges and each
+// computes the faces touching its range once, adding them to the corners it owns: no atomics, and
+// a face is computed twice only where it straddles two ranges (scans store neighbours nearby).
+void RadianceQuadricMetric::buildVertexQuadrics(const CollapseMesh& mesh, const std::vector<float>& channelWeight) {
+    const std::size_t nv = mesh.vertexCount(), nf = mesh.faceCount();
     geometric_.assign(nv * kGeometric, 0.0);
     gradients_.assign(nv * 4 * static_cast<std::size_t>(m_), 0.0);
-    const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
-    const long n = static_cast<long>(nv);
+    const int threads = options_.threads > 0 ? options_.threads : omp_get_max_threads();
 #pragma omp parallel num_threads(threads)
     {
-        std::vector<double> g(3 * m_), e(m_), gradSum(4 * m_);
-#pragma omp for schedule(dynamic, 256)
-        for (long vi = 0; vi < n; ++vi) {
-            const std::uint32_t v = static_cast<std::uint32_t>(vi);
-            if (!mesh.vertexAlive(v)) continue;
-            double* q = geometric_.data() + v * kGeometric;
-            std::fill(gradSum.begin(), gradSum.end(), 0.0);
-            for (std::uint32_t f : mesh.incidentFaces(v)) {
-                const std::uint32_t* t = mesh.face(f);
-                const Eigen::Vector3d p0 = normalise(mesh.position(t[0])), p1 = normalise(mesh.position(t[1])),
-                                      p2 = normalise(mesh.position(t[2]));
-                const Eigen::Vector3d e1 = p1 - p0, e2 = p2 - p0;
-                const Eigen::Vector3d cross = e1.cross(e2);
-                const double doubleArea = cross.norm();
-                if (!(doubleArea > 0.0)) continue;  // no area, no weight
-                const double area = 0.5 * doubleArea;
-                const Eigen::Vector3d normal = cross / doubleArea;
-                const double d = -normal.dot(p0);
-                addSquaredLinear(q + kA, area * options.geometryWeight, normal, d);
-                addSquaredLinear(q + kPlanes, area, normal, d);
-                double channelArea[3];
-                for (int c = 0; c < 3; ++c) {
-                    channelArea[c] = area * (channelWeight[3 * t[0] + c] + channelWeight[3 * t[1] + c] + channelWeight[3 * t[2] + c]) / 3.0;
-                    q[kW + c] += channelArea[c];
-                }
-                // Attribute gradients in the face's plane (Hoppe 1999 sec. 4): g.p_i + e = s_i at the corners.
-                const double a11 = e1.dot(e1), a12 = e1.dot(e2), a22 = e2.dot(e2);
-                const double det = a11 * a22 - a12 * a12;
-                const float* s0 = attributes_.data() + std::size_t(t[0]) * m_;
-                const float* s1 = attributes_.data() + std::size_t(t[1]) * m_;
-                const float* s2 = attributes_.data() + std::size_t(t[2]) * m_;
-                const bool planar = det > 1e-14 * a11 * a22;
-                for (int j = 0; j < m_; ++j) {
-                    const double area = channelArea[j / kSh_];
-                    Eigen::Vector3d grad = Eigen::Vector3d::Zero();
-                    double offset = (double(s0[j]) + s1[j] + s2[j]) / 3.0;
-                    if (planar) {
-                        const double d1 = double(s1[j]) - s0[j], d2 = double(s2[j]) - s0[j];
-                        const double alpha = (a22 * d1 - a12 * d2) / det, beta = (a11 * d2 - a12 * d1) / det;
-                        grad = alpha * e1 + beta * e2;
-                        offset = s0[j] - grad.dot(p0);
-                    }
-                    addSquaredLinear(q + kA, area, grad, offset);
-                    for (int i = 0; i < 3; ++i) gradSum[3 * j + i] += area * grad[i];
-                    gradSum[3 * m_ + j] += area * offset;
-                }
+        const std::size_t team = static_cast<std::size_t>(omp_get_num_threads()), id = static_cast<std::size_t>(omp_get_thread_num());
+        const std::size_t first = nv * id / team, last = nv * (id + 1) / team;
+        const auto owned = [&](std::uint32_t v) { return v >= first && v < last; };
+        FaceQuadric face(m_);
+        for (std::size_t f = 0; f < nf; ++f) {
+            if (!mesh.faceAlive(static_cast<std::uint32_t>(f))) continue;
+            const std::uint32_t* t = mesh.face(static_cast<std::uint32_t>(f));
+            if (!owned(t[0]) && !owned(t[1]) && !owned(t[2])) continue;
+            if (!faceQuadric(mesh, t, channelWeight, face)) continue;  // no area, no weight
+            for (int corner = 0; corner < 3; ++corner) {
+                if (!owned(t[corner])) continue;
+                double* q = geometric_.data() + std::size_t(t[corner]) * kGeometric;
+                for (int i = 0; i < kGeometric; ++i) q[i] += face.geometric[i];
+                double* g = gradients_.data() + std::size_t(t[corner]) * 4 * m_;
+                for (int i = 0; i < 4 * m_; ++i) g[i] += face.gradients[i];
             }
-            std::copy(gradSum.begin(), gradSum.end(), gradients_.data() + std::size_t(v) * 4 * m_);
         }
     }
+}
+
+// One face's quadric (Hoppe 1999 sec. 4): its plane, and each attribute's plane g.p + e through the
+// corners' values, weighted by the face's area (and the channel's perceptual weight).
+bool RadianceQuadricMetric::faceQuadric(const CollapseMesh& mesh, const std::uint32_t* t,
+                                        const std::vector<float>& channelWeight, FaceQuadric& out) const {
+    const Eigen::Vector3d p0 = normalise(mesh.position(t[0])), p1 = normalise(mesh.position(t[1])),
+                          p2 = normalise(mesh.position(t[2]));
+    const Eigen::Vector3d e1 = p1 - p0, e2 = p2 - p0;
+    const Eigen::Vector3d cross = e1.cross(e2);
+    const double doubleArea = cross.norm();
+    if (!(doubleArea > 0.0)) return false;
+    const double area = 0.5 * doubleArea;
+    const Eigen::Vector3d normal = cross / doubleArea;
+    const double d = -normal.dot(p0);
+    double* q = out.geometric.data();
+    std::fill(out.geometric.begin(), out.geometric.end(), 0.0);
+    addSquaredLinear(q + kA, area * options_.geometryWeight, normal, d);
+    addSquaredLinear(q + kPlanes, area, normal, d);
+    double channelArea[3];
+    for (int c = 0; c < 3; ++c) {
+        channelArea[c] = area * (channelWeight[3 * t[0] + c] + channelWeight[3 * t[1] + c] + channelWeight[3 * t[2] + c]) / 3.0;
+        q[kW + c] = channelArea[c];
+    }
+    // Attribute gradients in the face's plane: g.p_i + e = s_i at the corners.
+    const double a11 = e1.dot(e1), a12 = e1.dot(e2), a22 = e2.dot(e2);
+    const double det = a11 * a22 - a12 * a12;
+    const float* s0 = attributes_.data() + std::size_t(t[0]) * m_;
+    const float* s1 = attributes_.data() + std::size_t(t[1]) * m_;
+    const float* s2 = attributes_.data() + std::size_t(t[2]) * m_;
+    const bool planar = det > 1e-14 * a11 * a22;
+    double* gradients = out.gradients.data();
+    for (int j = 0; j < m_; ++j) {
+        const double weight = channelArea[j / kSh_];
+        Eigen::Vector3d grad = Eigen::Vector3d::Zero();
+        double offset = (double(s0[j]) + s1[j] + s2[j]) / 3.0;
+        if (planar) {
+            const double d1 = double(s1[j]) - s0[j], d2 = double(s2[j]) - s0[j];
+            const double alpha = (a22 * d1 - a12 * d2) / det, beta = (a11 * d2 - a12 * d1) / det;
+            grad = alpha * e1 + beta * e2;
+            offset = s0[j] - grad.dot(p0);
+        }
+        addSquaredLinear(q + kA, weight, grad, offset);
+        for (int i = 0; i < 3; ++i) gradients[3 * j + i] = weight * grad[i];
+        gradients[3 * m_ + j] = weight * offset;
+    }
+    return true;
 }
 
 std::size_t RadianceQuadricMetric::bytes() const {
@@ -322,25 +348,29 @@ double RadianceQuadricMetric::evaluateSum(const Sum& q, const Eigen::Vector3d& p
     return std::max(0.0, value);
 }
 
-// min over s of Q(p, s) = p^T A p + 2 b.p + c - sum_j (G_j.p + E_j)^2 / W.
-double RadianceQuadricMetric::evaluateOptimal(const Sum& q, const Eigen::Vector3d& p) const {
-    const double* g = q.g;
-    double value = evaluateQuadratic(g + kA, p);
-    {
-        const double* G0 = q.grad0;
-        const double* G1 = q.grad1;
-        const double* E0 = G0 + 3 * m_;
-        const double* E1 = G1 + 3 * m_;
-        double sum[3] = {0.0, 0.0, 0.0};
-        for (int j = 0; j < m_; ++j) {
-            const double plane = (double(G0[3 * j]) + G1[3 * j]) * p.x() + (double(G0[3 * j + 1]) + G1[3 * j + 1]) * p.y() +
-                                 (double(G0[3 * j + 2]) + G1[3 * j + 2]) * p.z() + (double(E0[j]) + E1[j]);
-            sum[j / kSh_] += plane * plane;
+// min over s of Q(p, s) = p^T A p + 2 b.p + c - sum_j (G_j.p + E_j)^2 / W_c(j), itself a quadric in p:
+// A - sum_j G_j G_j^T / W, b - sum_j E_j G_j / W, c - sum_j E_j^2 / W. Reduced once per edge (O(m)),
+// it prices every candidate position in O(1).
+void RadianceQuadricMetric::reduce(const Sum& q, double* reduced) const {
+    std::copy(q.g + kA, q.g + kA + 10, reduced);
+    const double* G0 = q.grad0;
+    const double* G1 = q.grad1;
+    const double* E0 = G0 + 3 * m_;
+    const double* E1 = G1 + 3 * m_;
+    for (int c = 0; c < kColorChannels; ++c) {
+        const double w = q.g[kW + c];
+        if (!(w > 0.0)) continue;
+        double channel[10] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+        for (int j = c * kSh_; j < (c + 1) * kSh_; ++j) {
+            const Eigen::Vector3d gradient(G0[3 * j] + G1[3 * j], G0[3 * j + 1] + G1[3 * j + 1], G0[3 * j + 2] + G1[3 * j + 2]);
+            addSquaredLinear(channel, 1.0, gradient, E0[j] + E1[j]);
         }
-        for (int c = 0; c < 3; ++c)
-            if (g[kW + c] > 0.0) value -= sum[c] / g[kW + c];
+        for (int i = 0; i < 10; ++i) reduced[i] -= channel[i] / w;
     }
-    return std::max(0.0, value);
+}
+
+double RadianceQuadricMetric::evaluateOptimal(const double* reduced, const Eigen::Vector3d& p) {
+    return std::max(0.0, evaluateQuadratic(reduced, p));
 }
 
 double RadianceQuadricMetric::evaluate(std::uint32_t v, const Eigen::Vector3d& worldPosition, const double* attributes) const {
@@ -367,12 +397,14 @@ bool RadianceQuadricMetric::placeEdge(const CollapseMesh& mesh, std::uint32_t v0
                                       Eigen::Vector3d& position) const {
     Sum q;
     sumOf(v0, v1, q);
+    double reduced[10];
+    reduce(q, reduced);
     const Eigen::Vector3d p0 = normalise(mesh.position(v0)), p1 = normalise(mesh.position(v1));
     // Candidates: the ends, the midpoint, and the minimiser of Q(p, s*(p)) when well conditioned.
     Eigen::Vector3d best = p1;
-    double bestCost = evaluateOptimal(q, p1);
+    double bestCost = evaluateOptimal(reduced, p1);
     const auto consider = [&](const Eigen::Vector3d& p) {
-        const double cost = evaluateOptimal(q, p);
+        const double cost = evaluateOptimal(reduced, p);
         if (cost < bestCost) {
             bestCost = cost;
             best = p;
@@ -395,16 +427,30 @@ bool RadianceQuadricMetric::placeEdge(const CollapseMesh& mesh, std::uint32_t v0
         if (optimum.allFinite() && (optimum - mid).norm() <= 2.0 * length) consider(optimum);
     }
     position = centre_ + best / positionScale_;
+    lastPlacement() = {this, collapses_, v0, v1, position, bestCost};
     return true;
 }
 
+// The engine prices an edge right after placing it, at that place: the cost placing found is reused.
+RadianceQuadricMetric::Placement& RadianceQuadricMetric::lastPlacement() {
+    thread_local Placement last;
+    return last;
+}
+
 double RadianceQuadricMetric::priceEdge(const CollapseMesh& mesh, const EdgeQuery& query) const {
+    const Placement& last = lastPlacement();
+    if (last.metric == this && last.collapses == collapses_ && last.v0 == query.v0 && last.v1 == query.v1 &&
+        last.position == query.position)
+        return last.cost;
     Sum q;
     sumOf(query.v0, query.v1, q);
-    return evaluateOptimal(q, normalise(query.position));
+    double reduced[10];
+    reduce(q, reduced);
+    return evaluateOptimal(reduced, normalise(query.position));
 }
 
 void RadianceQuadricMetric::onCollapse(const CollapseMesh& mesh, const EdgeQuery& query) {
+    ++collapses_;
     const std::uint32_t v0 = query.v0, v1 = query.v1;
     double* q0 = geometric_.data() + std::size_t(v0) * kGeometric;
     double* q1 = geometric_.data() + std::size_t(v1) * kGeometric;

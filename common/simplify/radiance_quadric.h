@@ -39,6 +39,7 @@
 
 #include <Eigen/Core>
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -68,6 +69,7 @@ public:
 
     std::string name() const override { return "radiance quadric (Hoppe 1999)"; }
     bool ownsGeometry() const override { return true; }
+    bool costDependsOnEndpointsOnly() const override { return true; }
     void priceHalfEdges(const CollapseMesh& mesh, const HalfEdgeQuery& query, double* costs) const override;
     bool supportsFullCollapse(std::string& why) const override {
         why.clear();
@@ -88,14 +90,33 @@ public:
 
 private:
     struct Sum;  // Q_v0 + Q_v1, unpacked for repeated evaluation
+    struct Placement {
+        const RadianceQuadricMetric* metric = nullptr;
+        std::uint64_t collapses = 0;  // the metric's state it was computed in
+        std::uint32_t v0 = 0, v1 = 0;
+        Eigen::Vector3d position = Eigen::Vector3d::Zero();
+        double cost = 0.0;
+    };
+    static Placement& lastPlacement();  // per thread
     void sumOf(std::uint32_t v0, std::uint32_t v1, Sum& out) const;
     double evaluateSum(const Sum& q, const Eigen::Vector3d& normalised, const float* attributes) const;
-    double evaluateOptimal(const Sum& q, const Eigen::Vector3d& normalised) const;
+    struct FaceQuadric {  // one face's terms, laid out as a vertex's
+        explicit FaceQuadric(int m) : gradients(4 * std::size_t(m)) {}
+        std::array<double, 23> geometric{};
+        std::vector<double> gradients;
+    };
+    static std::vector<float> perceptualChannelWeights(const RadianceField& field, double exponent);
+    void buildVertexQuadrics(const CollapseMesh& mesh, const std::vector<float>& channelWeight);
+    bool faceQuadric(const CollapseMesh& mesh, const std::uint32_t* corners, const std::vector<float>& channelWeight,
+                     FaceQuadric& out) const;
+    void reduce(const Sum& q, double* reduced) const;  // min over s of Q(p, s), a quadric in p: 10 values
+    static double evaluateOptimal(const double* reduced, const Eigen::Vector3d& normalised);
     Eigen::Vector3d normalise(const Eigen::Vector3d& world) const { return positionScale_ * (world - centre_); }
     void toMetric(std::size_t v, const float* coefficients, float* attributes) const;
     void fromMetric(std::size_t v, const double* attributes, float* coefficients) const;
 
     RadianceField& field_;
+    std::uint64_t collapses_ = 0;  // onCollapse calls: tells a cached placement's state apart
     RadianceQuadricOptions options_;
     int k_ = 0, m_ = 0;  // coefficients per channel of the field; attributes per vertex (3 x the metric's)
     Eigen::Vector3d centre_ = Eigen::Vector3d::Zero();

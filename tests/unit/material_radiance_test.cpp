@@ -129,6 +129,41 @@ TEST(MaterialRadiance, MeanOfAKnownPolynomial) {
     EXPECT_NEAR(mean[2], 0.25, 1e-7);
 }
 
+// SH: the closed form (Funk-Hecke) against a direct midpoint integration over each vertex's
+// hemisphere, in the vertex's frame, of the function as evaluated, for random coefficients and
+// normals, plain and reflected.
+TEST(MaterialRadiance, MeanOfSphericalHarmonicsMatchesDirectIntegration) {
+    std::mt19937 rng(21);
+    std::normal_distribution<double> g;
+    for (bool reflected : {false, true}) {
+        const int vertices = 5;
+        rad::RadianceField field(rad::BasisSpec{rad::BasisKind::SphericalHarmonics, 5}, vertices, reflected);
+        for (int v = 0; v < vertices; ++v) {
+            const Eigen::Vector3d normal = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
+            rad::storeFrame(rad::frameFromNormal(normal), field.frame(v));
+            float* coefficients = field.vertexCoefficients(v);
+            for (int k = 0; k < field.coefficientsPerVertex(); ++k) coefficients[k] = static_cast<float>(g(rng));
+        }
+        std::vector<float> mean(3 * vertices);
+        rad::meanHemisphereColors(field, mean.data());
+        const int rings = 200, sectors = 400;
+        for (int v = 0; v < vertices; ++v) {
+            const rad::Frame frame = rad::frameFromStored(field.frame(v));
+            Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+            for (int i = 0; i < rings; ++i)
+                for (int j = 0; j < sectors; ++j) {
+                    // Uniform in z = cos(theta) and phi: equal solid angles 2 pi / (rings sectors).
+                    const double z = (i + 0.5) / rings, phi = 2.0 * M_PI * (j + 0.5) / sectors;
+                    const double r = std::sqrt(1.0 - z * z);
+                    const Eigen::Vector3d local(r * std::cos(phi), r * std::sin(phi), z);
+                    sum += rad::evaluateRadiance(field, v, frame.toWorld(local));
+                }
+            sum /= double(rings) * sectors;
+            for (int c = 0; c < 3; ++c) EXPECT_NEAR(mean[3 * v + c], sum[c], 2e-3 * (1.0 + std::abs(sum[c]))) << v << " " << c;
+        }
+    }
+}
+
 TEST(MaterialRadiance, InputChecksSayWhatIsWrong) {
     rad::MaterialRadianceOptions options;
     options.basis = {rad::BasisKind::HemisphericalPolynomial, 4};
