@@ -483,3 +483,27 @@ def test_exif_orientation_is_honoured(tmp_path):
     shown = h.read_png(path)[0][:, :, :3]
     assert shown.shape == upright.shape, shown.shape
     assert np.abs(shown * 255 - upright).mean() < 2.0, "the raster is not the upright photograph"
+
+
+def test_metashape_and_nerfstudio_bad_files_are_refused(tmp_path):
+    """A Metashape chunk transform whose rotation holds a scale, a nerfstudio frame whose matrix holds
+    one, and a Metashape XML naming a photograph the folder lacks: refused, no raster added."""
+    rec, _ = make_capture(tmp_path, {1: CAMERAS[1], 2: CAMERAS[2]})
+    ms = h.load()
+    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=scene_points()))
+    write_metashape_xml(tmp_path / "scaled.xml", rec, np.diag([2.0, 1.0, 1.0]), np.zeros(3), 1.0)
+    refuse(ms, "not a rotation", tmp_path / "scaled.xml", tmp_path / "images")
+    write_metashape_xml(tmp_path / "ok.xml", rec, np.eye(3), np.zeros(3), 1.0)
+    lacking = tmp_path / "lacking"
+    lacking.mkdir()
+    shutil.copy(tmp_path / "images" / "view_1.png", lacking)
+    refuse(ms, "'view_2' is not in the image folder", tmp_path / "ok.xml", lacking)
+    write_nerfstudio(tmp_path / "transforms.json", rec)
+    text = (tmp_path / "transforms.json").read_text()
+    import json
+
+    data = json.loads(text)
+    data["frames"][1]["transform_matrix"][0][0] *= 3.0
+    (tmp_path / "scaled.json").write_text(json.dumps(data))
+    refuse(ms, "not a rotation", tmp_path / "scaled.json", tmp_path)
+    assert ms.raster_number() == 0
