@@ -4,6 +4,7 @@ RadianceFitPlugin::RadianceFitPlugin() {
     addFilter(radml::makeFitFromRastersFilter());
     addFilter(radml::makeCreateAnalyticRadianceFilter());
     addFilter(radml::makeRadianceToVertexColorFilter());
+    addFilter(radml::makeImportCamerasFilter());
 }
 
 MESHLAB_PLUGIN_NAME_EXPORTER(RadianceFitPlugin)

@@ -1,5 +1,6 @@
 // Radiance data onto a layer (Vanhoey et al. 2015): fitted from calibrated photographs (raster
-// layers), created from an analytic material, and evaluated toward a viewpoint as vertex colours.
+// layers), created from an analytic material, and evaluated toward a viewpoint as vertex colours;
+// and the calibrated photographs themselves, imported from COLMAP, Metashape or nerfstudio.
 // One filter per file; this class only registers them with the host.
 #pragma once
 
@@ -9,6 +10,7 @@ namespace radml {
 std::unique_ptr<Filter> makeFitFromRastersFilter();
 std::unique_ptr<Filter> makeCreateAnalyticRadianceFilter();
 std::unique_ptr<Filter> makeRadianceToVertexColorFilter();
+std::unique_ptr<Filter> makeImportCamerasFilter();
 }  // namespace radml
 
 class RadianceFitPlugin : public radml::FilterPluginBase {

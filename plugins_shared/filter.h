@@ -76,6 +76,9 @@ public:
     virtual ~Filter() = default;
     // The name shown in the menus and used by scripts (pymeshlab derives its Python name from it).
     virtual QString name() const = 0;
+    // The Python name pymeshlab calls it by, when it must differ from the one MeshLab derives from
+    // name() (an interface an issue fixed); empty: MeshLab's own derivation.
+    virtual QString pythonName() const { return {}; }
     // Help text (HTML), citing the paper the filter implements by authors and year.
     virtual QString description() const = 0;
     // MeshLab's FilterClass bits (same values in both hosts).

@@ -1,4 +1,4 @@
-// MeshLab's camera (vcg::Shot) -> our plain pinhole camera (common/camera/pinhole_camera.h).
+// MeshLab's camera (vcg::Shot) <-> our plain pinhole camera (common/camera/pinhole_camera.h).
 //
 // vcg's conventions (vcglib vcg/math/shot.h and camera.h, checked by tests/adapter against
 // vcg::Shot::Project itself):
@@ -61,6 +61,32 @@ std::string pinholeFromShot(const vcg::Shot<S>& shot, rad::PinholeCamera& out) {
     if (!problem.empty()) return problem;
     out = camera;
     return {};
+}
+
+// The inverse: the vcg::Shot that projects like `camera` (the conventions above, read backwards).
+// Only FocalMm / PixelSizeMm matters to vcg: PixelSizeMm.x is 0.01 mm, as MeshLab's importers
+// write it, and PixelSizeMm.y carries fx / fy.
+template <typename S>
+vcg::Shot<S> shotFromPinhole(const rad::PinholeCamera& camera) {
+    vcg::Shot<S> shot;
+    shot.Intrinsics.cameraType = vcg::Camera<S>::PERSPECTIVE;
+    const double pixelX = 0.01;
+    shot.Intrinsics.FocalMm = S(camera.fx * pixelX);
+    shot.Intrinsics.PixelSizeMm = vcg::Point2<S>(S(pixelX), S(pixelX * camera.fx / camera.fy));
+    shot.Intrinsics.ViewportPx = vcg::Point2i(camera.width, camera.height);
+    shot.Intrinsics.CenterPx = vcg::Point2<S>(S(camera.cx), S(camera.height - camera.cy));
+    shot.Intrinsics.DistorCenterPx = shot.Intrinsics.CenterPx;
+    shot.Intrinsics.k[0] = shot.Intrinsics.k[1] = S(0);
+    vcg::Matrix44<S> rot;
+    rot.SetIdentity();
+    for (int c = 0; c < 3; ++c) {
+        rot[0][c] = S(camera.rotation(0, c));
+        rot[1][c] = S(-camera.rotation(1, c));
+        rot[2][c] = S(-camera.rotation(2, c));
+    }
+    shot.Extrinsics.SetRot(rot);
+    shot.Extrinsics.SetTra(vcg::Point3<S>(S(camera.center.x()), S(camera.center.y()), S(camera.center.z())));
+    return shot;
 }
 
 }  // namespace radml

@@ -26,6 +26,7 @@ APT_PACKAGES=(
   libeigen3-dev                # Debian removed MeshLab's bundled Eigen; vcglib and our cores use it
   libembree-dev                # ray casting (visibility, PRT transfer, baking)
   libstb-dev                   # stb_image / stb_image_write: JPEG and PNG photographs, PNG output, Radiance .hdr maps
+  libexpat1-dev                # expat: Agisoft Metashape camera XML (Import Cameras as Raster Layers)
   zlib1g-dev                   # zlib: 16-bit PNG normal maps (our encoder; stb_image_write writes only 8-bit PNG)
   libopenexr-dev               # OpenEXR: the HDR environment maps (.exr) used for lighting
   libgtest-dev                 # unit tests
@@ -159,6 +160,7 @@ log "MeshLab 2025.07 source tree: $MESHLAB2025_DIR ($(cat "$MESHLAB2025_DIR/ML_V
 
 # The Python side: a virtual environment in the build tree with pymeshlab (MeshLab 2025.07), numpy,
 # pytest, pygltflib (a glTF reader: tests/python/test_pymeshlab_gltf.py parses our .glb files with it),
+# pycolmap (COLMAP's own model writer and camera models: tests/python/test_pymeshlab_import_cameras.py),
 # tqdm (the command line's progress bars), Dask distributed (`meshlab-radiance batch`: the local
 # cluster and its tests), matplotlib (PNG and SVG plots of the main job and the benchmarks; the
 # package's extra `plots`) and the package builder; our package is installed into it by
@@ -169,7 +171,7 @@ if [ ! -x "$VENV/bin/python" ]; then
   mkdir -p "$BUILD_DIR"
   python3 -m venv "$VENV"
 fi
-"$VENV/bin/python" -m pip install -q --disable-pip-version-check 'pymeshlab==2025.7.post1' 'numpy>=1.21' pytest pygltflib \
+"$VENV/bin/python" -m pip install -q --disable-pip-version-check 'pymeshlab==2025.7.post1' 'numpy>=1.21' pytest pygltflib pycolmap \
   'tqdm>=4.60' 'dask[distributed]>=2023.1' 'matplotlib>=3.5' 'scikit-build-core>=0.8' 2>&1 | grep -v "is ignored" || true
 "$VENV/bin/python" -c "import pymeshlab" || { echo "[setup] pymeshlab does not import in $VENV" >&2; exit 1; }
 

@@ -30,6 +30,14 @@ Image8 readImage8(const std::string& path) {
     return image;
 }
 
+void readImageSize(const std::string& path, int& width, int& height) {
+    int channels = 0;
+    if (!stbi_info(path.c_str(), &width, &height, &channels)) {
+        const char* reason = stbi_failure_reason();
+        throw ImageFileError("cannot read image '" + path + "': " + (reason ? reason : "unknown error"));
+    }
+}
+
 void writePng(const std::string& path, const Image8& image) {
     if (image.rgb.size() != std::size_t(image.width) * image.height * 3)
         throw ImageFileError("cannot write PNG image '" + path + "': the image holds " + std::to_string(image.rgb.size()) +

@@ -23,6 +23,9 @@ struct ImageFileError : std::runtime_error {
 // Throws ImageFileError with the file name and the decoder's reason when the file is missing,
 // truncated or not a supported image.
 Image8 readImage8(const std::string& path);
+// The size of an image file (JPEG or PNG) from its header, without decoding it. Throws
+// ImageFileError with the file name and the reason when it is missing or not a supported image.
+void readImageSize(const std::string& path, int& width, int& height);
 // Throws ImageFileError when the file cannot be written.
 void writePng(const std::string& path, const Image8& image);
 

@@ -75,6 +75,18 @@ inline bool enumChoice(const RichParameter& p, int& index, QStringList& choices)
 using RasterImagePlane = Plane;
 inline bool rasterIsVisible(const RasterModel& raster) { return raster.visible; }
 
+// A new raster layer showing `image` (already decoded: it is not read again), which the layer
+// records as coming from `path`; its camera is the caller's to set. It becomes the current raster.
+inline RasterModel* addRasterLayer(MeshDocument& md, const QString& label, const QImage& image, const QString& path) {
+    RasterModel* raster = md.addNewRaster();
+    raster->setLabel(label);
+    Plane* plane = new Plane(QString(), Plane::RGBA);  // an empty path: nothing is decoded here
+    plane->fullPathFileName = path;
+    plane->image = image;
+    raster->addPlane(plane);
+    return raster;
+}
+
 // A new layer of the document; it becomes the current one only in a document that had none (an
 // empty document, where filters like the out-of-core simplification create the first layer).
 inline MeshModel* addLayer(MeshDocument& md, const QString& label) { return md.addNewMesh("", label, md.mm() == nullptr); }

@@ -25,6 +25,12 @@ QString FilterPluginBase::filterInfo(ActionIDType id) const {
     return f ? f->description() : QString();
 }
 
+QString FilterPluginBase::pythonFilterName(ActionIDType id) const {
+    const Filter* f = filterOf(id);
+    if (f != nullptr && !f->pythonName().isEmpty()) return f->pythonName();
+    return FilterPlugin::pythonFilterName(id);
+}
+
 FilterPlugin::FilterClass FilterPluginBase::getClass(const QAction* action) const {
     const Filter* f = filterOf(ID(action));
     return f ? FilterClass(f->filterClass()) : FilterPlugin::Generic;

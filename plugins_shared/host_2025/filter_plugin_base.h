@@ -17,6 +17,7 @@ public:
     QString vendor() const override { return "radiance-tools"; }
     QString filterName(ActionIDType id) const override;
     QString filterInfo(ActionIDType id) const override;
+    QString pythonFilterName(ActionIDType id) const override;
     FilterClass getClass(const QAction* action) const override;
     int getPreConditions(const QAction* action) const override;
     int postCondition(const QAction* action) const override;

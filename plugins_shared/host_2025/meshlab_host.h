@@ -79,6 +79,15 @@ inline bool enumChoice(const RichParameter& p, int& index, QStringList& choices)
 using RasterImagePlane = RasterPlane;
 inline bool rasterIsVisible(const RasterModel& raster) { return raster.isVisible(); }
 
+// A new raster layer showing `image` (already decoded: it is not read again), which the layer
+// records as coming from `path`; its camera is the caller's to set. It becomes the current raster.
+inline RasterModel* addRasterLayer(MeshDocument& md, const QString& label, const QImage& image, const QString& path) {
+    RasterModel* raster = md.addNewRaster();
+    raster->setLabel(label);
+    raster->addPlane(new RasterPlane(image, path, RasterPlane::RGBA));
+    return raster;
+}
+
 // A new layer of the document; it becomes the current one only in a document that had none (an
 // empty document, where filters like the out-of-core simplification create the first layer).
 inline MeshModel* addLayer(MeshDocument& md, const QString& label) { return md.addNewMesh("", label, md.mm() == nullptr); }

@@ -57,6 +57,7 @@ _FILTERS: Sequence[str] = (
     "extract_level_of_detail_pop_buffer",
     "out_of_core_simplification_and_normal_map",
     "compute_irradiance_vector_grid",
+    "radiance_import_cameras_as_rasters",
 )
 
 

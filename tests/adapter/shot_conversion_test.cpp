@@ -110,4 +110,34 @@ TEST(ShotConversion, RefusesDistortionOrthographicAndDegenerateCameras) {
     EXPECT_NE(radml::pinholeFromShot(vcg::Shotf(), camera), "");
 }
 
+// shotFromPinhole: the shot it makes projects, by vcg::Shot::Project itself, where the pinhole
+// camera's own formula puts each point (fx != fy and an off-centre principal point included).
+TEST(ShotConversion, ShotFromPinholeProjectsLikeThePinholeCamera) {
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    rad::PinholeCamera camera = rad::PinholeCamera::lookAt({2.0, 1.0, 3.0}, {0.1, -0.2, 0.0}, {0.0, 1.0, 0.0}, 50.0, 800, 600);
+    camera.fx = 700.0;
+    camera.fy = 690.0;
+    camera.cx = 380.25;
+    camera.cy = 317.75;
+    const vcg::Shotf shot = radml::shotFromPinhole<float>(camera);
+    int checked = 0;
+    for (int k = 0; k < 200; ++k) {
+        const Eigen::Vector3d x(u(rng), u(rng), u(rng));
+        // The pinhole formula written out here: x_cam = R (X - C), u = fx x/z + cx, v = fy y/z + cy.
+        const Eigen::Vector3d p = camera.rotation * (x - camera.center);
+        ASSERT_GT(p.z(), 0.5);
+        const double expectedU = camera.fx * p.x() / p.z() + camera.cx;
+        const double expectedV = camera.fy * p.y() / p.z() + camera.cy;
+        const vcg::Point2f q = shot.Project(vcg::Point3f(float(x.x()), float(x.y()), float(x.z())));
+        EXPECT_NEAR(q[0], expectedU, 2e-3);
+        EXPECT_NEAR(camera.height - q[1], expectedV, 2e-3);  // vcg's py counts from the bottom edge
+        ++checked;
+    }
+    EXPECT_EQ(checked, 200);
+    rad::PinholeCamera back;
+    ASSERT_EQ(radml::pinholeFromShot(shot, back), "");
+    EXPECT_NEAR(back.fy, camera.fy, 1e-2);
+}
+
 }  // namespace

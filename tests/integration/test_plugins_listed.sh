@@ -10,7 +10,8 @@ for name in "Radiance: Create Radiance Data from Analytic Material" \
             "Radiance: Evaluate Radiance toward a Viewpoint as Vertex Color" \
             "Extract Level of Detail (POP Buffer)" \
             "Out-of-Core Simplification and Normal Map" \
-            "Compute Irradiance Vector Grid"; do
+            "Compute Irradiance Vector Grid" \
+            "Import Cameras as Raster Layers"; do
     grep -qF "$name" "$WORK/dump.txt" || fail "filter '$name' missing from meshlabserver -d"
 done
 # Help text, with the paper it implements.
@@ -19,6 +20,7 @@ grep -qF "hemispherical polynomials" "$WORK/dump.txt" || fail "help text of the 
 grep -qF "Rapid Progressive Clustering by Geometry Quantization" "$WORK/dump.txt" || fail "help text does not cite Limper et al. 2013"
 grep -qF "Out-of-Core Simplification of Large Polygonal Models" "$WORK/dump.txt" || fail "help text does not cite Lindstrom 2000"
 grep -qF "The Irradiance Jacobian for Partially Occluded Polyhedral Sources" "$WORK/dump.txt" || fail "help text of the irradiance grid does not cite Arvo 1994"
+grep -qF "COLMAP</b> sparse model" "$WORK/dump.txt" || fail "help text of the camera import missing"
 # Parameters are listed with their descriptions.
 grep -qF "Store reflected functions" "$WORK/dump.txt" || fail "parameter descriptions missing"
 # The system plugins are loaded too.

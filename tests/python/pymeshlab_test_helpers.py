@@ -39,6 +39,8 @@ FILTERS = {
     "Extract Level of Detail (POP Buffer)": "extract_level_of_detail_pop_buffer",
     "Out-of-Core Simplification and Normal Map": "out_of_core_simplification_and_normal_map",
     "Compute Irradiance Vector Grid": "compute_irradiance_vector_grid",
+    # Named by issue 29 (the plugin overrides pythonFilterName): not MeshLab's derived name.
+    "Import Cameras as Raster Layers": "radiance_import_cameras_as_rasters",
 }
 CREATE = FILTERS["Radiance: Create Radiance Data from Analytic Material"]
 EVALUATE = FILTERS["Radiance: Evaluate Radiance toward a Viewpoint as Vertex Color"]
@@ -52,6 +54,7 @@ BAKE = FILTERS["Bake Normal Map"]
 POP_LEVELS = FILTERS["Extract Level of Detail (POP Buffer)"]
 OUT_OF_CORE = FILTERS["Out-of-Core Simplification and Normal Map"]
 IRRADIANCE_GRID = FILTERS["Compute Irradiance Vector Grid"]
+IMPORT_CAMERAS = FILTERS["Import Cameras as Raster Layers"]
 
 # The plugin files the package must load (the 2025 builds of build/pymeshlab_plugins).
 PLUGIN_FILES = ("libio_radiance.so", "libfilter_radiance_fit.so", "libfilter_radiance_simplify.so",

@@ -42,6 +42,7 @@ EXPECTED_PARAMETERS = {
     h.OUT_OF_CORE: ["plyFile", "targetFaces", "textureSize", "gutter", "bits", "outputFile"],
     h.IRRADIANCE_GRID: ["resolution", "bounces", "rays", "lightSource", "envMap", "lightCount", "envScale",
                         "lightDirection", "lightIrradiance", "outputFile"],
+    h.IMPORT_CAMERAS: ["camerafile", "imagefolder", "cachefolder"],
 }
 
 
@@ -94,8 +95,17 @@ def recorded_script(scenes, tmp_path_factory):
     fit.load_project(str(work / "photos" / "project.mlp"))
     fit.apply_filter(h.FIT, degree=1)
     fit.save_filter_script(str(work / "fit.mlx"))
+    # The photographs' cameras as a COLMAP text model (PINHOLE; only that it imports matters here).
+    (work / "colmap").mkdir()
+    (work / "colmap" / "cameras.txt").write_text("1 PINHOLE 64 48 60 60 32 24\n")
+    photo = "images/" + sorted(p.name for p in (work / "photos" / "images").iterdir() if p.suffix == ".png")[0]
+    (work / "colmap" / "images.txt").write_text(f"1 1 0 0 0 0 0 3 1 {photo}\n\n")
+    imported = pymeshlab.MeshSet()
+    imported.apply_filter(h.IMPORT_CAMERAS, camerafile=str(work / "colmap"), imagefolder=str(work / "photos"))
+    assert imported.raster_number() == 1
+    imported.save_filter_script(str(work / "import.mlx"))
     filters = {}
-    for script in ("filters.mlx", "fit.mlx"):
+    for script in ("filters.mlx", "fit.mlx", "import.mlx"):
         for element in ET.parse(str(work / script)).getroot().iter("filter"):
             filters[element.get("name")] = element
     return filters

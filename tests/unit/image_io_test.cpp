@@ -266,3 +266,13 @@ TEST(ImageIo, Png16WriterRefusesBadInputAndUnwritablePaths) {
 }
 
 }  // namespace
+
+TEST(ImageIo, ImageSizeIsReadFromTheHeader) {
+    const std::string path = tmpPath("size_23x11.png");
+    rad::writePng(path, randomImage(23, 11, 5));
+    int w = 0, h = 0;
+    rad::readImageSize(path, w, h);
+    EXPECT_EQ(w, 23);
+    EXPECT_EQ(h, 11);
+    EXPECT_THROW(rad::readImageSize(tmpPath("no_such_image.png"), w, h), rad::ImageFileError);
+}
