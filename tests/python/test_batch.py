@@ -190,8 +190,9 @@ def test_recipe_with_unknown_filter_is_refused_before_any_job(first_run, tmp_pat
 
 
 def test_objects_with_photographs_are_fitted_and_foreign_cameras_refused(scenes, tmp_path):
-    """A manifest: a mesh with its MeshLab project (fitted from its photographs) and a mesh with a
-    COLMAP model beside it (no camera importer among the plugins: that row fails with the reason)."""
+    """A manifest: a mesh with its MeshLab project (fitted from its photographs) and a mesh with an
+    incomplete COLMAP model beside it (cameras.txt without images.txt): the camera importer refuses
+    it, and that row fails with the importer's reason while the other finishes."""
     photos = tmp_path / "photos"
     h.run_tool("virtual_acquisition", scenes("sphere", level=2), "-o", photos, "--views", 6, "--size", "96x72",
                "--no-variation", "--supersampling", 1)
@@ -220,8 +221,7 @@ def test_objects_with_photographs_are_fitted_and_foreign_cameras_refused(scenes,
     assert record["image_error"] == f"held-out photographs: RMS {rms} sRGB levels"
     refused = rows["colmap/object.ply"]
     assert refused["status"] == "failed"
-    assert "COLMAP" in refused["message"] and "radiance_import_cameras_as_rasters" in refused["message"]
-    assert ".mlp" in refused["message"]  # the remedy
+    assert "COLMAP" in refused["message"] and "images.txt" in refused["message"], refused["message"]
 
 
 def test_job_over_its_memory_limit_fails_its_row_with_the_remedy(first_run, tmp_path):
