@@ -233,7 +233,10 @@ def test_job_over_its_memory_limit_fails_its_row_with_the_remedy(first_run, tmp_
         "thumbnail_path": None, "names": {}, "memory_limit": 300 * 2**20}
     result = batch_job.run_job(job, timeout=120)
     assert result["status"] == "failed" and result["returncode"] == 1, result
-    assert "out of memory (limit 0.29 GiB per job): raise --memory-limit" in result["message"]
+    # Where the first allocation fails (loading pymeshlab, the input, or the filter) depends on what
+    # the interpreter has mapped already; the message names the cause, the limit and the remedy.
+    message = result["message"]
+    assert "out of memory" in message and "0.29 GiB per job" in message and "raise --memory-limit" in message, message
     assert not (tmp_path / "scan00.ply").exists()
 
 
