@@ -53,6 +53,8 @@ std::string loadGrid(IrradianceGridView& view, const std::string& path, std::str
         view.gridPath = path;
         if (out) *out = std::move(grid);
         return {};
+    } catch (const std::bad_alloc&) {
+        return "not enough memory to read the grid '" + path + "': compute a grid of lower resolution";
     } catch (const std::exception& e) {
         return e.what();
     }
@@ -189,6 +191,11 @@ std::unique_ptr<IrradianceGridView> startIrradianceGrid(MeshModel& m, const Rich
             why = problem;
             return nullptr;
         }
+        if (std::string coverage = rad::gridCoverageProblem(grid, plain.positions.data(), plain.vertexCount());
+            !coverage.empty()) {
+            why = "'" + path + "' does not fit the layer: " + coverage;
+            return nullptr;
+        }
         char line[1024];
         std::snprintf(line, sizeof line,
                       "grid '%s', %d x %d x %d cells, %d bounce(s), %.1f MB of 3D textures (12 x RGB16F); %s, %s; set up "
@@ -197,6 +204,9 @@ std::unique_ptr<IrradianceGridView> startIrradianceGrid(MeshModel& m, const Rich
                       view->renderer->irradianceGridBytes() / 1048576.0, mapNote.c_str(), colourNote.c_str(),
                       timer.elapsed() / 1000.0, caps.describe().c_str(), note.empty() ? "" : "; ", note.c_str());
         startLine = line;
+    } catch (const std::bad_alloc&) {
+        why = "not enough memory to set the layer and its grid up: close other layers or programs";
+        return nullptr;
     } catch (const std::exception& e) {
         why = e.what();
         return nullptr;
