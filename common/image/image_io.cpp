@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <memory>
 
 namespace rad {
@@ -37,7 +38,8 @@ bool outOfSpace(int err) {
 
 void writeBytes(const std::string& path, const std::vector<unsigned char>& bytes, const char* what) {
     const auto fail = [&](int err) {
-        std::remove(path.c_str());
+        std::error_code ignored;
+        if (std::filesystem::is_regular_file(path, ignored)) std::remove(path.c_str());  // never a device
         throw ImageFileError("cannot write " + std::string(what) + " '" + shownName(path) + "': " + std::strerror(err) +
                              (outOfSpace(err)
                                   ? " (the disk is full or the file exceeds a size limit): free space or choose "
