@@ -45,9 +45,15 @@ double linearOf(int code) { return double(rad::srgbToLinear(static_cast<std::uin
 
 // Reads and uploads the grid at `path`; returns the reason on failure (the reader's message names
 // the file and the problem), else empty, with `note` from the upload.
-std::string loadGrid(IrradianceGridView& view, const std::string& path, std::string& note, rad::IrradianceVectorGrid* out) {
+std::string loadGrid(IrradianceGridView& view, const std::string& path, std::string& note, rad::IrradianceVectorGrid* out,
+                     const std::vector<float>& positions) {
     try {
         rad::IrradianceVectorGrid grid = rad::readIrradianceVectorGrid(path);
+        // A grid that does not cover the layer (another scene's, or a near-zero cell) would light it
+        // with one flat extrapolated colour: refused, saying why.
+        if (std::string coverage = rad::gridCoverageProblem(grid, positions.data(), positions.size() / 3);
+            !coverage.empty())
+            return "'" + path + "' does not fit the layer: " + coverage;
         const std::string problem = view.renderer->setIrradianceGrid(grid, note);
         if (!problem.empty()) return "cannot draw the grid '" + path + "' with this OpenGL: " + problem;
         view.gridPath = path;
@@ -186,14 +192,9 @@ std::unique_ptr<IrradianceGridView> startIrradianceGrid(MeshModel& m, const Rich
         }
         std::string note;
         rad::IrradianceVectorGrid grid;
-        problem = loadGrid(*view, path, note, &grid);
+        problem = loadGrid(*view, path, note, &grid, plain.positions);
         if (!problem.empty()) {
             why = problem;
-            return nullptr;
-        }
-        if (std::string coverage = rad::gridCoverageProblem(grid, plain.positions.data(), plain.vertexCount());
-            !coverage.empty()) {
-            why = "'" + path + "' does not fit the layer: " + coverage;
             return nullptr;
         }
         char line[1024];
@@ -239,7 +240,10 @@ void drawIrradianceGrid(IrradianceGridView& view, MeshModel& m, const RichParame
     if (path != view.gridPath) {
         if (path == view.failedPath) return;
         std::string note;
-        const std::string problem = loadGrid(view, path, note, nullptr);
+        std::vector<float> positions;
+        for (const CVertexO& v : m.cm.vert)
+            if (!v.IsD()) positions.insert(positions.end(), {v.cP()[0], v.cP()[1], v.cP()[2]});
+        const std::string problem = loadGrid(view, path, note, nullptr, positions);
         if (!problem.empty()) {
             view.failedPath = path;
             reportOnce(GLLogStream::WARNING, problem + "; nothing drawn");
