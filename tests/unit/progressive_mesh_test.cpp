@@ -216,6 +216,7 @@ constexpr std::size_t kRecord = 28;  // half-edge records: removed, survivor, fa
 rad::RadianceSimplificationResult simplifiedSphere() {
     rad::RadianceSimplificationOptions options;
     options.metric = rad::SimplificationMetric::GeometryOnly;
+    options.collapse.kind = CollapseKind::HalfEdge;  // records of kRecord bytes
     options.collapse.targetFaceCount = 100;
     return rad::simplifyRadianceMesh(sphereWithRadiance(2, {rad::BasisKind::HemisphericalPolynomial, 2}), options);
 }
