@@ -45,14 +45,22 @@ double linearOf(int code) { return double(rad::srgbToLinear(static_cast<std::uin
 
 // Reads and uploads the grid at `path`; returns the reason on failure (the reader's message names
 // the file and the problem), else empty, with `note` from the upload.
-std::string loadGrid(IrradianceGridView& view, const std::string& path, std::string& note, rad::IrradianceVectorGrid* out) {
+std::string loadGrid(IrradianceGridView& view, const std::string& path, std::string& note, rad::IrradianceVectorGrid* out,
+                     const std::vector<float>& positions) {
     try {
         rad::IrradianceVectorGrid grid = rad::readIrradianceVectorGrid(path);
+        // A grid that does not cover the layer (another scene's, or a near-zero cell) would light it
+        // with one flat extrapolated colour: refused, saying why.
+        if (std::string coverage = rad::gridCoverageProblem(grid, positions.data(), positions.size() / 3);
+            !coverage.empty())
+            return "'" + path + "' does not fit the layer: " + coverage;
         const std::string problem = view.renderer->setIrradianceGrid(grid, note);
         if (!problem.empty()) return "cannot draw the grid '" + path + "' with this OpenGL: " + problem;
         view.gridPath = path;
         if (out) *out = std::move(grid);
         return {};
+    } catch (const std::bad_alloc&) {
+        return "not enough memory to read the grid '" + path + "': compute a grid of lower resolution";
     } catch (const std::exception& e) {
         return e.what();
     }
@@ -184,7 +192,7 @@ std::unique_ptr<IrradianceGridView> startIrradianceGrid(MeshModel& m, const Rich
         }
         std::string note;
         rad::IrradianceVectorGrid grid;
-        problem = loadGrid(*view, path, note, &grid);
+        problem = loadGrid(*view, path, note, &grid, plain.positions);
         if (!problem.empty()) {
             why = problem;
             return nullptr;
@@ -197,6 +205,9 @@ std::unique_ptr<IrradianceGridView> startIrradianceGrid(MeshModel& m, const Rich
                       view->renderer->irradianceGridBytes() / 1048576.0, mapNote.c_str(), colourNote.c_str(),
                       timer.elapsed() / 1000.0, caps.describe().c_str(), note.empty() ? "" : "; ", note.c_str());
         startLine = line;
+    } catch (const std::bad_alloc&) {
+        why = "not enough memory to set the layer and its grid up: close other layers or programs";
+        return nullptr;
     } catch (const std::exception& e) {
         why = e.what();
         return nullptr;
@@ -229,7 +240,10 @@ void drawIrradianceGrid(IrradianceGridView& view, MeshModel& m, const RichParame
     if (path != view.gridPath) {
         if (path == view.failedPath) return;
         std::string note;
-        const std::string problem = loadGrid(view, path, note, nullptr);
+        std::vector<float> positions;
+        for (const CVertexO& v : m.cm.vert)
+            if (!v.IsD()) positions.insert(positions.end(), {v.cP()[0], v.cP()[1], v.cP()[2]});
+        const std::string problem = loadGrid(view, path, note, nullptr, positions);
         if (!problem.empty()) {
             view.failedPath = path;
             reportOnce(GLLogStream::WARNING, problem + "; nothing drawn");

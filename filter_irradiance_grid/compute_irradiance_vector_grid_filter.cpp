@@ -162,6 +162,14 @@ private:
         rad::IrradianceGridReport report;
         const rad::IrradianceVectorGrid grid =
             rad::computeIrradianceVectorGrid(scene, albedo, lights, options, ctx.progress.forCore(), &report);
+        if (!rad::irradianceVectorsFinite(grid)) {
+            // The light, not the file, is the cause: name the parameter that sets it.
+            const bool map = par.getEnum("lightSource") == kEnvironmentMap;
+            throw Refusal(formatLine("The indirect light overflowed single precision (%s): lower the parameter '%s' "
+                                     "(now %g) to a physical value, e.g. 1. No file was written.",
+                                     "a grid value is infinite", map ? "Environment intensity" : "Light irradiance",
+                                     double(par.getFloat(map ? "envScale" : "lightIrradiance"))));
+        }
         rad::writeIrradianceVectorGrid(output.toStdString(), grid);
 
         ctx.log(formatLine("Compute Irradiance Vector Grid: %d layer(s) (%zu faces, albedo from the vertex colours of %d, "

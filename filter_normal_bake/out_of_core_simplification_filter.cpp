@@ -99,6 +99,9 @@ private:
         const QString plyPath = par.getOpenFileName("plyFile").trimmed();
         if (plyPath.isEmpty())
             throw Refusal("Choose the PLY file of the scan (parameter 'PLY scan'). The layers are unchanged.");
+        if (QFileInfo(plyPath).isDir())
+            throw Refusal("'" + plyPath.toStdString() + "' is a folder, not a PLY file: choose the scan's .ply file "
+                          "inside it. The layers are unchanged.");
         if (!QFileInfo(plyPath).isFile())
             throw Refusal("The PLY file " + plyPath.toStdString() +
                           " does not exist: choose an existing file. The layers are unchanged.");

@@ -189,19 +189,24 @@ public:
         std::vector<std::pair<double, rad::RadianceMesh>> levels;
         for (double r : lodRatios)
             levels.emplace_back(r, progressive.extract(progressive.stepsForFaceCount(std::floor(r * faces))));
+        // Order of the changes, so that a failure leaves the document and the folder as they were:
+        // the .rpm and its base staged under temporary names, the LOD layers added (runFilter removes
+        // them on a failure), the files put in place together, and the current layer replaced last.
+        rad::AtomicFileSet progressiveFiles;
         if (!progressivePath.isEmpty()) {
             const QString base = progressivePath.left(progressivePath.size() - 4) + "_base.rply";
             try {
-                rad::writeProgressiveMesh(progressivePath.toStdString(), base.toStdString(), progressive);
+                rad::stageProgressiveMesh(progressivePath.toStdString(), base.toStdString(), progressive,
+                                          progressiveFiles);
+            } catch (const std::bad_alloc&) {
+                throw;
             } catch (const std::exception& e) {
-            throw Refusal(QString("Could not write the progressive mesh: %1").arg(e.what()));
-        }
+                throw Refusal(QString("Could not write the progressive mesh: %1 The layers are unchanged.")
+                                  .arg(QString::fromStdString(asSentence(e.what()))));
+            }
         }
 
         ctx.progress.setPhase(97, 100, "Updating layers");
-        const int mask = importPlainMesh(target, m.cm);
-        enableLoadedData(m, mask);
-        updateBoxAndNormals(m);
         const QString label = QFileInfo(m.label()).completeBaseName();
         for (const auto& [ratio, level] : levels) {
             MeshModel* layer = addLayer(md, QString("%1_LOD%2").arg(label).arg(100.0 * ratio));
@@ -210,6 +215,15 @@ public:
             ctx.log(formatLine("Level of detail %.4g %%: %zu vertices, %zu faces (layer '%s')", 100.0 * ratio, level.vertexCount(),
                 level.faceCount(), qUtf8Printable(layer->label())));
         }
+        try {
+            progressiveFiles.commit();
+        } catch (const std::exception& e) {
+            throw Refusal(QString("Could not write the progressive mesh: %1 The layers are unchanged.")
+                              .arg(QString::fromStdString(asSentence(e.what()))));
+        }
+        const int mask = importPlainMesh(target, m.cm);
+        enableLoadedData(m, mask);
+        updateBoxAndNormals(m);
         ctx.progress(100, "Done");
         if (result.facesRepeatingAVertexRemoved > 0 || result.duplicateFacesRemoved > 0 || result.zeroAreaFaces > 0)
             ctx.log(formatLine("Input defects handled: %zu faces repeating a vertex removed, %zu duplicate faces "

@@ -2,7 +2,9 @@
 
 #include "progress/progress_callback.h"
 
+#include <algorithm>
 #include <new>
+#include <vector>
 
 namespace radml {
 
@@ -39,21 +41,33 @@ std::string runFilter(const Filter* filter, MeshDocument& md, const RichParamete
     if (const std::string problem = parameterProblem(par); !problem.empty()) return problem;
     FilterProgress progress(cb);
     FilterContext context{md, current, par, progress, log, warning};
+    // Layers a filter added before it failed (a POP buffer's levels, LOD layers, when memory ran out
+    // on the last one) are removed: a refusal leaves the document's layers as they were.
+    const std::vector<MeshModel*> before = documentMeshes(md);
+    const auto removeAddedLayers = [&] {
+        for (MeshModel* m : documentMeshes(md))
+            if (std::find(before.begin(), before.end(), m) == before.end()) removeLayer(md, m);
+        if (current != nullptr && md.mm() != current) makeCurrentLayer(md, current);
+    };
+    std::string refusal;
     try {
         filter->apply(context);
         return {};
     } catch (const Refusal& e) {
-        return e.what();
+        refusal = e.what();
     } catch (const rad::OperationCancelled&) {
-        return "Cancelled on request: the layers are unchanged and no file was written.";
+        refusal = "Cancelled on request: the layers are unchanged and no file was written.";
     } catch (const std::invalid_argument& e) {
-        return e.what();
+        refusal = e.what();
     } catch (const std::bad_alloc&) {
-        return "Out of memory: the data of this filter does not fit in memory; lower the degree, the "
-               "resolution or the mesh size.";
+        refusal = "Out of memory: '" + filter->name().toStdString() +
+                  "' needs more memory than is available here; close other programs or layers, or run it on a "
+                  "smaller input (fewer faces, or fewer outputs such as levels or layers). The layers are unchanged.";
     } catch (const std::exception& e) {
-        return std::string("Internal error (please report it): ") + e.what();
+        refusal = std::string("Internal error (please report it): ") + e.what();
     }
+    removeAddedLayers();
+    return refusal;
 }
 
 }  // namespace radml

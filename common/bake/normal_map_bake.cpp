@@ -5,6 +5,7 @@
 #include "bake/map_filling.h"
 #include "bake/texture_atlas.h"
 #include "bake/toksvig_roughness.h"
+#include "geometry/coordinate_range.h"
 #include "image/image_io.h"
 #include "io/atomic_file.h"
 #include "io/gltf_writer.h"
@@ -34,37 +35,6 @@ double secondsSince(Clock::time_point start) {
 bool sameMesh(const TriangleMesh& a, const TriangleMesh& b) {
     return &a == &b || (a.positions == b.positions && a.faces == b.faces);
 }
-
-// Files are written under temporary names and renamed together at the end; the destructor
-// removes whatever is left when the job did not finish.
-class PendingFiles {
-public:
-    std::string add(const std::string& finalPath) {
-        finals_.push_back(finalPath);
-        removeStaleTemporaries(finalPath);
-        temporaries_.push_back(uniqueTemporaryPath(finalPath));
-        return temporaries_.back();
-    }
-    void commit() {
-        for (std::size_t i = 0; i < finals_.size(); ++i) {
-            std::error_code error;
-            std::filesystem::rename(temporaries_[i], finals_[i], error);
-            if (error) throw std::runtime_error("cannot rename " + temporaries_[i] + " to " + finals_[i] + ": " + error.message());
-        }
-        committed_ = true;
-    }
-    ~PendingFiles() {
-        if (committed_) return;
-        for (const std::string& path : temporaries_) {
-            std::error_code ignored;
-            std::filesystem::remove(path, ignored);
-        }
-    }
-
-private:
-    std::vector<std::string> finals_, temporaries_;
-    bool committed_ = false;
-};
 
 void writeColorPng(const std::string& path, const std::vector<float>& colors, int width, int height) {
     Image8 image(width, height);
@@ -135,6 +105,13 @@ void checkNormalMapBakeRequest(const NormalMapBakeRequest& request) {
     if (!targetProblem.empty()) throw BakeInputError("The target mesh is not usable: " + targetProblem);
     const std::string sourceProblem = request.source->validate();
     if (!sourceProblem.empty()) throw BakeInputError("The source mesh is not usable: " + sourceProblem);
+    // Rays are cast between the two: both within the range and scale Embree computes with.
+    for (const auto& [mesh, what] : {std::make_pair(request.target, "The target layer"),
+                                     std::make_pair(request.source, "The source layer")}) {
+        const std::string scale = sceneScaleProblem(mesh->positions.data(), mesh->vertexCount(), mesh->faces.data(),
+                                                    mesh->faceCount(), what);
+        if (!scale.empty()) throw BakeInputError(scale);
+    }
     if (!request.target->hasNormals())
         throw BakeInputError("The target has no vertex normals: run \"Normals, Curvatures and Orientation > "
                              "Re-Compute Vertex Normals\" on it first.");
@@ -173,9 +150,8 @@ void checkNormalMapBakeRequest(const NormalMapBakeRequest& request) {
     if (request.outputBase.empty())
         throw BakeInputError("No output file name: the maps are written beside the mesh; save the mesh first or "
                              "give an output file.");
-    const std::filesystem::path directory = std::filesystem::path(request.outputBase).parent_path();
-    if (!directory.empty() && !std::filesystem::is_directory(directory))
-        throw BakeInputError("The output directory " + directory.string() + " does not exist.");
+    if (std::string problem = outputPathProblem(request.outputBase + "_normal.png"); !problem.empty())
+        throw BakeInputError(problem);
     if (request.sourceColors && request.sourceColors->size() != request.source->positions.size())
         throw BakeInputError("The source colours do not match the source vertices (3 values per vertex expected).");
     if (request.targetWedgeUv && !request.targetWedgeUv->empty()) {
@@ -259,7 +235,8 @@ NormalMapBakeReport bakeNormalMapFiles(const NormalMapBakeRequest& request) {
     reportProgress(request.progress, 0.90, "writing the maps");
 
     phase = Clock::now();
-    PendingFiles files;
+    // Written under temporary names, put in place together at the end (all or none).
+    AtomicFileSet files;
     report.normalMapFile = request.outputBase + "_normal.png";
     // The EXR is compressed on OpenEXR's threads while this one writes the PNG (zlib, one thread).
     std::future<void> leanWritten;

@@ -13,9 +13,59 @@
 #include <cstdio>
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <memory>
 
 namespace rad {
+
+namespace {
+
+// The file the user knows: a temporary `<path>.part-<pid>-<n>-<t>` (io/atomic_file.h) is named by
+// its destination in messages.
+std::string shownName(const std::string& path) {
+    const std::size_t part = path.rfind(".part-");
+    return part == std::string::npos ? path : path.substr(0, part);
+}
+
+// Every step checked (the stb writer ignores fwrite's result: a full disk or a file-size limit
+// gave a truncated map reported as written); a failed file is removed.
+bool outOfSpace(int err) {
+#ifdef EDQUOT
+    if (err == EDQUOT) return true;
+#endif
+    return err == ENOSPC || err == EFBIG;
+}
+
+void writeBytes(const std::string& path, const std::vector<unsigned char>& bytes, const char* what) {
+    const auto fail = [&](int err) {
+        std::error_code ignored;
+        if (std::filesystem::is_regular_file(path, ignored)) std::remove(path.c_str());  // never a device
+        throw ImageFileError("cannot write " + std::string(what) + " '" + shownName(path) + "': " + std::strerror(err) +
+                             (outOfSpace(err)
+                                  ? " (the disk is full or the file exceeds a size limit): free space or choose "
+                                    "another folder"
+                                  : ": check that the folder exists and is writable") +
+                             "; nothing was written");
+    };
+    std::FILE* file = std::fopen(path.c_str(), "wb");
+    if (!file) fail(errno);
+    if (std::fwrite(bytes.data(), 1, bytes.size(), file) != bytes.size() || std::fflush(file) != 0) {
+        const int err = errno;
+        std::fclose(file);
+        fail(err);
+    }
+    if (std::fclose(file) != 0) fail(errno);
+}
+
+}  // namespace
+
+void writePng(const std::string& path, const Image8& image) {
+    if (image.rgb.size() != std::size_t(image.width) * image.height * 3)
+        throw ImageFileError("cannot write PNG image '" + shownName(path) + "': the image holds " +
+                             std::to_string(image.rgb.size()) + " bytes, not 3 x " + std::to_string(image.width) +
+                             " x " + std::to_string(image.height));
+    writeBytes(path, encodePng(image), "PNG image");
+}
 
 Image8 readImage8(const std::string& path) {
     int w = 0, h = 0, channels = 0;
@@ -36,15 +86,6 @@ void readImageSize(const std::string& path, int& width, int& height) {
         const char* reason = stbi_failure_reason();
         throw ImageFileError("cannot read image '" + path + "': " + (reason ? reason : "unknown error"));
     }
-}
-
-void writePng(const std::string& path, const Image8& image) {
-    if (image.rgb.size() != std::size_t(image.width) * image.height * 3)
-        throw ImageFileError("cannot write PNG image '" + path + "': the image holds " + std::to_string(image.rgb.size()) +
-                             " bytes, not 3 x " + std::to_string(image.width) + " x " + std::to_string(image.height));
-    if (image.width <= 0 || image.height <= 0 ||
-        !stbi_write_png(path.c_str(), image.width, image.height, 3, image.rgb.data(), image.width * 3))
-        throw ImageFileError("cannot write PNG image '" + path + "'");
 }
 
 std::vector<unsigned char> encodePng(const Image8& image) {
@@ -73,15 +114,7 @@ void writePng16(const std::string& path, int width, int height, int channels, co
     } catch (const std::exception& e) {
         throw ImageFileError("cannot write 16-bit PNG image '" + path + "': " + e.what());
     }
-    std::FILE* file = std::fopen(path.c_str(), "wb");
-    if (!file) throw ImageFileError("cannot write 16-bit PNG image '" + path + "': " + std::strerror(errno));
-    std::string problem;
-    if (std::fwrite(bytes.data(), 1, bytes.size(), file) != bytes.size()) problem = std::strerror(errno);
-    if (std::fclose(file) != 0 && problem.empty()) problem = std::strerror(errno);
-    if (!problem.empty()) {
-        std::remove(path.c_str());
-        throw ImageFileError("cannot write 16-bit PNG image '" + path + "': " + problem);
-    }
+    writeBytes(path, bytes, "16-bit PNG image");
 }
 
 std::vector<std::uint16_t> readPng16(const std::string& path, int& width, int& height, int& channels) {

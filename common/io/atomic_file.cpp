@@ -127,4 +127,88 @@ void writeFileAtomically(const std::string& path, const std::vector<std::pair<co
     }
 }
 
+std::string outputPathProblem(const std::string& path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (path.empty()) return "No output file name was given: choose a file in a folder you can write to.";
+    const fs::path target(path);
+    if (fs::is_directory(target, ec))
+        return "'" + path + "' is a folder, not a file name: give a file name inside it (e.g. " +
+               (target / "result").string() + ").";
+    const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
+    if (!fs::exists(folder, ec))
+        return "The folder '" + folder.string() + "' does not exist: create it or choose a file in another folder.";
+    if (!fs::is_directory(folder, ec))
+        return "'" + folder.string() + "' is a file, not a folder: choose a file in a folder.";
+#ifndef _WIN32
+    if (access(folder.c_str(), W_OK | X_OK) != 0)
+        return "The folder '" + folder.string() + "' is not writable (" + std::strerror(errno) +
+               "): choose another folder or change its permissions.";
+#endif
+    return {};
+}
+
+AtomicFileSet::~AtomicFileSet() {
+    if (committed_) return;
+    for (const std::string& path : temporaries_) std::remove(path.c_str());
+}
+
+std::string AtomicFileSet::add(const std::string& finalPath) {
+    removeStaleTemporaries(finalPath);
+    finals_.push_back(finalPath);
+    temporaries_.push_back(uniqueTemporaryPath(finalPath));
+    return temporaries_.back();
+}
+
+void AtomicFileSet::commit() {
+    namespace fs = std::filesystem;
+    // 1. Keep the old contents of the destinations that exist, under their own unique names.
+    std::vector<std::string> backups(finals_.size());
+    const auto dropBackups = [&] {
+        for (const std::string& b : backups)
+            if (!b.empty()) std::remove(b.c_str());
+    };
+    for (std::size_t i = 0; i < finals_.size(); ++i) {
+        std::error_code ec;
+        if (!fs::exists(fs::symlink_status(finals_[i], ec))) continue;
+        if (fs::is_directory(finals_[i], ec)) {
+            dropBackups();
+            throw AtomicFileError("cannot save '" + finals_[i] + "': a folder of that name is in the way; remove it "
+                                  "or choose another name (nothing was written)");
+        }
+        backups[i] = uniqueTemporaryPath(finals_[i]);
+        fs::create_hard_link(finals_[i], backups[i], ec);
+        if (ec) {
+            std::error_code copyError;
+            fs::copy_file(finals_[i], backups[i], fs::copy_options::overwrite_existing, copyError);
+            if (copyError) {
+                backups[i].clear();
+                dropBackups();
+                throw AtomicFileError("cannot save '" + finals_[i] + "': cannot keep its old contents while the new "
+                                      "files are put in place: " + copyError.message() +
+                                      "; check the folder's permissions and free space (nothing was written)");
+            }
+        }
+    }
+    // 2. Every temporary over its destination; on a failure, undo the renames already made.
+    for (std::size_t i = 0; i < finals_.size(); ++i) {
+        if (replaceFile(temporaries_[i], finals_[i])) continue;
+        const int err = errno;
+        for (std::size_t j = 0; j < i; ++j) {
+            if (!backups[j].empty()) {
+                replaceFile(backups[j], finals_[j]);
+                backups[j].clear();
+            } else {
+                std::remove(finals_[j].c_str());
+            }
+        }
+        dropBackups();
+        throw AtomicFileError("cannot save '" + finals_[i] + "': cannot replace the file: " + std::strerror(err) +
+                              "; check that the name is not a folder and the folder is writable (no file was "
+                              "changed)");
+    }
+    committed_ = true;
+    dropBackups();
+}
+
 }  // namespace rad

@@ -31,4 +31,35 @@ bool replaceFile(const std::string& from, const std::string& to);
 // above. Throws AtomicFileError naming the path, the cause and a fix; nothing is left behind.
 void writeFileAtomically(const std::string& path, const std::vector<std::pair<const void*, std::size_t>>& pieces);
 
+// Sentence naming why files cannot be written at `path` (a file to create), with the fix, or empty:
+// its folder missing, a file where the folder should be, `path` itself a folder, the folder not
+// writable. Checked before any work so that a refusal comes first, not after the computation.
+std::string outputPathProblem(const std::string& path);
+
+// Several files written as one (a bake's maps and description, a progressive mesh and its base):
+// add() gives each destination a unique temporary (uniqueTemporaryPath) to write; commit() puts
+// them all in place or none: the destinations it already replaced get their old contents back
+// (kept as hard links, or copies where links are not possible) and new ones are removed when a
+// later rename fails. Without commit (an error, a cancel) the destructor removes every temporary.
+// A process killed inside commit() can leave some files new and some old, each one complete, and
+// `.part-<pid>-...` files that removeStaleTemporaries() clears.
+class AtomicFileSet {
+public:
+    AtomicFileSet() = default;
+    AtomicFileSet(const AtomicFileSet&) = delete;
+    AtomicFileSet& operator=(const AtomicFileSet&) = delete;
+    ~AtomicFileSet();
+
+    // The temporary to write `finalPath`'s contents to (stale temporaries of dead writers of that
+    // path are removed first).
+    std::string add(const std::string& finalPath);
+    // Throws AtomicFileError naming the file that could not be put in place, the cause and a fix;
+    // then every destination is as it was before.
+    void commit();
+
+private:
+    std::vector<std::string> finals_, temporaries_;
+    bool committed_ = false;
+};
+
 }  // namespace rad

@@ -5,9 +5,14 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <optional>
 #include <sstream>
 #include <vector>
+
+#ifndef _WIN32
+#include <sys/stat.h>
+#endif
 
 namespace rad {
 
@@ -76,7 +81,43 @@ std::string shown(const std::string& s) { return "'" + s.substr(0, 40) + "'"; }
 
 }  // namespace
 
+namespace {
+
+// What tells a file from another one put at the same path, or the same one rewritten: the device and
+// inode (POSIX), the size and the modification time (nanoseconds where the system keeps them).
+struct FileIdentity {
+    unsigned long long device = 0, inode = 0, size = 0;
+    long long modifiedSeconds = 0, modifiedNanoseconds = 0;
+    bool operator==(const FileIdentity& o) const {
+        return device == o.device && inode == o.inode && size == o.size && modifiedSeconds == o.modifiedSeconds &&
+               modifiedNanoseconds == o.modifiedNanoseconds;
+    }
+};
+
+bool identityOf(std::FILE* file, const std::string& path, FileIdentity& out) {
+#ifndef _WIN32
+    (void)path;
+    struct stat st;
+    if (fstat(fileno(file), &st) != 0) return false;
+    out.device = st.st_dev;
+    out.inode = st.st_ino;
+    out.size = static_cast<unsigned long long>(st.st_size);
+    out.modifiedSeconds = st.st_mtim.tv_sec;
+    out.modifiedNanoseconds = st.st_mtim.tv_nsec;
+#else
+    (void)file;
+    std::error_code ec;
+    out.size = std::filesystem::file_size(path, ec);
+    out.modifiedSeconds = std::filesystem::last_write_time(path, ec).time_since_epoch().count();
+    if (ec) return false;
+#endif
+    return true;
+}
+
+}  // namespace
+
 struct PlyStreamReader::Impl {
+    FileIdentity identity;  // of the file whose header was parsed; every pass checks it
     std::vector<Element> elements;
     int vertexElement = -1, faceElement = -1;
     int x = -1, y = -1, z = -1, nx = -1, ny = -1, nz = -1, faceList = -1;
@@ -226,8 +267,15 @@ PlyStreamReader::PlyStreamReader(std::string path, std::size_t chunkVertices, st
       chunkTriangles_(std::max<std::size_t>(chunkTriangles, 1)), impl_(new Impl) {
     Impl& m = *impl_;
     m.path = path_;
+    std::error_code folderError;
+    if (std::filesystem::is_directory(path_, folderError))
+        m.fail("this is a folder, not a PLY file: choose the scan's .ply file inside it", 0);
     std::FILE* f = std::fopen(path_.c_str(), "rb");
     if (!f) m.fail("cannot open the file (check that it exists and is readable)", 0);
+    if (!identityOf(f, path_, m.identity)) {
+        std::fclose(f);
+        m.fail("cannot read the file's size and time (check that it is a regular file)", 0);
+    }
     std::fseek(f, 0, SEEK_END);
     const long size = std::ftell(f);
     std::fseek(f, 0, SEEK_SET);
@@ -369,6 +417,16 @@ PlyStreamStats PlyStreamReader::read(const std::function<void(const PlyVertexChu
     if (m.file) std::fclose(m.file);
     m.file = std::fopen(path_.c_str(), "rb");
     if (!m.file) m.fail("cannot open the file again (was it moved or deleted?)", 0);
+    // Passes over another file (replaced or rewritten since the header was read) would mix two
+    // meshes and report success: refused at the start and at the end of every pass.
+    const auto checkSameFile = [&](std::uint64_t at) {
+        FileIdentity now;
+        if (!identityOf(m.file, path_, now) || !(now == m.identity))
+            m.fail("the file changed while it was being read (replaced, or its size or time differ from the first "
+                   "pass): let the program writing it finish, then run the filter again",
+                   at);
+    };
+    checkSameFile(0);
     m.buffer.assign(std::size_t(4) << 20, 0);
     m.begin = m.end = 0;
     m.bufferOffset = 0;
@@ -443,6 +501,13 @@ PlyStreamStats PlyStreamReader::read(const std::function<void(const PlyVertexChu
                             m.fail("face " + std::to_string(r) + " has " + std::to_string(count) +
                                        " vertices; a face needs at least 3 (remove it, e.g. with MeshLab's \"Remove "
                                        "Zero Area Faces\")", recordOffset);
+                        // More corners than vertices repeats some: a damaged count, not a polygon
+                        // (it was read as one and fanned until memory ran out).
+                        if (std::uint64_t(count) > std::max<std::uint64_t>(info_.vertexCount, 3))
+                            m.fail("face " + std::to_string(r) + " has " + std::to_string(count) +
+                                       " corners but the file has only " + std::to_string(info_.vertexCount) +
+                                       " vertices: the face list is damaged; export the mesh again (as triangles)",
+                                   recordOffset);
                         for (std::int64_t k = 0; k < count; ++k) {
                             const std::int64_t index = m.integer(p.type, what, r);
                             if (index < 0 || std::uint64_t(index) >= info_.vertexCount)
@@ -487,6 +552,8 @@ PlyStreamStats PlyStreamReader::read(const std::function<void(const PlyVertexChu
                     triangles.push_back(std::uint32_t(polygon[k]));
                     triangles.push_back(std::uint32_t(polygon[k + 1]));
                     ++stats.trianglesEmitted;
+                    // A huge polygon's fan goes out in chunks like any triangles.
+                    if (triangles.size() >= 3 * chunkTriangles_) flushTriangles();
                 }
                 if (triangles.size() >= 3 * chunkTriangles_) flushTriangles();
             }
@@ -495,6 +562,7 @@ PlyStreamStats PlyStreamReader::read(const std::function<void(const PlyVertexChu
         if (isFace) flushTriangles();
     }
     report(true);
+    checkSameFile(m.offset());
     std::fclose(m.file);
     m.file = nullptr;
     m.buffer.clear();

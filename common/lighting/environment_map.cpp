@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <limits>
@@ -362,6 +363,9 @@ Eigen::Vector3d EnvironmentMap::sphereIntegral() const {
 
 EnvironmentMap readEnvironmentMap(const std::string& path) {
     const std::string what = "environment map '" + path + "'";
+    std::error_code folderError;
+    if (std::filesystem::is_directory(path, folderError))
+        throw EnvironmentMapError(what + " is a folder, not an image: choose the .exr or .hdr file inside it");
     unsigned char magic[4] = {0, 0, 0, 0};
     std::streamsize got = 0;
     {

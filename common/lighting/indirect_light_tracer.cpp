@@ -42,8 +42,10 @@ IndirectLightTracer::IndirectLightTracer(const TriangleMesh& mesh, const std::ve
     const std::string problem = mesh.validate();
     if (!problem.empty()) throw IndirectLightError("The scene mesh is invalid: " + problem);
     if (mesh.faceCount() == 0) throw IndirectLightError("The scene has no faces: indirect light needs surfaces to bounce on.");
-    // Embree aborts the process on rays near 1e18: refuse such coordinates first.
-    const std::string range = coordinateRangeProblem(mesh.positions.data(), mesh.vertexCount());
+    // Embree's triangle test overflows near 1e13 (and aborts the process on the rays that follow)
+    // and underflows for tiny scenes (every ray misses: an all-zero grid): refuse both first.
+    const std::string range = sceneScaleProblem(mesh.positions.data(), mesh.vertexCount(), mesh.faces.data(),
+                                                mesh.faceCount(), "The scene");
     if (!range.empty()) throw IndirectLightError(range);
     if (!albedo.empty() && albedo.size() != 3 * mesh.vertexCount())
         throw IndirectLightError("The albedo array has " + std::to_string(albedo.size()) + " values for " +

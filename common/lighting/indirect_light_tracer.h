@@ -87,7 +87,7 @@ public:
     // mesh: positions and counter-clockwise faces (normals unused: the flat face normal shades).
     // albedo: 3 floats per vertex in [0, 1] (clamped), or empty for kDefaultIndirectAlbedo.
     // Throws IndirectLightError for an invalid mesh (message from TriangleMesh::validate), no faces,
-    // coordinates beyond kMaxCoordinateMagnitude (geometry/coordinate_range.h), an albedo array of the
+    // a scene out of range or scale (sceneScaleProblem, geometry/coordinate_range.h), an albedo array of the
     // wrong size, no light or a light with a non-finite or negative value, a
     // zero direction, bounces < 1 or > 16, lightSamples < 0, an offset outside (0, 0.01).
     IndirectLightTracer(const TriangleMesh& mesh, const std::vector<float>& albedo, const AnalyticLighting& lights,

@@ -1,6 +1,7 @@
 #include "lighting/irradiance_vector_grid.h"
 
 #include "io/atomic_file.h"
+#include "memory/available_memory.h"
 
 #include <algorithm>
 #include <cmath>
@@ -282,6 +283,16 @@ IrradianceVectorGrid readIrradianceVectorGrid(const std::string& path) {
     if (fileSize != expected)
         throw IrradianceVectorGridError(where + ": the file has " + std::to_string(fileSize) + " bytes, the header announces " +
                                         std::to_string(expected) + (fileSize < expected ? " (truncated file)" : " (trailing data)"));
+    // A grid of 2^26 vertices is 14.5 GB: refused with the figures before the allocation fails
+    // (a sparse file passes the size check without using the disk).
+    const double bytes = double(values) * sizeof(float);
+    const std::size_t available = availableMemoryBytes();
+    if (available > 0 && bytes > double(available))
+        throw IrradianceVectorGridError(where + ": the grid (" + std::to_string(grid.cells[0]) + " x " +
+                                        std::to_string(grid.cells[1]) + " x " + std::to_string(grid.cells[2]) +
+                                        " cells) needs " + describeBytes(bytes) + " of memory and " +
+                                        describeBytes(double(available)) +
+                                        " are available: compute a grid of lower resolution");
     grid.vectors.resize(values);
     if (!file.read(reinterpret_cast<char*>(grid.vectors.data()), static_cast<std::streamsize>(values * sizeof(float))))
         throw IrradianceVectorGridError(where + ": the data is truncated");
@@ -291,6 +302,51 @@ IrradianceVectorGrid readIrradianceVectorGrid(const std::string& path) {
         throw IrradianceVectorGridError(where + ": " + e.what());
     }
     return grid;
+}
+
+std::string gridCoverageProblem(const IrradianceVectorGrid& grid, const float* positions, std::size_t vertexCount) {
+    if (vertexCount == 0) return {};
+    double lo[3], hi[3], layerLo[3], layerHi[3];
+    for (int a = 0; a < 3; ++a) {
+        // Half a cell of slack: the grid's box is padded around its scene anyway.
+        lo[a] = double(grid.origin[a]) - 0.5 * grid.cellSize[a];
+        hi[a] = double(grid.origin[a]) + (grid.cells[a] + 0.5) * double(grid.cellSize[a]);
+        layerLo[a] = std::numeric_limits<double>::infinity();
+        layerHi[a] = -std::numeric_limits<double>::infinity();
+    }
+    std::size_t outside = 0;
+    for (std::size_t v = 0; v < vertexCount; ++v) {
+        bool in = true;
+        for (int a = 0; a < 3; ++a) {
+            const double x = positions[3 * v + a];
+            in = in && x >= lo[a] && x <= hi[a];
+            layerLo[a] = std::min(layerLo[a], x);
+            layerHi[a] = std::max(layerHi[a], x);
+        }
+        if (!in) ++outside;
+    }
+    double gridSide = 0.0, layerSide = 0.0;
+    for (int a = 0; a < 3; ++a) {
+        gridSide = std::max(gridSide, double(grid.cells[a]) * grid.cellSize[a]);
+        layerSide = std::max(layerSide, layerHi[a] - layerLo[a]);
+    }
+    std::ostringstream why;
+    const auto box = [&](const double* l, const double* h) {
+        std::ostringstream b;
+        b << "(" << l[0] << ", " << l[1] << ", " << l[2] << ") to (" << h[0] << ", " << h[1] << ", " << h[2] << ")";
+        return b.str();
+    };
+    if (double(outside) > 0.01 * double(vertexCount)) {
+        why << "the grid spans " << box(lo, hi) << " but " << 100.0 * double(outside) / double(vertexCount)
+            << " % of the layer's vertices lie outside it (the layer spans " << box(layerLo, layerHi)
+            << "): it was computed for another scene or before the layer moved, and would light it with one flat "
+               "colour. Compute the grid again for this layer ('Compute Irradiance Vector Grid'), or name its own grid";
+    } else if (layerSide > 0.0 && gridSide < 0.5 * layerSide) {
+        why << "the grid is " << gridSide << " units across and the layer " << layerSide
+            << ": a grid that small cannot hold the layer's light. Compute the grid again for this layer ('Compute "
+               "Irradiance Vector Grid')";
+    }
+    return why.str();
 }
 
 }  // namespace rad

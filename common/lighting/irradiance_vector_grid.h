@@ -119,4 +119,10 @@ void writeIrradianceVectorGrid(const std::string& path, const IrradianceVectorGr
 // non-finite values). Never allocates more than the file's size justifies.
 IrradianceVectorGrid readIrradianceVectorGrid(const std::string& path);
 
+// Why `grid` cannot light a mesh with these vertices, or empty: more than 1 % of them outside the
+// grid's box (with half a cell of slack: a stale grid of another scene, or one computed before the
+// mesh moved), or a grid less than half the mesh's size (a near-zero cell). Either would be drawn
+// as one flat, extrapolated colour.
+std::string gridCoverageProblem(const IrradianceVectorGrid& grid, const float* positions, std::size_t vertexCount);
+
 }  // namespace rad

@@ -123,6 +123,10 @@ std::size_t repairInvalidGridVertices(IrradianceVectorGrid& grid, std::vector<st
     return 0;
 }
 
+bool irradianceVectorsFinite(const IrradianceVectorGrid& grid) {
+    return std::all_of(grid.vectors.begin(), grid.vectors.end(), [](float v) { return std::isfinite(v); });
+}
+
 AnalyticLighting environmentLights(const EnvironmentMap& map, int lightCount, double scale) {
     if (lightCount < 1 || lightCount > 4096)
         throw std::invalid_argument("The light count is " + std::to_string(lightCount) +

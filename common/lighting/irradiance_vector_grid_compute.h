@@ -86,6 +86,10 @@ IrradianceVectorGrid computeIrradianceVectorGrid(const TriangleMesh& mesh, const
                                                  const ProgressCallback& progress = {},
                                                  IrradianceGridReport* report = nullptr);
 
+// Whether every vector of `grid` is finite (a light of 1e38 overflows float: the caller names the
+// light's parameter in its refusal).
+bool irradianceVectorsFinite(const IrradianceVectorGrid& grid);
+
 // Fills the vertices flagged in `invalid` (one flag per vertex, 1 = invalid) from valid ones, wave
 // after wave (a vertex filled in one wave serves the next), per direction delta:
 //  - when the next two vertices along delta (v + delta, v + 2 delta) are valid, the linear

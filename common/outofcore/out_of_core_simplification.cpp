@@ -3,12 +3,16 @@
 #include "bake/bake_description.h"
 #include "bake/normal_map_bake.h"
 #include "bake/texture_atlas.h"
+#include "geometry/coordinate_range.h"
+#include "io/atomic_file.h"
 #include "outofcore/streamed_normal_map.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <limits>
+#include <memory>
 #include <sstream>
 
 namespace rad {
@@ -41,6 +45,20 @@ void checkAtlasCapacity(std::size_t triangles, const OutOfCoreRequest& request, 
     throw BakeInputError(s.str());
 }
 
+// The box of the vertices some triangle uses (flag 1 in `used`).
+void usedBox(const std::vector<float>& positions, const std::vector<std::uint8_t>& used, double lo[3], double hi[3]) {
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = std::numeric_limits<double>::infinity();
+        hi[a] = -std::numeric_limits<double>::infinity();
+    }
+    for (std::size_t v = 0; v < used.size(); ++v)
+        if (used[v])
+            for (int a = 0; a < 3; ++a) {
+                lo[a] = std::min(lo[a], double(positions[3 * v + a]));
+                hi[a] = std::max(hi[a], double(positions[3 * v + a]));
+            }
+}
+
 }  // namespace
 
 void checkOutOfCoreRequest(const OutOfCoreRequest& request) {
@@ -58,9 +76,8 @@ void checkOutOfCoreRequest(const OutOfCoreRequest& request) {
     if (request.outputBase.empty())
         throw BakeInputError("No output file name: give the base name of the normal map (e.g. /some/folder/scan, "
                              "which writes scan_normal.png and scan_bake.txt).");
-    const std::filesystem::path directory = std::filesystem::path(request.outputBase).parent_path();
-    if (!directory.empty() && !std::filesystem::is_directory(directory))
-        throw BakeInputError("The output directory " + directory.string() + " does not exist: create it or choose another.");
+    if (std::string problem = outputPathProblem(request.outputBase + "_normal.png"); !problem.empty())
+        throw BakeInputError(problem);
     if (request.plyPath.empty()) throw BakeInputError("No PLY file given: choose the scan's .ply file.");
     PlyStreamReader reader(request.plyPath);
     if (reader.info().faceCount == 0)
@@ -81,27 +98,60 @@ OutOfCoreReport simplifyOutOfCore(const OutOfCoreRequest& request) {
     report.normalsFromFile = report.file.hasNormals;
 
     // Pass 1: positions kept (12 bytes per vertex), triangles streamed into the grid's quadrics.
+    // Which vertices the triangles use is only known at the end of the pass: when unused ones
+    // stretch the box the grid was placed on, the pass is run again on the used ones alone.
     Clock::time_point phase = Clock::now();
-    ClusteringOptions options;
-    options.targetTriangles = request.targetTriangles;
-    options.cellSize = request.cellSize;
-    VertexClustering clustering(options);
-    clustering.reserveVertices(std::size_t(report.file.vertexCount));
+    const std::size_t vertexCount = std::size_t(report.file.vertexCount);
+    std::vector<std::uint8_t> referenced(vertexCount, 0);
     std::vector<float> accumulatedNormals;
-    if (!report.normalsFromFile) accumulatedNormals.assign(3 * std::size_t(report.file.vertexCount), 0.0f);
-    report.read = reader.read(
-        [&](const PlyVertexChunk& chunk) { clustering.addVertices(chunk.positions, chunk.count); },
-        [&](const PlyTriangleChunk& chunk) {
-            clustering.addTriangles(chunk.indices, chunk.count,
-                                    accumulatedNormals.empty() ? nullptr : accumulatedNormals.data());
-        },
-        false, progressRange(request.progress, 0.0, 0.45));
-    report.mesh = clustering.finish();
-    report.clustering = clustering.stats();
+    std::unique_ptr<VertexClustering> clustering;
+    for (int attempt = 0; attempt < 2; ++attempt) {
+        ClusteringOptions options;
+        options.targetTriangles = request.targetTriangles;
+        options.cellSize = request.cellSize;
+        if (attempt == 1) options.referenced = &referenced;
+        clustering = std::make_unique<VertexClustering>(options);
+        clustering->reserveVertices(vertexCount);
+        accumulatedNormals.clear();
+        if (!report.normalsFromFile) accumulatedNormals.assign(3 * vertexCount, 0.0f);
+        const double progressEnd = attempt == 0 ? 0.45 : 0.5;
+        report.read = reader.read(
+            [&](const PlyVertexChunk& chunk) { clustering->addVertices(chunk.positions, chunk.count); },
+            [&](const PlyTriangleChunk& chunk) {
+                if (attempt == 0)
+                    for (std::size_t i = 0; i < 3 * chunk.count; ++i) referenced[chunk.indices[i]] = 1;
+                clustering->addTriangles(chunk.indices, chunk.count,
+                                         accumulatedNormals.empty() ? nullptr : accumulatedNormals.data());
+            },
+            false, progressRange(request.progress, attempt == 0 ? 0.0 : 0.45, progressEnd));
+        if (attempt == 1) break;
+        const std::vector<float>& positions = clustering->positions();
+        double allLo[3], allHi[3], usedLo[3], usedHi[3];
+        if (!referencedBox(positions.data(), vertexCount, nullptr, 0, allLo, allHi)) break;
+        usedBox(positions, referenced, usedLo, usedHi);
+        // Far beyond kMaxCoordinateMagnitude or too small: refused before any file is written
+        // (the map lost every point at 1e20 and put all of them in one texel at 1e-30).
+        if (std::string problem = coordinateRangeProblem(positions.data(), vertexCount); !problem.empty())
+            throw BakeInputError(problem);
+        if (std::string problem = boxScaleProblem(usedLo, usedHi, "The scan"); !problem.empty())
+            throw BakeInputError(problem);
+        bool sameBox = true;
+        for (int a = 0; a < 3; ++a) sameBox = sameBox && allLo[a] == usedLo[a] && allHi[a] == usedHi[a];
+        if (sameBox) break;
+    }
+    report.mesh = clustering->finish();
+    report.clustering = clustering->stats();
     report.clusteringSeconds = secondsSince(phase);
-    if (report.mesh.faceCount() == 0)
-        throw BakeInputError("Nothing is left of the mesh at this resolution (every triangle collapsed): raise the target "
-                             "triangle count or lower the cell size.");
+    if (report.mesh.faceCount() == 0) {
+        std::ostringstream why;
+        why << "Nothing is left of the mesh at this resolution: every triangle fell into fewer than three grid cells "
+               "of " << report.clustering.cellSize << " (the grid spans the box of the triangles, "
+            << report.clustering.gridCells[0] << " x " << report.clustering.gridCells[1] << " x "
+            << report.clustering.gridCells[2] << " cells). If a few triangles lie far from the rest, they stretch the "
+               "grid: delete them (e.g. MeshLab's \"Remove Isolated pieces (wrt Diameter)\") and export again; "
+               "otherwise raise the target triangle count or lower the cell size.";
+        throw BakeInputError(why.str());
+    }
     reportProgress(request.progress, 0.5, "laying out the texture");
 
     checkAtlasCapacity(report.mesh.faceCount(), request, "the simplified mesh");
@@ -112,16 +162,28 @@ OutOfCoreReport simplifyOutOfCore(const OutOfCoreRequest& request) {
     phase = Clock::now();
     NormalSplatter splatter(report.mesh, report.wedgeUv, request.textureSize);
     const ProgressCallback splatProgress = progressRange(request.progress, 0.5, 0.9);
-    std::vector<float>& positions = clustering.positions();
+    std::vector<float>& positions = clustering->positions();
+    // Points no triangle uses are not part of the surface: left out of the map.
+    std::vector<float> usedPositions, usedNormals;
+    const auto splatUsed = [&](std::uint64_t first, const float* p, const float* n, std::size_t count) {
+        usedPositions.clear();
+        usedNormals.clear();
+        for (std::size_t i = 0; i < count; ++i) {
+            if (!referenced[std::size_t(first) + i]) continue;
+            usedPositions.insert(usedPositions.end(), p + 3 * i, p + 3 * i + 3);
+            usedNormals.insert(usedNormals.end(), n + 3 * i, n + 3 * i + 3);
+        }
+        splatter.splat(usedPositions.data(), usedNormals.data(), usedPositions.size() / 3);
+    };
     if (report.normalsFromFile) {
         positions = {};  // the file gives them again with the normals
-        reader.read([&](const PlyVertexChunk& chunk) { splatter.splat(chunk.positions, chunk.normals, chunk.count); },
+        reader.read([&](const PlyVertexChunk& chunk) { splatUsed(chunk.firstIndex, chunk.positions, chunk.normals, chunk.count); },
                     {}, true, splatProgress);
     } else {
         // Normalised in the splatter; the accumulated sums are area-weighted normals.
         const std::size_t n = positions.size() / 3, block = 1 << 18;
         for (std::size_t first = 0; first < n; first += block) {
-            splatter.splat(&positions[3 * first], &accumulatedNormals[3 * first], std::min(block, n - first));
+            splatUsed(first, &positions[3 * first], &accumulatedNormals[3 * first], std::min(block, n - first));
             reportProgress(splatProgress, double(first + block) / double(n), "streaming the points into the map");
         }
     }
@@ -143,8 +205,10 @@ OutOfCoreReport simplifyOutOfCore(const OutOfCoreRequest& request) {
     phase = Clock::now();
     report.normalMapFile = request.outputBase + "_normal.png";
     report.descriptionFile = request.outputBase + "_bake.txt";
-    const std::string mapPart = report.normalMapFile + ".part", descriptionPart = report.descriptionFile + ".part";
-    try {
+    // Unique temporaries (two runs to the same base never share one), put in place together.
+    AtomicFileSet files;
+    const std::string mapPart = files.add(report.normalMapFile), descriptionPart = files.add(report.descriptionFile);
+    {
         writeNormalMapPng(mapPart, map.normals, map.size, map.size, request.bits);
         writeBakeDescription(
             descriptionPart,
@@ -163,13 +227,7 @@ OutOfCoreReport simplifyOutOfCore(const OutOfCoreRequest& request) {
              {"chart_texels", std::to_string(map.chartTexels)},
              {"texels_with_points", std::to_string(map.texelsWithPoints)},
              {"holes_filled", std::to_string(map.chartTexelsFilled)}});
-        std::filesystem::rename(mapPart, report.normalMapFile);
-        std::filesystem::rename(descriptionPart, report.descriptionFile);
-    } catch (...) {
-        std::error_code ignored;
-        std::filesystem::remove(mapPart, ignored);
-        std::filesystem::remove(descriptionPart, ignored);
-        throw;
+        files.commit();
     }
     report.writeSeconds = secondsSince(phase);
     report.totalSeconds = secondsSince(start);

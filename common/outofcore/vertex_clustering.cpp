@@ -74,11 +74,16 @@ void VertexClustering::beginTriangles() {
     double lo[3] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
                     std::numeric_limits<double>::infinity()};
     double hi[3] = {-lo[0], -lo[0], -lo[0]};
+    const std::vector<std::uint8_t>* used = options_.referenced;
+    if (used && used->size() != n) throw std::invalid_argument("vertex clustering: the referenced flags do not match the vertices");
+    const auto counts = [used](std::size_t v) { return !used || (*used)[v] != 0; };
     for (std::size_t v = 0; v < n; ++v)
+        if (counts(v))
         for (int a = 0; a < 3; ++a) {
             lo[a] = std::min(lo[a], double(positions_[3 * v + a]));
             hi[a] = std::max(hi[a], double(positions_[3 * v + a]));
         }
+    if (!(lo[0] <= hi[0])) throw std::invalid_argument("vertex clustering: no vertex is used by a triangle");
     const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 1e-30});
     auto dimsFor = [&](double h, std::array<std::int64_t, 3>& dims) {
         for (int a = 0; a < 3; ++a)
@@ -97,7 +102,8 @@ void VertexClustering::beginTriangles() {
             cells.size = h;
             dimsFor(h, cells.dims);
             keys.clear();
-            for (std::size_t v = 0; v < n; v += stride) keys.push_back(cells.key(&positions_[3 * v], origin_));
+            for (std::size_t v = 0; v < n; v += stride)
+                if (counts(v)) keys.push_back(cells.key(&positions_[3 * v], origin_));
             std::sort(keys.begin(), keys.end());
             // Cells hold many vertices at any useful target, so the cells the sample occupies are
             // (nearly) all the occupied cells: no scaling by the stride.
@@ -123,6 +129,10 @@ void VertexClustering::beginTriangles() {
         for (std::int64_t i = 0; i < std::int64_t(count); ++i)
             keys[std::size_t(i)] = cells.key(&positions_[3 * (first + std::size_t(i))], origin_);
         for (std::size_t i = 0; i < count; ++i) {
+            if (!counts(first + i)) {
+                cellOfVertex_[first + i] = 0xffffffffu;  // no triangle reads it
+                continue;
+            }
             const auto [it, inserted] = cells.idOfKey.try_emplace(keys[i], std::uint32_t(cells.data.size()));
             if (inserted) {
                 cells.data.emplace_back();

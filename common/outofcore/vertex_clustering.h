@@ -35,6 +35,10 @@ struct ClusteringOptions {
     std::size_t targetTriangles = 0;  // used when cellSize <= 0
     double cellSize = 0.0;            // edge of a cubic cell, in model units; > 0 wins over the target
     std::size_t sampledVertices = 4000000;  // at most this many evenly spaced vertices count the occupied cells
+    // One flag per vertex (1 = some triangle uses it), or null: every vertex counts. With it, the
+    // grid is placed on the used vertices only: a stray unreferenced vertex far away no longer
+    // stretches the grid (one such vertex 1e6 away turned a 400-triangle target into 36).
+    const std::vector<std::uint8_t>* referenced = nullptr;
 };
 
 struct ClusteringStats {

@@ -2,6 +2,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <cmath>
 #include <cstring>
 #include <limits>
 #include <string>
@@ -114,6 +115,15 @@ bool closestPointCallback(RTCPointQueryFunctionArguments* arguments) {
     return true;
 }
 
+// Embree's check of its input (RayK::valid, FLT_LARGE): origins and directions within 1.844e18.
+// Beyond it (or NaN) Embree asserts and aborts the whole process, MeshLab included.
+constexpr float kEmbreeLargest = 1.844e18f;
+
+bool traceable(float ox, float oy, float oz, float dx, float dy, float dz) {
+    return std::fabs(ox) <= kEmbreeLargest && std::fabs(oy) <= kEmbreeLargest && std::fabs(oz) <= kEmbreeLargest &&
+           std::fabs(dx) <= kEmbreeLargest && std::fabs(dy) <= kEmbreeLargest && std::fabs(dz) <= kEmbreeLargest;
+}
+
 // Copies `rays` into Embree's packet layout and sets the valid lanes: those in activeMask whose
 // interval is not empty or NaN (the rule of occluded(): such an interval holds nothing, and Embree
 // would leave its tfar as given, read as a hit when tFar = -inf). Returns the mask of valid lanes.
@@ -121,7 +131,11 @@ std::uint32_t fillRayPacket(const RayPacket16& rays, std::uint32_t activeMask, R
     static_assert(RayPacket16::kSize == 16, "one RTCRay16 per packet");
     std::uint32_t live = 0;
     for (int i = 0; i < 16; ++i) {
-        const bool on = ((activeMask >> i) & 1u) && rays.tNear[i] <= rays.tFar[i];
+        // A lane Embree would assert on (an origin or direction beyond its limit or not finite, a
+        // NaN interval) is left out rather than passed on: such a ray holds nothing.
+        const bool on = ((activeMask >> i) & 1u) && rays.tNear[i] <= rays.tFar[i] &&
+                        traceable(rays.originX[i], rays.originY[i], rays.originZ[i], rays.directionX[i],
+                                  rays.directionY[i], rays.directionZ[i]);
         valid[i] = on ? -1 : 0;
         live |= std::uint32_t(on) << i;
         packet.org_x[i] = rays.originX[i];
@@ -179,6 +193,8 @@ RayScene::~RayScene() {
 
 RayHit RayScene::intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, float tNear,
                            float tFar) const {
+    if (!(tNear <= tFar) || !traceable(origin.x(), origin.y(), origin.z(), direction.x(), direction.y(), direction.z()))
+        return RayHit();
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRayHit query;
@@ -198,7 +214,9 @@ RayHit RayScene::intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f&
     query.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(static_cast<RTCScene>(scene_), &context, &query);
     RayHit hit;
-    if (query.hit.geomID == RTC_INVALID_GEOMETRY_ID) return hit;
+    // A hit at a distance that is not finite is the overflow of Embree's triangle test (coordinates
+    // near 1e13), not a surface: a miss.
+    if (query.hit.geomID == RTC_INVALID_GEOMETRY_ID || !std::isfinite(query.ray.tfar)) return hit;
     hit.hit = true;
     hit.distance = query.ray.tfar;
     hit.face = query.hit.primID;
@@ -212,6 +230,7 @@ bool RayScene::occluded(const Eigen::Vector3f& origin, const Eigen::Vector3f& di
     // An empty (or NaN) interval holds nothing. Embree leaves such a ray's tfar as given, which
     // the test at the end would read as a hit whenever tFar < 0.
     if (!(tNear <= tFar)) return false;
+    if (!traceable(origin.x(), origin.y(), origin.z(), direction.x(), direction.y(), direction.z())) return false;
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRay ray;
@@ -276,7 +295,8 @@ void RayScene::intersect16(const RayPacket16& rays, std::uint32_t activeMask, Ra
     rtcInitIntersectContext(&context);
     rtcIntersect16(valid, static_cast<RTCScene>(scene_), &context, &packet);
     for (int i = 0; i < 16; ++i) {
-        if (!((live >> i) & 1u) || packet.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) continue;
+        if (!((live >> i) & 1u) || packet.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID || !std::isfinite(packet.ray.tfar[i]))
+            continue;  // as in intersect()
         hits[i].hit = true;
         hits[i].distance = packet.ray.tfar[i];
         hits[i].face = packet.hit.primID[i];

@@ -58,7 +58,10 @@ public:
     RayScene(const RayScene&) = delete;
     RayScene& operator=(const RayScene&) = delete;
 
-    // Closest hit of origin + t * direction for t in [tNear, tFar].
+    // Closest hit of origin + t * direction for t in [tNear, tFar]. Rays Embree would abort the
+    // process on (an origin or direction component beyond 1.844e18 or NaN) hit and occlude
+    // nothing, in every query below; a hit at a non-finite distance (the overflow of Embree's
+    // triangle test far beyond kMaxCoordinateMagnitude, geometry/coordinate_range.h) is a miss.
     RayHit intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, float tNear, float tFar) const;
     // Whether anything is hit for t in [tNear, tFar] (any hit, faster than intersect).
     bool occluded(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, float tNear, float tFar) const;

@@ -1,15 +1,18 @@
 #include "simplify/progressive_mesh.h"
 
+#include "geometry/coordinate_range.h"
 #include "io/atomic_file.h"
-
 #include "io/radiance_ply.h"
 #include "radiance/radiance_evaluation.h"
 #include "radiance/radiance_frame.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
+#include <iomanip>
 #include <stdexcept>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <limits>
@@ -20,7 +23,8 @@ namespace rad {
 namespace {
 
 constexpr char kMagic[] = "radiance-progressive-mesh";
-constexpr int kFormatVersion = 1;
+// Version 2 adds base_hash and records_hash (version 1 files, without them, are still read).
+constexpr int kFormatVersion = 2;
 constexpr std::size_t kFixedRecordBytes = 4 * 3 + 4 * 4;  // removed, survivor, faces after; xyz, cost
 
 std::string kindName(CollapseKind k) { return k == CollapseKind::HalfEdge ? "half-edge" : "full"; }
@@ -32,6 +36,66 @@ std::uint32_t representative(std::vector<std::uint32_t>& parent, std::uint32_t v
         v = parent[v];
     }
     return v;
+}
+
+// FNV-1a, 64 bits: binds the .rpm to its base and its records to themselves. Not a defence against
+// a forger, against accidents: a base saved again in another vertex order, an old .rpm beside a
+// new base (a kill between the two renames), records rewritten by a tool.
+std::uint64_t fnv1a(const char* data, std::size_t size, std::uint64_t hash = 0xcbf29ce484222325ull) {
+    for (std::size_t i = 0; i < size; ++i) {
+        hash ^= static_cast<unsigned char>(data[i]);
+        hash *= 0x100000001b3ull;
+    }
+    return hash;
+}
+
+std::string hashText(std::uint64_t hash) {
+    std::ostringstream text;
+    text << "fnv1a64:" << std::hex << std::setw(16) << std::setfill('0') << hash;
+    return text.str();
+}
+
+std::string readWholeFile(const std::string& path, const char* what) {
+    std::ifstream file(path, std::ios::binary);
+    if (!file) throw ProgressiveMeshError(std::string("cannot open ") + what + " '" + path + "'");
+    return std::string((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+}
+
+// Replays the collapses on the base's faces and returns the first step after which the recorded
+// face count differs from the replay (a changed survivor index, a rewritten count), or -1.
+long long firstWrongFaceCount(const RadianceMesh& base, const std::vector<CollapseStep>& steps,
+                              const std::vector<std::uint32_t>& faceCountAfter) {
+    const std::size_t nv = base.vertexCount(), nf = base.faceCount();
+    std::vector<std::uint32_t> parent(nv);
+    for (std::size_t v = 0; v < nv; ++v) parent[v] = static_cast<std::uint32_t>(v);
+    std::vector<std::vector<std::uint32_t>> incident(nv);
+    std::vector<std::uint8_t> alive(nf, 0);
+    std::size_t aliveCount = 0;
+    for (std::size_t f = 0; f < nf; ++f) {
+        const std::uint32_t* t = &base.faces[3 * f];
+        if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;
+        alive[f] = 1;
+        ++aliveCount;
+        for (int k = 0; k < 3; ++k) incident[t[k]].push_back(static_cast<std::uint32_t>(f));
+    }
+    for (std::size_t i = 0; i < steps.size(); ++i) {
+        const std::uint32_t r = steps[i].removed, s = steps[i].survivor;
+        parent[r] = s;
+        for (std::uint32_t f : incident[r]) {
+            if (!alive[f]) continue;
+            std::uint32_t t[3];
+            for (int k = 0; k < 3; ++k) t[k] = representative(parent, base.faces[3 * std::size_t(f) + k]);
+            if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {
+                alive[f] = 0;
+                --aliveCount;
+            } else {
+                incident[s].push_back(f);
+            }
+        }
+        std::vector<std::uint32_t>().swap(incident[r]);
+        if (aliveCount != faceCountAfter[i]) return static_cast<long long>(i);
+    }
+    return -1;
 }
 
 std::string folderOf(const std::string& path) {
@@ -165,59 +229,86 @@ T take(const char*& p) {
 }  // namespace
 
 void writeProgressiveMesh(const std::string& path, const std::string& basePath, const ProgressiveRadianceMesh& mesh) {
+    AtomicFileSet files;
+    stageProgressiveMesh(path, basePath, mesh, files);
+    try {
+        files.commit();
+    } catch (const AtomicFileError& error) {
+        throw ProgressiveMeshError(error.what());
+    }
+}
+
+void stageProgressiveMesh(const std::string& path, const std::string& basePath, const ProgressiveRadianceMesh& mesh,
+                          AtomicFileSet& files) {
     const int row = mesh.rowFloats();
     if (mesh.faceCountAfter.size() != mesh.steps.size() || mesh.survivorRows.size() != mesh.steps.size() * row)
         throw ProgressiveMeshError("progressive mesh is inconsistent: " + std::to_string(mesh.steps.size()) +
                                    " steps, " + std::to_string(mesh.faceCountAfter.size()) + " face counts, " +
                                    std::to_string(mesh.survivorRows.size()) + " row floats");
-    writeRadiancePly(basePath, mesh.base);
+    // Everything that can be refused is refused before a file is written.
     const std::string baseName =
         folderOf(basePath) == folderOf(path) ? basePath.substr(folderOf(basePath).size()) : basePath;
     if (baseName.find_first_of(" \t\r\n") != std::string::npos)
-        throw ProgressiveMeshError("the base file name '" + baseName + "' contains white space; choose another name");
+        throw ProgressiveMeshError("the base file name '" + baseName + "' contains white space (the .rpm header "
+                                   "cannot hold it): choose a .rpm file name without spaces");
+    for (const std::string& target : {path, basePath})
+        if (std::string problem = outputPathProblem(target); !problem.empty()) throw ProgressiveMeshError(problem);
 
+    // The base and the records are put in place together (io/atomic_file.h): both or neither.
+    const std::string baseTemporary = files.add(basePath);
+    writeRadiancePly(baseTemporary, mesh.base);
+    const std::string baseBytes = readWholeFile(baseTemporary, "the base just written");
+
+    std::string records;
+    records.reserve(mesh.steps.size() * (kFixedRecordBytes + 4 * row));
+    for (std::size_t i = 0; i < mesh.steps.size(); ++i) {
+        const CollapseStep& s = mesh.steps[i];
+        put(records, s.removed);
+        put(records, s.survivor);
+        put(records, mesh.faceCountAfter[i]);
+        for (float x : s.position) put(records, x);
+        put(records, s.cost);
+        for (int k = 0; k < row; ++k) put(records, mesh.survivorRows[i * row + k]);
+    }
     std::ostringstream header;
     header << kMagic << "\n"
            << "format binary_little_endian " << kFormatVersion << "\n"
            << "base " << baseName << "\n"
+           << "base_hash " << hashText(fnv1a(baseBytes.data(), baseBytes.size())) << "\n"
            << "collapse_kind " << kindName(mesh.kind) << "\n"
            << "vertex_count " << mesh.base.vertexCount() << "\n"
            << "face_count " << mesh.base.faceCount() << "\n"
            << "steps " << mesh.steps.size() << "\n"
            << "row_floats " << row << "\n"
+           << "records_hash " << hashText(fnv1a(records.data(), records.size())) << "\n"
            << "end_header\n";
-    std::string data = header.str();
-    data.reserve(data.size() + mesh.steps.size() * (kFixedRecordBytes + 4 * row));
-    for (std::size_t i = 0; i < mesh.steps.size(); ++i) {
-        const CollapseStep& s = mesh.steps[i];
-        put(data, s.removed);
-        put(data, s.survivor);
-        put(data, mesh.faceCountAfter[i]);
-        for (float x : s.position) put(data, x);
-        put(data, s.cost);
-        for (int k = 0; k < row; ++k) put(data, mesh.survivorRows[i * row + k]);
-    }
+    const std::string headerText = header.str();
     try {
-        writeFileAtomically(path, {{data.data(), data.size()}});
+        writeFileAtomically(files.add(path), {{headerText.data(), headerText.size()}, {records.data(), records.size()}});
     } catch (const AtomicFileError& error) {
         throw ProgressiveMeshError(error.what());
     }
 }
 
 ProgressiveRadianceMesh readProgressiveMesh(const std::string& path) {
-    std::ifstream file(path, std::ios::binary);
-    if (!file) throw ProgressiveMeshError("cannot open '" + path + "'");
-    std::string contents((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    std::error_code folderError;
+    if (std::filesystem::is_directory(path, folderError))
+        throw ProgressiveMeshError("'" + path + "' is a folder, not a .rpm file: choose the .rpm file inside it");
+    const std::string contents = readWholeFile(path, "the progressive mesh");
     const std::string endTag = "end_header\n";
     const auto headerEnd = contents.find(endTag);
     if (contents.rfind(std::string(kMagic) + "\n", 0) != 0 || headerEnd == std::string::npos)
         throw ProgressiveMeshError("'" + path + "' is not a radiance progressive mesh (no '" + kMagic +
                                    "' header ending with end_header)");
     std::istringstream header(contents.substr(0, headerEnd));
-    std::string line, baseName, kind;
+    std::string line, baseName, kind, baseHash, recordsHash;
     long long vertexCount = -1, faceCount = -1, stepCount = -1, row = -1;
     int version = 0;
     std::getline(header, line);
+    const auto number = [&](std::istringstream& words, long long& to) {
+        if (!(words >> to) || to < 0)
+            throw ProgressiveMeshError("'" + path + "': the header line '" + line + "' needs a count >= 0");
+    };
     while (std::getline(header, line)) {
         std::istringstream words(line);
         std::string key;
@@ -225,23 +316,53 @@ ProgressiveRadianceMesh readProgressiveMesh(const std::string& path) {
         if (key == "format") {
             std::string encoding;
             words >> encoding >> version;
-            if (encoding != "binary_little_endian" || version != kFormatVersion)
-                throw ProgressiveMeshError("'" + path + "' has an unsupported format line '" + line + "'");
+            if (encoding != "binary_little_endian" || version < 1 || version > kFormatVersion)
+                throw ProgressiveMeshError("'" + path + "' has an unsupported format line '" + line +
+                                           "' (this build reads versions 1 to " + std::to_string(kFormatVersion) + ")");
         } else if (key == "base") words >> baseName;
+        else if (key == "base_hash") words >> baseHash;
+        else if (key == "records_hash") words >> recordsHash;
         else if (key == "collapse_kind") words >> kind;
-        else if (key == "vertex_count") words >> vertexCount;
-        else if (key == "face_count") words >> faceCount;
-        else if (key == "steps") words >> stepCount;
-        else if (key == "row_floats") words >> row;
+        else if (key == "vertex_count") number(words, vertexCount);
+        else if (key == "face_count") number(words, faceCount);
+        else if (key == "steps") number(words, stepCount);
+        else if (key == "row_floats") number(words, row);
         else throw ProgressiveMeshError("'" + path + "': unknown header line '" + line + "'");
     }
-    if (version != kFormatVersion || baseName.empty() || (kind != "half-edge" && kind != "full") || vertexCount < 0 ||
-        faceCount < 0 || stepCount < 0 || row < 0)
+    if (version == 0 || baseName.empty() || (kind != "half-edge" && kind != "full") || vertexCount < 0 ||
+        faceCount < 0 || stepCount < 0 || row < 0 || (version >= 2 && (baseHash.empty() || recordsHash.empty())))
         throw ProgressiveMeshError("'" + path + "': incomplete header (needs format, base, collapse_kind, "
-                                   "vertex_count, face_count, steps, row_floats)");
+                                   "vertex_count, face_count, steps, row_floats" +
+                                   std::string(version >= 2 ? ", base_hash, records_hash" : "") + ")");
+    // Sizes first, without overflow: a header claiming 2^62 steps must not reach a multiplication.
+    const std::size_t available = contents.size() - headerEnd - endTag.size();
+    if (row > (1 << 20))
+        throw ProgressiveMeshError("'" + path + "': row_floats " + std::to_string(row) + " is not a radiance row");
+    const std::size_t recordBytes = kFixedRecordBytes + 4 * static_cast<std::size_t>(row);
+    if (static_cast<unsigned long long>(stepCount) > available / recordBytes ||
+        static_cast<std::size_t>(stepCount) * recordBytes != available)
+        throw ProgressiveMeshError("'" + path + "' is truncated or padded: the header claims " +
+                                   std::to_string(stepCount) + " steps of " + std::to_string(recordBytes) +
+                                   " bytes and the file holds " + std::to_string(available) +
+                                   " bytes of records; save the simplification again");
+    if (stepCount >= vertexCount && stepCount > 0)
+        throw ProgressiveMeshError("'" + path + "' claims " + std::to_string(stepCount) + " collapses of a mesh of " +
+                                   std::to_string(vertexCount) + " vertices (each removes one): the file is damaged");
+    const char* records = contents.data() + headerEnd + endTag.size();
+    if (version >= 2 && hashText(fnv1a(records, available)) != recordsHash)
+        throw ProgressiveMeshError("'" + path + "': the collapse records do not match their hash (the file was "
+                                   "changed after it was written): save the simplification again");
+
     ProgressiveRadianceMesh mesh;
     mesh.kind = kind == "full" ? CollapseKind::Full : CollapseKind::HalfEdge;
     const std::string basePath = baseName.front() == '/' ? baseName : folderOf(path) + baseName;
+    if (version >= 2) {
+        const std::string baseBytes = readWholeFile(basePath, "the base mesh");
+        if (hashText(fnv1a(baseBytes.data(), baseBytes.size())) != baseHash)
+            throw ProgressiveMeshError("'" + path + "' was recorded on another base than '" + basePath +
+                                       "' (its content differs: saved again, reordered, or replaced by a later run): "
+                                       "save the simplification again to write both together");
+    }
     mesh.base = readRadiancePly(basePath);
     if (static_cast<long long>(mesh.base.vertexCount()) != vertexCount ||
         static_cast<long long>(mesh.base.faceCount()) != faceCount)
@@ -252,15 +373,12 @@ ProgressiveRadianceMesh readProgressiveMesh(const std::string& path) {
     if (row != mesh.rowFloats())
         throw ProgressiveMeshError("'" + path + "': row_floats " + std::to_string(row) + " does not match the base (" +
                                    std::to_string(mesh.rowFloats()) + " expected)");
-    const std::size_t recordBytes = kFixedRecordBytes + 4 * static_cast<std::size_t>(row);
-    const std::size_t available = contents.size() - headerEnd - endTag.size();
-    if (available != static_cast<std::size_t>(stepCount) * recordBytes)
-        throw ProgressiveMeshError("'" + path + "' is truncated or padded: " + std::to_string(stepCount) +
-                                   " steps need " + std::to_string(stepCount * recordBytes) + " bytes, found " +
-                                   std::to_string(available));
-    const char* p = contents.data() + headerEnd + endTag.size();
+    const char* p = records;
     std::vector<std::uint8_t> removed(static_cast<std::size_t>(vertexCount), 0);
     std::uint32_t lastFaces = static_cast<std::uint32_t>(faceCount);
+    mesh.steps.reserve(static_cast<std::size_t>(stepCount));
+    mesh.faceCountAfter.reserve(static_cast<std::size_t>(stepCount));
+    mesh.survivorRows.reserve(static_cast<std::size_t>(stepCount) * static_cast<std::size_t>(row));
     for (long long i = 0; i < stepCount; ++i) {
         CollapseStep s;
         s.removed = take<std::uint32_t>(p);
@@ -272,12 +390,32 @@ ProgressiveRadianceMesh readProgressiveMesh(const std::string& path) {
             removed[s.survivor] || facesAfter > lastFaces)
             throw ProgressiveMeshError("'" + path + "': step " + std::to_string(i) +
                                        " is inconsistent (vertex out of range, already removed, or face count rising)");
+        // Positions the cores cannot compute with (NaN, 1e30) are the file's fault, said here rather
+        // than when the replayed level is saved.
+        if (!coordinateRangeProblem(s.position, 1).empty())
+            throw ProgressiveMeshError("'" + path + "': step " + std::to_string(i) + " moves vertex " +
+                                       std::to_string(s.survivor) + " to (" + std::to_string(s.position[0]) + ", " +
+                                       std::to_string(s.position[1]) + ", " + std::to_string(s.position[2]) +
+                                       "), not a finite position within 1e11: the file is damaged; save the "
+                                       "simplification again");
         removed[s.removed] = 1;
         lastFaces = facesAfter;
         mesh.steps.push_back(s);
         mesh.faceCountAfter.push_back(facesAfter);
-        for (long long k = 0; k < row; ++k) mesh.survivorRows.push_back(take<float>(p));
+        for (long long k = 0; k < row; ++k) {
+            const float value = take<float>(p);
+            if (!std::isfinite(value))
+                throw ProgressiveMeshError("'" + path + "': step " + std::to_string(i) + " has a frame or radiance "
+                                           "value that is not a finite number: the file is damaged; save the "
+                                           "simplification again");
+            mesh.survivorRows.push_back(value);
+        }
     }
+    if (const long long wrong = firstWrongFaceCount(mesh.base, mesh.steps, mesh.faceCountAfter); wrong >= 0)
+        throw ProgressiveMeshError("'" + path + "': after step " + std::to_string(wrong) + " the file records " +
+                                   std::to_string(mesh.faceCountAfter[std::size_t(wrong)]) +
+                                   " faces but replaying the collapses on the base gives another count (a changed "
+                                   "record, or a base other than the one recorded on): save the simplification again");
     return mesh;
 }
 

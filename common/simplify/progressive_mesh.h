@@ -13,6 +13,7 @@
 // a radiance PLY holding the original mesh.
 #pragma once
 
+#include "io/atomic_file.h"
 #include "io/radiance_mesh.h"
 #include "simplify/edge_collapse.h"
 
@@ -61,11 +62,20 @@ private:
 };
 
 // Writes `path` (the progressive records) and the original mesh as the radiance PLY `basePath`
-// (stored in the header relative to path's folder when it lies in the same folder, else as given).
+// (stored in the header relative to path's folder when it lies in the same folder, else as given),
+// with the hash of the base's bytes in the header: both files or neither (io/atomic_file.h), and a
+// refusal (a name with white space, a folder in the way) before anything is written.
 // Throws ProgressiveMeshError / RadiancePlyError on failure.
 void writeProgressiveMesh(const std::string& path, const std::string& basePath, const ProgressiveRadianceMesh& mesh);
+// The same, written to temporaries of `files` only: the caller commits them (with its other
+// outputs) or drops them.
+void stageProgressiveMesh(const std::string& path, const std::string& basePath, const ProgressiveRadianceMesh& mesh,
+                          AtomicFileSet& files);
 // Reads a progressive mesh and its base; throws ProgressiveMeshError with a message naming the
-// problem (bad header, truncated records, indices out of range, base mismatch).
+// problem: bad header, a size that does not match the records (overflow-safe), indices out of
+// range, a position that is not finite or beyond kMaxCoordinateMagnitude, face counts that the
+// replay of the collapses on the base does not give, and (format version 2) records or a base whose
+// hash differs from the header's. Version 1 files (no hashes) are read with every other check.
 ProgressiveRadianceMesh readProgressiveMesh(const std::string& path);
 
 }  // namespace rad

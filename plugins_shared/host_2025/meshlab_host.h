@@ -91,6 +91,10 @@ inline RasterModel* addRasterLayer(MeshDocument& md, const QString& label, const
 // A new layer of the document; it becomes the current one only in a document that had none (an
 // empty document, where filters like the out-of-core simplification create the first layer).
 inline MeshModel* addLayer(MeshDocument& md, const QString& label) { return md.addNewMesh("", label, md.mm() == nullptr); }
+// Removes a layer a refused filter added (runFilter: a refusal leaves the layers as they were).
+inline void removeLayer(MeshDocument& md, MeshModel* m) { md.delMesh(static_cast<unsigned int>(m->id())); }
+// Makes `m` the current layer again (after removeLayer changed it).
+inline void makeCurrentLayer(MeshDocument& md, MeshModel* m) { md.setCurrentMesh(m->id()); }
 
 // A parameter naming one of the document's layers (MeshLab 2025 stores the layer's id).
 inline void addMeshParameter(RichParameterList& par, const QString& name, const MeshDocument& md,

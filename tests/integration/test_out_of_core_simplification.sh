@@ -67,4 +67,39 @@ printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty floa
 ooc_mlx "$WORK/bad_index.mlx" "$WORK/bad_index.ply" "$WORK/refused"
 expect_refusal bad_index "face 0 uses vertex 9, out of range" "$WORK/current.ply" "$WORK/bad_index.mlx"
 [ ! -e "$WORK/refused_normal.png" ] || fail "a refused run wrote a map"
+
+# Issue 28. The scan with one unreferenced vertex 1e6 away (it turned a 400-triangle target into
+# 36 triangles), and at 1e-12 (the map drifted without a word): the first gives the same layer as
+# the scan, the second is refused with the fix; a folder given as the PLY is named as a folder.
+python3 - "$WORK/scan.ply" "$WORK/stray.ply" "$WORK/tiny.ply" <<'PY' || fail "cannot write the modified scans"
+import struct, sys
+sys.path.insert(0, __import__("os").environ["RADIANCE_SOURCE_DIR"] + "/tests/integration")
+import ply_reader
+ply = ply_reader.read_ply(sys.argv[1])
+v, faces = ply.data["vertex"], ply.data["face"]["vertex_indices"]
+def write(path, points, scale):
+    with open(path, "wb") as out:
+        out.write(("ply\nformat binary_little_endian 1.0\nelement vertex %d\nproperty float x\nproperty float y\n"
+                   "property float z\nelement face %d\nproperty list uchar int vertex_indices\nend_header\n"
+                   % (len(points), len(faces))).encode())
+        for p in points:
+            out.write(struct.pack("<3f", *(c * scale for c in p)))
+        for f in faces:
+            out.write(struct.pack("<B3i", 3, *f))
+points = list(zip(v["x"], v["y"], v["z"]))
+write(sys.argv[2], points + [(1e6, 0.0, 0.0)], 1.0)
+write(sys.argv[3], points, 1e-12)
+PY
+ooc_mlx "$WORK/stray.mlx" "$WORK/stray.ply" "$WORK/out/stray"
+run_meshlabserver "$WORK/stray.log" -i "$WORK/current.ply" -s "$WORK/stray.mlx" -w "$WORK/out/stray.mlp" \
+    || { cat "$WORK/stray.log" >&2; fail "the filter failed on the scan with a stray vertex"; }
+faces=$(grep -oE "layer 'stray_ooc': [0-9]+ triangles" "$WORK/stray.log" | head -n 1 | grep -oE "[0-9]+ triangles" | cut -d' ' -f1)
+[ -n "$faces" ] && [ "$faces" -ge 250 ] && [ "$faces" -le 550 ] \
+    || { cat "$WORK/stray.log" >&2; fail "a stray unreferenced vertex changed the result: ${faces:-no} triangles"; }
+ooc_mlx "$WORK/tiny.mlx" "$WORK/tiny.ply" "$WORK/refused"
+expect_refusal tiny_scan "units across, below the 1e-06" "$WORK/current.ply" "$WORK/tiny.mlx"
+mkdir -p "$WORK/folder.ply"
+ooc_mlx "$WORK/folder.mlx" "$WORK/folder.ply" "$WORK/refused"
+expect_refusal folder_as_ply "is a folder, not a PLY file" "$WORK/current.ply" "$WORK/folder.mlx"
+[ ! -e "$WORK/refused_normal.png" ] || fail "a refused run wrote a map"
 note "ok"

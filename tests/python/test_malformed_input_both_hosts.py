@@ -38,6 +38,7 @@ class Case:
     params: dict = field(default_factory=dict)  # MeshLab parameter names (camelCase) -> value
     message: str = ""             # in both hosts' refusals, unless a host has its own below
     python_message: str = ""      # pymeshlab's own parameter check runs before ours (enums)
+    no_files: str = ""            # after the refusal no file of the inputs' folder starts with this
 
 
 COORDINATES = "that single-precision geometry can be computed with: scale the mesh down"
@@ -51,6 +52,24 @@ CASES = {
     # Embree aborts on rays near 1e18: the grid's scene is refused first.
     "irradiance_grid_at_1e19": Case(("sphere_1e19.ply",), "Compute Irradiance Vector Grid",
                                     {"lightSource": 1, "rays": 4}, COORDINATES),
+    # Issue 28: Embree's triangle test overflows near 1e13 and its next ray aborted the whole host
+    # (assertion ray.valid()) at 1e13..1e15, inside the former 1e15 limit.
+    "irradiance_grid_at_1e14": Case(("sphere_1e14.ply",), "Compute Irradiance Vector Grid",
+                                    {"lightSource": 1, "rays": 4}, COORDINATES),
+    # An all-zero grid, no warning (every ray missed a scene 1e-20 across).
+    "irradiance_grid_at_1e-20": Case(("sphere_1e-20.ply",), "Compute Irradiance Vector Grid",
+                                     {"lightSource": 1, "rays": 4}, "units across, below the 1e-06"),
+    # "a vector component is not finite", naming no parameter.
+    "irradiance_grid_env_scale_1e38": Case(("sphere.ply",), "Compute Irradiance Vector Grid",
+                                           {"lightSource": 0, "envMap": "@bright.hdr", "envScale": 1e38, "rays": 4},
+                                           "lower the parameter 'Environment intensity'"),
+    # "the two layers do not overlap" for two coinciding layers at 1e15.
+    "bake_layers_at_1e15": Case(("sphere_1e15.ply", "sphere_1e15_shrunk.ply"), "Bake Normal Map", {"sourceMesh": 0},
+                                COORDINATES),
+    # A .rpm name with a space left <name>_base.rply behind (test_refused_progressive_save_leaves_no_file).
+    "simplify_rpm_name_with_space": Case(("radiance.rply",), "Radiance: Radiance-Aware Simplification",
+                                         {"targetPercentage": 0.5, "progressiveFile": "@folder/my mesh.rpm"},
+                                         "choose a .rpm file name without spaces", no_files="my mesh"),
     # "0.00 % ray hits" and a constant map written.
     "bake_source_far_away": Case(("sphere_far.ply", "sphere.ply"), "Bake Normal Map",
                                  {"sourceMesh": 0, "maxDistance": 0.5}, "the two layers do not overlap"),
@@ -105,9 +124,16 @@ def inputs(scenes, tmp_path_factory):
     m = ms.current_mesh()
     v, f, n = m.vertex_matrix(), m.face_matrix(), m.vertex_normal_matrix()
     for name, positions in (("sphere_1e19.ply", v * 1e19), ("sphere_far.ply", v + np.array([1000.0, 0.0, 0.0])),
-                            ("sphere_shrunk.ply", v * 0.98)):
+                            ("sphere_shrunk.ply", v * 0.98), ("sphere_1e14.ply", v * 1e14),
+                            ("sphere_1e-20.ply", v * 1e-20), ("sphere_1e15.ply", v * 1e15),
+                            ("sphere_1e15_shrunk.ply", v * 0.98e15)):
         h.write_binary_ply(folder / name, positions, f, n)
         made[name] = str(folder / name)
+
+    # A bright 4 x 2 environment map (radiance 1024 everywhere; flat RGBE): times 1e38 beyond float.
+    (folder / "bright.hdr").write_bytes(b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 4\n" + bytes([128, 128, 128, 139]) * 8)
+    made["bright.hdr"] = str(folder / "bright.hdr")
+    made["folder"] = str(folder)
 
     radiance = folder / "radiance.rply"
     h.run_tool("make_radiance_mesh", sphere, "--material", "stripes", "--basis", "PB4", "--no-shadows", "-o", radiance)
@@ -164,10 +190,19 @@ def test_inputs_are_what_the_cases_say(inputs):
 # ---------------------------------------------------------------------------------------------------
 # pymeshlab
 
-def _python_params(case):
+def _resolve(value, inputs):
+    """'@name' is the path of an input made by the fixture; '@folder/x' a file in its folder."""
+    if isinstance(value, str) and value.startswith("@"):
+        head, _, tail = value[1:].partition("/")
+        return os.path.join(inputs[head], tail) if tail else inputs[head]
+    return value
+
+
+def _python_params(case, inputs):
     params = {}
     for name, value in case.params.items():
         key = name.lower()
+        value = _resolve(value, inputs)
         if name == "maxDistance":
             value = pymeshlab.PureValue(value)
         params[key] = value
@@ -189,19 +224,26 @@ def test_pymeshlab_refuses(name, inputs):
             ms.load_new_mesh(inputs[layer])
         before = h.snapshot(ms)
         with pytest.raises(Exception) as caught:
-            ms.apply_filter(h.FILTERS[case.filter], **_python_params(case))
+            ms.apply_filter(h.FILTERS[case.filter], **_python_params(case, inputs))
         text = str(caught.value)
         assert isinstance(caught.value, (pymeshlab.PyMeshLabException, pymeshlab.InvalidEnumException)), \
             f"{type(caught.value).__name__}: {text}"
         h.assert_unchanged(before, h.snapshot(ms), name)
     assert expected in text, f"{name}: expected '{expected}' in:\n{text}"
     assert INTERNAL not in text, text
+    _assert_no_files(case, inputs)
+
+
+def _assert_no_files(case, inputs):
+    if case.no_files:
+        left = [n for n in os.listdir(inputs["folder"]) if n.startswith(case.no_files)]
+        assert left == [], f"a refusal left {left}"
 
 
 # ---------------------------------------------------------------------------------------------------
 # meshlabserver 2020.09
 
-def _script(case, work):
+def _script(case, work, inputs):
     """A complete .mlx for the case: the repository's script writers (every parameter listed, as
     meshlabserver 2020.09 requires), then the case's values put in."""
     mlx = work / "case.mlx"
@@ -252,7 +294,9 @@ def _script(case, work):
     params = {p.get("name"): p for p in tree.getroot().iter("Param")}
     for name, value in case.params.items():
         assert name in params, f"{case.filter} has no parameter {name} in the written script"
-        params[name].set("value", str(value).lower() if isinstance(value, bool) else repr(value))
+        value = _resolve(value, inputs)
+        params[name].set("value", str(value).lower() if isinstance(value, bool) else
+                         value if isinstance(value, str) else repr(value))
     text = ET.tostring(tree.getroot(), encoding="unicode")
     mlx.write_text("<!DOCTYPE FilterScript>\n" + text + "\n")
     return mlx
@@ -274,9 +318,11 @@ def test_meshlabserver_refuses(name, inputs, tmp_path):
         status, log = h.run_meshlabserver(tmp_path, *layers, "-o", reference)
         assert status == 0 and reference.is_file(), f"{name}: cannot save the input as it is:\n{log[-3000:]}"
         out = tmp_path / f"out{ext}"
-        status, log = h.run_meshlabserver(tmp_path, *layers, "-s", _script(case, tmp_path), "-o", out)
+        status, log = h.run_meshlabserver(tmp_path, *layers, "-s", _script(case, tmp_path, inputs), "-o", out)
         assert status != 0 and "Problem with filter" in log, f"{name}: the filter succeeded:\n{log[-3000:]}"
         if out.exists():
             assert out.read_bytes() == reference.read_bytes(), f"{name}: the layer changed under a refused filter"
     assert case.message in log, f"{name}: expected '{case.message}' in:\n{log[-3000:]}"
     assert INTERNAL not in log, log[-3000:]
+    _assert_no_files(case, inputs)
+

@@ -360,3 +360,20 @@ def test_a_chart_atlas_made_by_meshlab_is_baked_into(meshes, tmp_path):
     errors = np.concatenate(errors)
     assert errors.size > 10000
     assert errors.mean() <= 0.5, f"mean {errors.mean():.3f} degrees from the ellipsoid's normals"
+
+
+def test_gltf_bake_commits_all_files_or_none(meshes, tmp_path):
+    """Issue 28: the glTF bake put its files in place one by one; when the last rename failed (a folder
+    named like the .glb) the new maps stayed, beside no .glb, under "The layers are unchanged". The
+    files are one set now: the old map is kept, no new file appears."""
+    folder = tmp_path / "gltf"
+    folder.mkdir()
+    (folder / "baked_normal.png").write_bytes(b"old map")
+    (folder / "baked.glb").mkdir()
+    ms = scan_and_target(meshes)
+    text = h.expect_refusal(ms, h.BAKE, "baked.glb",
+                            **bake_parameters(outputfile=str(folder / "baked_normal.png"), gltf=True))
+    assert "The layers are unchanged" in text
+    assert (folder / "baked_normal.png").read_bytes() == b"old map"
+    assert sorted(p.name for p in folder.iterdir()) == ["baked.glb", "baked_normal.png"], list(folder.iterdir())
+

@@ -140,3 +140,79 @@ def test_the_new_layer_feeds_the_radiance_pipeline(scenes, tmp_path):
     out = tmp_path / "pipeline.rply"
     ms.save_current_mesh(str(out))
     assert out.stat().st_size > 0
+
+
+# ---------------------------------------------------------------------------------------------------
+# Issue 28: scale and stray vertices, folders, file-size limits.
+
+def _scan_variant(scenes, path, scale=1.0, stray=None):
+    """The level-4 sphere scan as a binary PLY without normals, scaled, with an optional unreferenced vertex."""
+    ms = h.load(scenes("sphere", level=4))
+    m = ms.current_mesh()
+    v, f = m.vertex_matrix() * scale, m.face_matrix()
+    n = m.vertex_normal_matrix()
+    if stray is not None:
+        v = np.vstack([v, np.asarray(stray, dtype=float)])
+        n = np.vstack([n, [[0.0, 0.0, 1.0]]])
+    h.write_binary_ply(path, v, f, n)
+    return path
+
+
+def test_an_unreferenced_far_vertex_changes_nothing(scenes, tmp_path):
+    """One stray vertex 1e6 away, used by no face, turned a 400-triangle target into 36 triangles."""
+    clean = _scan_variant(scenes, tmp_path / "clean.ply")
+    stray = _scan_variant(scenes, tmp_path / "stray.ply", stray=[1e6, 0.0, 0.0])
+    counts = []
+    for ply in (clean, stray):
+        ms = h.keep_alive(h.load(scenes("sphere", level=1)))
+        ms.apply_filter(OOC, plyfile=str(ply), targetfaces=400, texturesize=256,
+                        outputfile=str(tmp_path / ply.stem))
+        counts.append(ms.mesh(1).face_number())
+        assert np.all(np.abs(np.linalg.norm(ms.mesh(1).vertex_matrix(), axis=1) - 1.0) < 0.05)
+    assert counts[0] == counts[1] and 300 <= counts[1] <= 550, counts
+
+
+@pytest.mark.parametrize("scale,message", [(1e-12, "units across, below the 1e-06"), (1e-30, "scale it up"),
+                                           (1e15, "scale the mesh down"), (1e20, "scale the mesh down")])
+def test_scales_the_cores_cannot_compute_with_are_refused(scenes, tmp_path, scale, message):
+    """At 1e-30 every point landed in one texel, at 1e20 none was used, at 1e-12 and 1e15 the map drifted."""
+    ply = _scan_variant(scenes, tmp_path / "scaled.ply", scale=scale)
+    ms = h.keep_alive(h.load(scenes("sphere", level=1)))
+    text = h.expect_refusal(ms, OOC, message, plyfile=str(ply), targetfaces=100, texturesize=128,
+                            outputfile=str(tmp_path / "out"))
+    assert "unchanged" in text
+    assert sorted(os.listdir(tmp_path)) == ["scaled.ply"], os.listdir(tmp_path)
+
+
+def test_a_folder_is_named_as_a_folder(scenes, tmp_path):
+    (tmp_path / "scan.ply").mkdir()
+    ms = h.keep_alive(h.load(scenes("sphere", level=1)))
+    h.expect_refusal(ms, OOC, "is a folder, not a PLY file", plyfile=str(tmp_path / "scan.ply"), targetfaces=100,
+                     texturesize=128, outputfile=str(tmp_path / "out"))
+
+
+def test_an_8bit_map_beyond_a_file_size_limit_is_refused(scenes, tmp_path):
+    """stb's 8-bit PNG writer ignored write errors: under a file-size limit the filter reported success
+    with a truncated map. Run in a child Python (Python ignores SIGXFSZ, so the write fails with EFBIG)."""
+    import subprocess
+    import sys
+    scan = scenes("sphere", level=5)
+    code = f"""
+import resource, sys
+import pymeshlab, pymeshlab_radiance
+ms = pymeshlab.MeshSet()
+resource.setrlimit(resource.RLIMIT_FSIZE, (20000, 20000))
+try:
+    ms.apply_filter({OOC!r}, plyfile={str(scan)!r}, targetfaces=2000, texturesize=1024, bits=1,
+                    outputfile={str(tmp_path / 'limited')!r})
+except pymeshlab.PyMeshLabException as e:
+    print("REFUSED", e)
+    sys.exit(0)
+print("ACCEPTED")
+"""
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([os.path.join(h.REPO, "python")] + sys.path))
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300, env=env)
+    assert "REFUSED" in done.stdout, done.stdout + done.stderr
+    assert "exceeds a size limit" in done.stdout, done.stdout
+    assert not [n for n in os.listdir(tmp_path) if n.startswith("limited")], os.listdir(tmp_path)
+

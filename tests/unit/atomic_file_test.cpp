@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <string>
+#include <vector>
 #include <unistd.h>
 
 namespace {
@@ -86,6 +87,70 @@ TEST_F(AtomicFile, StaleTemporariesOfDeadWritersAreRemovedOthersKept) {
     EXPECT_EQ(std::count(left.begin(), left.end(), dead), 0);
     EXPECT_EQ(std::count(left.begin(), left.end(), live), 1);
     for (const std::string& name : foreign) EXPECT_EQ(std::count(left.begin(), left.end(), name), 1) << name;
+}
+
+std::string contents(const fs::path& path) {
+    const std::vector<char> bytes = radtest::readBytes(path.string());
+    return std::string(bytes.begin(), bytes.end());
+}
+void writeText(const std::string& path, const std::string& text) {
+    radtest::writeBytes(path, std::vector<char>(text.begin(), text.end()));
+}
+
+TEST_F(AtomicFile, FileSetPutsEveryFileInPlaceAtOnce) {
+    writeText((folder / "a.png").string(), "old a");
+    rad::AtomicFileSet files;
+    const std::string a = files.add((folder / "a.png").string()), b = files.add((folder / "b.txt").string());
+    EXPECT_NE(a, b);
+    writeText(a, "new a");
+    writeText(b, "new b");
+    EXPECT_EQ(contents(folder / "a.png"), "old a");  // nothing visible before the commit
+    EXPECT_FALSE(fs::exists(folder / "b.txt"));
+    files.commit();
+    EXPECT_EQ(contents(folder / "a.png"), "new a");
+    EXPECT_EQ(contents(folder / "b.txt"), "new b");
+    EXPECT_EQ(names(), (std::vector<std::string>{"a.png", "b.txt"}));  // no temporary, no backup left
+}
+
+// The glTF bake renamed its files one by one: a later rename failing left the new maps beside no
+// .glb. A set is all or nothing: the files already replaced get their old contents back.
+TEST_F(AtomicFile, FileSetRestoresEveryFileWhenALaterOneCannotBePutInPlace) {
+    writeText((folder / "m_normal.png").string(), "old map");
+    fs::create_directory(folder / "m.glb");  // a folder where the last file goes
+    {
+        rad::AtomicFileSet files;
+        writeText(files.add((folder / "m_normal.png").string()), "new map");
+        writeText(files.add((folder / "m_diffuse.png").string()), "new diffuse");
+        writeText(files.add((folder / "m.glb").string()), "new glb");
+        try {
+            files.commit();
+            FAIL() << "a folder in the way was replaced";
+        } catch (const rad::AtomicFileError& e) {
+            EXPECT_NE(std::string(e.what()).find("m.glb"), std::string::npos) << e.what();
+        }
+    }
+    EXPECT_EQ(contents(folder / "m_normal.png"), "old map");
+    EXPECT_FALSE(fs::exists(folder / "m_diffuse.png"));
+    EXPECT_EQ(names(), (std::vector<std::string>{"m.glb", "m_normal.png"}));
+}
+
+TEST_F(AtomicFile, FileSetNotCommittedLeavesNothing) {
+    {
+        rad::AtomicFileSet files;
+        writeText(files.add((folder / "x.png").string()), "data");
+    }
+    EXPECT_TRUE(names().empty());
+}
+
+TEST_F(AtomicFile, OutputPathProblemsNameTheCauseAndTheFix) {
+    EXPECT_EQ(rad::outputPathProblem((folder / "fine.png").string()), "");
+    const std::string isFolder = rad::outputPathProblem(folder.string());
+    EXPECT_NE(isFolder.find("is a folder, not a file name"), std::string::npos) << isFolder;
+    const std::string missing = rad::outputPathProblem((folder / "no" / "x.png").string());
+    EXPECT_NE(missing.find("does not exist: create it"), std::string::npos) << missing;
+    writeText((folder / "plain").string(), "x");
+    const std::string underFile = rad::outputPathProblem((folder / "plain" / "x.png").string());
+    EXPECT_NE(underFile.find("is a file, not a folder"), std::string::npos) << underFile;
 }
 
 }  // namespace

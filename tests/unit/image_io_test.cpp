@@ -9,6 +9,11 @@
 
 #include <gtest/gtest.h>
 
+#include <csignal>
+#include <filesystem>
+
+#include <sys/resource.h>
+
 #include <stb/stb_image_write.h>  // declarations only: the implementation lives in image/image_io.cpp
 
 #include <algorithm>
@@ -263,6 +268,44 @@ TEST(ImageIo, Png16WriterRefusesBadInputAndUnwritablePaths) {
     }
     EXPECT_THROW(rad::writePng16(tmpPath("bad16.png"), 5, 3, 5, samples.data()), rad::ImageFileError);
     EXPECT_THROW(rad::writePng16(tmpPath("bad16.png"), 0, 3, 3, samples.data()), rad::ImageFileError);
+}
+
+// stb's writer ignored fwrite's result: under a file-size limit (or on a full disk) the 8-bit map
+// was reported written and was truncated. Under a 2000-byte soft limit (lowered and restored here;
+// SIGXFSZ ignored meanwhile, as Python does, so the write fails with EFBIG) each kind of PNG write
+// must fail naming the cause and leave no file.
+TEST(ImageIo, WriteErrorsAreReportedWithTheReasonAndLeaveNoFile) {
+    const std::string path8 = tmpPath("limited8.png"), path16 = tmpPath("limited16.png");
+    std::remove(path8.c_str());
+    std::remove(path16.c_str());
+    std::mt19937 rng(5);
+    rad::Image8 image(128, 128);
+    for (auto& c : image.rgb) c = std::uint8_t(rng());  // noise: far above 2000 bytes compressed
+    std::vector<std::uint16_t> samples(128 * 128 * 3);
+    for (auto& c : samples) c = std::uint16_t(rng());
+    rlimit saved{};
+    ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &saved), 0);
+    const auto previous = std::signal(SIGXFSZ, SIG_IGN);
+    rlimit limited = saved;
+    limited.rlim_cur = 2000;
+    ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &limited), 0);
+    std::string message8, message16;
+    try {
+        rad::writePng(path8, image);
+    } catch (const rad::ImageFileError& e) {
+        message8 = e.what();
+    }
+    try {
+        rad::writePng16(path16, 128, 128, 3, samples.data());
+    } catch (const rad::ImageFileError& e) {
+        message16 = e.what();
+    }
+    setrlimit(RLIMIT_FSIZE, &saved);
+    std::signal(SIGXFSZ, previous);
+    EXPECT_NE(message8.find("exceeds a size limit"), std::string::npos) << "8-bit: '" << message8 << "'";
+    EXPECT_NE(message16.find("exceeds a size limit"), std::string::npos) << "16-bit: '" << message16 << "'";
+    EXPECT_FALSE(std::filesystem::exists(path8));
+    EXPECT_FALSE(std::filesystem::exists(path16));
 }
 
 }  // namespace

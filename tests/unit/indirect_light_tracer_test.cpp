@@ -1,5 +1,6 @@
 // The indirect-light path tracer shared by the irradiance vector grid and its reference: one
 // bounce off a lit floor in closed form, back faces and escapes, unbiased light sampling.
+#include "geometry/primitive_meshes.h"
 #include "lighting/indirect_light_tracer.h"
 
 #include "test_support.h"
@@ -7,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
 namespace {
 
@@ -113,6 +115,25 @@ TEST(IndirectLightTracer, SampledLightsAverageToEveryLight) {
     }
     const double mean = sum / (16.0 * rounds);
     EXPECT_NEAR(mean, rad::kDefaultIndirectAlbedo * exact / kPi, 0.01 * rad::kDefaultIndirectAlbedo * exact / kPi);
+}
+
+// A closed mesh 1e14 across was accepted and Embree then aborted the process (its triangle test
+// overflows); one 1e-20 across gave nothing but misses. Both are refused, naming the fix.
+TEST(IndirectLightTracer, RefusesScenesOutOfScaleNamingTheFix) {
+    rad::AnalyticLighting lights;
+    lights.directional.push_back(rad::DirectionalLight{});
+    for (float scale : {1e14f, 1e13f, 1e-20f}) {
+        rad::TriangleMesh mesh = rad::makeIcosphere(1, 1.0f);
+        for (float& x : mesh.positions) x *= scale;
+        try {
+            rad::IndirectLightTracer tracer(mesh, {}, lights, {});
+            ADD_FAILURE() << "a scene of scale " << scale << " was accepted";
+        } catch (const rad::IndirectLightError& e) {
+            const std::string text = e.what();
+            EXPECT_TRUE(text.find("scale the mesh down") != std::string::npos ||
+                        text.find("scale it up") != std::string::npos) << text;
+        }
+    }
 }
 
 TEST(IndirectLightTracer, RefusesScenesWithoutLightOrFaces) {

@@ -261,4 +261,22 @@ TEST(IrradianceVectorGridFileMissing, MissingFileIsNamed) {
     }
 }
 
+// The decoration drew a stale grid 1000 units away, or one with a near-zero cell, in one flat colour
+// without a word: gridCoverageProblem says why such a grid does not fit the layer.
+TEST(IrradianceVectorGrid, CoverageOfTheLayerIsChecked) {
+    const rad::IrradianceVectorGrid grid = rad::IrradianceVectorGrid::covering({{-1, -1, -1}}, {{1, 1, 1}}, {{4, 4, 4}});
+    const std::vector<float> inside = {-0.9f, 0.0f, 0.5f, 0.9f, -0.9f, -1.1f, 0.0f, 0.0f, 0.0f};
+    EXPECT_EQ(rad::gridCoverageProblem(grid, inside.data(), 3), "");
+    std::vector<float> far = inside;
+    for (std::size_t i = 0; i < far.size(); i += 3) far[i] += 1000.0f;
+    const std::string stale = rad::gridCoverageProblem(grid, far.data(), 3);
+    EXPECT_NE(stale.find("100 % of the layer's vertices lie outside"), std::string::npos) << stale;
+    const rad::IrradianceVectorGrid speck =
+        rad::IrradianceVectorGrid::covering({{-1e-6f, -1e-6f, -1e-6f}}, {{1e-6f, 1e-6f, 1e-6f}}, {{2, 2, 2}});
+    const std::vector<float> around = {-1e-6f, 0.0f, 0.0f, 1e-6f, 0.0f, 0.0f, 0.0f, 0.0f, 5e-7f, 2.0f, 2.0f, 2.0f};
+    const std::string small = rad::gridCoverageProblem(speck, around.data(), 4);
+    EXPECT_FALSE(small.empty());
+}
+
 }  // namespace
+

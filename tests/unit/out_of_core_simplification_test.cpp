@@ -155,4 +155,68 @@ TEST(OutOfCoreSimplification, RefusalsAndCancelLeaveNoFile) {
     EXPECT_EQ(folder.files(), 1u);  // only the input
 }
 
+// One stray vertex that no triangle uses, 1e6 away, stretched the clustering grid: a target of
+// 400 triangles gave 36. The grid is now placed on the vertices the triangles use.
+TEST(OutOfCoreSimplification, AnUnreferencedFarVertexChangesNothing) {
+    const Folder folder("radiance_ooc_stray");
+    rad::TriangleMesh sphere = rad::makeIcosphere(4);
+    rad::OutOfCoreRequest request;
+    request.targetTriangles = 400;
+    request.textureSize = 256;
+    request.plyPath = writePly(folder.path / "clean.ply", sphere);
+    request.outputBase = (folder.path / "clean").string();
+    const rad::OutOfCoreReport clean = rad::simplifyOutOfCore(request);
+    sphere.positions.insert(sphere.positions.end(), {1e6f, 0.0f, 0.0f});
+    request.plyPath = writePly(folder.path / "stray.ply", sphere);
+    request.outputBase = (folder.path / "stray").string();
+    const rad::OutOfCoreReport stray = rad::simplifyOutOfCore(request);
+    EXPECT_EQ(stray.mesh.faceCount(), clean.mesh.faceCount());
+    EXPECT_GT(stray.mesh.faceCount(), 300u);
+    EXPECT_EQ(stray.pointsSplatted, clean.pointsSplatted);  // the stray point is not in the map
+    EXPECT_LT(meanDegreesFromTheSphereAtUvCentroids(stray, 256), 2.0);
+}
+
+// At 1e-30 every point landed in one texel, at 1e20 none was used, and at 1e-12 or 1e15 the map
+// drifted from the in-core bake without a word: refused before any file is written, with the fix.
+TEST(OutOfCoreSimplification, ScalesTheCoresCannotComputeWithAreRefused) {
+    const Folder folder("radiance_ooc_scale");
+    for (float scale : {1e-30f, 1e-12f, 1e15f, 1e20f}) {
+        rad::TriangleMesh sphere = rad::makeIcosphere(3);
+        for (float& x : sphere.positions) x *= scale;
+        rad::OutOfCoreRequest request;
+        request.targetTriangles = 100;
+        request.textureSize = 128;
+        request.plyPath = writePly(folder.path / "scaled.ply", sphere);
+        request.outputBase = (folder.path / "out").string();
+        try {
+            rad::simplifyOutOfCore(request);
+            ADD_FAILURE() << "a sphere of radius " << scale << " was accepted";
+        } catch (const rad::BakeInputError& e) {
+            const std::string text = e.what();
+            EXPECT_TRUE(text.find("scale it up") != std::string::npos ||
+                        text.find("scale the mesh down") != std::string::npos) << text;
+        }
+        EXPECT_EQ(folder.files(), 1u) << scale;  // only the input
+    }
+}
+
+// Two runs to the same output base shared the fixed temporaries <base>_normal.png.part and
+// <base>_bake.txt.part (run A could report success with run B's files). Each run has its own: a
+// leftover at the old fixed name (a folder here, which no write can go through) is never used.
+TEST(OutOfCoreSimplification, TemporariesAreUniquePerRun) {
+    const Folder folder("radiance_ooc_temporaries");
+    rad::OutOfCoreRequest request;
+    request.plyPath = writePly(folder.path / "sphere.ply", rad::makeIcosphere(3));
+    request.targetTriangles = 100;
+    request.textureSize = 128;
+    request.bits = 8;
+    request.outputBase = (folder.path / "out").string();
+    fs::create_directory(folder.path / "out_normal.png.part");
+    fs::create_directory(folder.path / "out_bake.txt.part");
+    const rad::OutOfCoreReport report = rad::simplifyOutOfCore(request);
+    EXPECT_TRUE(fs::is_regular_file(report.normalMapFile));
+    EXPECT_TRUE(fs::is_regular_file(report.descriptionFile));
+    EXPECT_EQ(folder.files(), 5u);  // the input, the two files, the two folders: no temporary left
+}
+
 }  // namespace

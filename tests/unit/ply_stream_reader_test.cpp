@@ -303,4 +303,60 @@ TEST(PlyStreamReader, CancelStopsTheRead) {
     EXPECT_THROW(reader.read({}, {}, false, [](double, const char*) { return false; }), rad::OperationCancelled);
 }
 
+// The out-of-core job re-opened the file by path for its second pass: a file replaced or rewritten
+// in between gave a layer from one file and a map from the other, reported as success.
+TEST(PlyStreamReader, AFileReplacedOrRewrittenBetweenPassesIsRefused) {
+    const std::string path = tmpPath("replaced.ply");
+    writeBytes(path, binaryPly(false));
+    const auto count = [](PlyStreamReader& reader) {
+        std::size_t vertices = 0;
+        reader.read([&](const rad::PlyVertexChunk& c) { vertices += c.count; }, {});
+        return vertices;
+    };
+    {
+        PlyStreamReader reader(path);
+        EXPECT_EQ(count(reader), 5u);
+        writeBytes(tmpPath("replacement.ply"), binaryPly(true));  // the same mesh, another file
+        std::filesystem::rename(tmpPath("replacement.ply"), path);
+        try {
+            count(reader);
+            FAIL() << "a replaced file was read as the same one";
+        } catch (const PlyStreamError& e) {
+            EXPECT_NE(std::string(e.what()).find("the file changed while it was being read"), std::string::npos)
+                << e.what();
+        }
+    }
+    {
+        PlyStreamReader reader(path);
+        EXPECT_EQ(count(reader), 5u);
+        std::ofstream(path, std::ios::binary | std::ios::app) << "appended";  // rewritten in place
+        EXPECT_THROW(count(reader), PlyStreamError);
+    }
+}
+
+// A folder was reported as a file that "does not exist" or "is empty".
+TEST(PlyStreamReader, AFolderIsNamedAsAFolder) {
+    const std::string path = tmpPath("a_folder.ply");
+    std::filesystem::remove_all(path);
+    std::filesystem::create_directories(path);
+    try {
+        PlyStreamReader reader(path);
+        FAIL() << "a folder was opened as a PLY file";
+    } catch (const PlyStreamError& e) {
+        EXPECT_NE(std::string(e.what()).find("is a folder, not a PLY file"), std::string::npos) << e.what();
+    }
+}
+
+// One polygon with more corners than the file has vertices was fanned until memory ran out, and
+// the refusal blamed the target and the texture size.
+TEST(PlyStreamReader, APolygonWithMoreCornersThanVerticesIsRefused) {
+    std::string bytes =
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+        "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n200";
+    for (int k = 0; k < 200; ++k) bytes += " " + std::to_string(k % 3);
+    bytes += "\n";
+    const std::string message = errorOf(bytes, "many_corners.ply");
+    EXPECT_NE(message.find("face 0 has 200 corners but the file has only 3 vertices"), std::string::npos) << message;
+}
+
 }  // namespace

@@ -12,7 +12,11 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <cmath>
+#include <cstring>
 #include <set>
+#include <sstream>
+#include <string>
 
 namespace {
 
@@ -171,6 +175,173 @@ TEST_F(ProgressiveFile, RefusesTruncatedAndMismatchedFiles) {
     const std::string garbage = "not a progressive mesh\n";
     radtest::writeBytes(path, std::vector<char>(garbage.begin(), garbage.end()));
     EXPECT_THROW(rad::readProgressiveMesh(path), rad::ProgressiveMeshError);
+}
+
+// The text before end_header and the records after it.
+struct RpmParts {
+    std::string header, records;
+};
+RpmParts splitRpm(const std::string& path) {
+    const std::vector<char> bytes = radtest::readBytes(path);
+    const std::string all(bytes.begin(), bytes.end());
+    const std::size_t end = all.find("end_header\n") + std::string("end_header\n").size();
+    return {all.substr(0, end), all.substr(end)};
+}
+void joinRpm(const std::string& path, const RpmParts& parts) {
+    const std::string all = parts.header + parts.records;
+    radtest::writeBytes(path, std::vector<char>(all.begin(), all.end()));
+}
+// The same file as format version 1 wrote it: no hash lines.
+RpmParts asVersion1(RpmParts parts) {
+    std::istringstream in(parts.header);
+    std::string line, out;
+    while (std::getline(in, line)) {
+        if (line.rfind("base_hash", 0) == 0 || line.rfind("records_hash", 0) == 0) continue;
+        if (line == "format binary_little_endian 2") line = "format binary_little_endian 1";
+        out += line + "\n";
+    }
+    parts.header = out;
+    return parts;
+}
+std::string refusal(const std::string& path) {
+    try {
+        rad::readProgressiveMesh(path);
+    } catch (const rad::ProgressiveMeshError& e) {
+        return e.what();
+    }
+    return "";
+}
+constexpr std::size_t kRecord = 28;  // half-edge records: removed, survivor, faces after, xyz, cost
+
+rad::RadianceSimplificationResult simplifiedSphere() {
+    rad::RadianceSimplificationOptions options;
+    options.metric = rad::SimplificationMetric::GeometryOnly;
+    options.collapse.kind = CollapseKind::HalfEdge;  // records of kRecord bytes
+    options.collapse.targetFaceCount = 100;
+    return rad::simplifyRadianceMesh(sphereWithRadiance(2, {rad::BasisKind::HemisphericalPolynomial, 2}), options);
+}
+
+TEST_F(ProgressiveFile, OlderFilesWithoutHashesAreStillRead) {
+    const rad::RadianceSimplificationResult r = simplifiedSphere();
+    const std::string path = (dir / "old.rpm").string(), base = (dir / "old_base.rply").string();
+    rad::writeProgressiveMesh(path, base, r.progressive);
+    EXPECT_NE(splitRpm(path).header.find("base_hash fnv1a64:"), std::string::npos);
+    joinRpm(path, asVersion1(splitRpm(path)));
+    const rad::ProgressiveRadianceMesh back = rad::readProgressiveMesh(path);
+    EXPECT_EQ(back.faceCountAfter, r.progressive.faceCountAfter);
+    EXPECT_EQ(back.extract(back.steps.size() / 2).faces, r.progressive.extract(back.steps.size() / 2).faces);
+}
+
+// Corruption that looks consistent (every index in range, counts non-increasing) was replayed
+// as wrong levels: refused by the replay of the face counts (version 1) and the records' hash (2).
+TEST_F(ProgressiveFile, RefusesConsistentLookingCorruption) {
+    const rad::RadianceSimplificationResult r = simplifiedSphere();
+    const std::string path = (dir / "c.rpm").string(), base = (dir / "c_base.rply").string();
+    rad::writeProgressiveMesh(path, base, r.progressive);
+    const RpmParts good = splitRpm(path);
+    ASSERT_GT(good.records.size(), 40 * kRecord);
+    // Step 30's survivor replaced by a vertex no step removed before it (in range, alive).
+    const std::size_t at = 30 * kRecord;
+    std::uint32_t survivor, removed;
+    std::memcpy(&removed, good.records.data() + at, 4);
+    std::memcpy(&survivor, good.records.data() + at + 4, 4);
+    std::set<std::uint32_t> gone;
+    for (std::size_t i = 0; i <= 30; ++i) {
+        std::uint32_t v;
+        std::memcpy(&v, good.records.data() + i * kRecord, 4);
+        gone.insert(v);
+    }
+    std::uint32_t other = 0;
+    while (gone.count(other) || other == survivor) ++other;
+    RpmParts changed = good;
+    std::memcpy(&changed.records[at + 4], &other, 4);
+    joinRpm(path, changed);
+    EXPECT_NE(refusal(path).find("do not match their hash"), std::string::npos) << refusal(path);
+    joinRpm(path, asVersion1(changed));
+    EXPECT_NE(refusal(path).find("replaying the collapses"), std::string::npos) << refusal(path);
+
+    // Face counts rewritten, still non-increasing: every count after step 10 lowered by one.
+    RpmParts counts = asVersion1(good);
+    for (std::size_t i = 10; i < counts.records.size() / kRecord; ++i) {
+        std::uint32_t faces;
+        std::memcpy(&faces, counts.records.data() + i * kRecord + 8, 4);
+        --faces;
+        std::memcpy(&counts.records[i * kRecord + 8], &faces, 4);
+    }
+    joinRpm(path, counts);
+    EXPECT_NE(refusal(path).find("after step 10"), std::string::npos) << refusal(path);
+}
+
+TEST_F(ProgressiveFile, RefusesPositionsTheCoresCannotComputeWith) {
+    const rad::RadianceSimplificationResult r = simplifiedSphere();
+    const std::string path = (dir / "p.rpm").string(), base = (dir / "p_base.rply").string();
+    rad::writeProgressiveMesh(path, base, r.progressive);
+    for (float bad : {std::nanf(""), 1e30f}) {
+        RpmParts parts = asVersion1(splitRpm(path));
+        std::memcpy(&parts.records[5 * kRecord + 12], &bad, 4);
+        const std::string written = (dir / "p_bad.rpm").string();
+        joinRpm(written, parts);
+        // The base is named relative to the folder: the same base serves the copy.
+        EXPECT_NE(refusal(written).find("step 5 moves vertex"), std::string::npos) << refusal(written);
+    }
+}
+
+TEST_F(ProgressiveFile, AHugeStepCountIsRefusedWithoutReadingPastTheRecords) {
+    const rad::RadianceSimplificationResult r = simplifiedSphere();
+    const std::string path = (dir / "h.rpm").string(), base = (dir / "h_base.rply").string();
+    rad::writeProgressiveMesh(path, base, r.progressive);
+    RpmParts parts = asVersion1(splitRpm(path));
+    const std::string steps = "steps " + std::to_string(r.progressive.steps.size()) + "\n";
+    const std::size_t where = parts.header.find(steps);
+    ASSERT_NE(where, std::string::npos);
+    // S + 2^62 steps of 28 bytes wrap around 2^64 to exactly the bytes of S records: the old check
+    // passed and the reader read past the records.
+    const unsigned long long claimed = r.progressive.steps.size() + (1ull << 62);
+    parts.header.replace(where, steps.size(), "steps " + std::to_string(claimed) + "\n");
+    joinRpm(path, parts);
+    EXPECT_NE(refusal(path).find("truncated or padded"), std::string::npos) << refusal(path);
+}
+
+// A kill between the base's and the .rpm's renames left a new base beside an old .rpm, replayed
+// silently; a base saved again in another vertex order too. The hash of the base binds the two.
+TEST_F(ProgressiveFile, RefusesABaseOtherThanTheOneRecordedOn) {
+    const rad::RadianceSimplificationResult r = simplifiedSphere();
+    const std::string path = (dir / "b.rpm").string(), base = (dir / "b_base.rply").string();
+    rad::writeProgressiveMesh(path, base, r.progressive);
+    rad::RadianceMesh reordered = r.progressive.base;  // the same mesh, its first two vertices swapped
+    for (int k = 0; k < 3; ++k) std::swap(reordered.positions[k], reordered.positions[3 + k]);
+    for (std::uint32_t& v : reordered.faces) v = v == 0 ? 1 : v == 1 ? 0 : v;
+    if (!reordered.normals.empty())
+        for (int k = 0; k < 3; ++k) std::swap(reordered.normals[k], reordered.normals[3 + k]);
+    if (reordered.radiance) {
+        rad::RadianceField& f = *reordered.radiance;
+        const std::size_t c = f.coefficientsPerVertex();
+        std::swap_ranges(f.coefficients.begin(), f.coefficients.begin() + c, f.coefficients.begin() + c);
+        std::swap_ranges(f.frames.begin(), f.frames.begin() + 6, f.frames.begin() + 6);
+    }
+    rad::writeRadiancePly(base, reordered);
+    EXPECT_NE(refusal(path).find("was recorded on another base"), std::string::npos) << refusal(path);
+}
+
+// Refused names (a space; a folder where the .rpm goes) left `<name>_base.rply` behind: now
+// nothing is written, and the message says what to change.
+TEST_F(ProgressiveFile, ARefusedSaveLeavesNoFile) {
+    const rad::RadianceSimplificationResult r = simplifiedSphere();
+    const std::string spaced = (dir / "my mesh.rpm").string(), spacedBase = (dir / "my mesh_base.rply").string();
+    try {
+        rad::writeProgressiveMesh(spaced, spacedBase, r.progressive);
+        FAIL() << "a base name with a space accepted";
+    } catch (const rad::ProgressiveMeshError& e) {
+        EXPECT_NE(std::string(e.what()).find("without spaces"), std::string::npos) << e.what();
+    }
+    std::filesystem::create_directory(dir / "taken.rpm");
+    EXPECT_THROW(rad::writeProgressiveMesh((dir / "taken.rpm").string(), (dir / "taken_base.rply").string(),
+                                           r.progressive),
+                 rad::ProgressiveMeshError);
+    std::vector<std::string> left;
+    for (const auto& entry : std::filesystem::directory_iterator(dir))
+        if (entry.path().filename() != "taken.rpm") left.push_back(entry.path().filename().string());
+    EXPECT_TRUE(left.empty()) << left.front();
 }
 
 }  // namespace

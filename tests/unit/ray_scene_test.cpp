@@ -131,6 +131,53 @@ TEST(RayScene, EmptyIntervalsAreNeverOccludedNorHit) {
     EXPECT_FALSE(s.scene.occluded(origin, down, 0.0f, std::nanf("")));
 }
 
+// Rays Embree checks and aborts the process on (an origin beyond 1.844e18, a NaN direction) are
+// answered "nothing" by every query instead of reaching Embree (the irradiance grid at 1e14 sent an
+// origin at infinity and aborted MeshLab).
+TEST(RayScene, RaysEmbreeWouldAbortOnHitNothing) {
+    HandScene s;
+    const float nan = std::nanf("");
+    const Eigen::Vector3f farOrigin(kInf, -kInf, kInf), hugeOrigin(0.2f, 0.3f, 1e19f), down(0, 0, -1);
+    EXPECT_FALSE(s.scene.intersect(farOrigin, down, 0.0f, kInf).hit);
+    EXPECT_FALSE(s.scene.occluded(hugeOrigin, down, 0.0f, kInf));
+    EXPECT_FALSE(s.scene.occluded({0.2f, 0.3f, 1.0f}, {nan, 0, -1}, 0.0f, kInf));
+    rad::RayPacket16 packet;
+    for (int i = 0; i < 16; ++i) {
+        packet.originX[i] = 0.2f;
+        packet.originY[i] = 0.3f;
+        packet.originZ[i] = 1.0f;
+        packet.directionX[i] = packet.directionY[i] = 0.0f;
+        packet.directionZ[i] = -1.0f;
+        packet.tNear[i] = 0.0f;
+        packet.tFar[i] = kInf;
+    }
+    packet.originX[3] = kInf;
+    packet.originZ[5] = 1e19f;
+    packet.directionY[7] = nan;
+    EXPECT_EQ(s.scene.occluded16(packet, 0xffffu), 0xffffu & ~((1u << 3) | (1u << 5) | (1u << 7)));
+    rad::RayHit hits[16];
+    s.scene.intersect16(packet, 0xffffu, hits);
+    for (int i = 0; i < 16; ++i) EXPECT_EQ(hits[i].hit, i != 3 && i != 5 && i != 7) << "lane " << i;
+}
+
+// Far beyond the supported coordinate range Embree's triangle test overflows: whatever it answers,
+// a reported hit has a finite distance (a hit at t = inf put the next ray's origin at infinity).
+TEST(RayScene, HitsFarBeyondTheSupportedRangeHaveFiniteDistances) {
+    const rad::TriangleMesh unit = rad::makeIcosphere(2, 1.0f);
+    std::vector<float> positions = unit.positions;
+    for (float& x : positions) x *= 1e14f;
+    const rad::RayScene scene(positions.data(), unit.vertexCount(), unit.faces.data(), unit.faceCount());
+    std::mt19937 rng(3);
+    std::normal_distribution<float> normal;
+    for (int r = 0; r < 2000; ++r) {
+        const Eigen::Vector3f d = Eigen::Vector3f(normal(rng), normal(rng), normal(rng)).normalized();
+        const rad::RayHit hit = scene.intersect({3e13f, -2e13f, 1e13f}, d, 0.0f, kInf);
+        if (hit.hit) {
+            ASSERT_TRUE(std::isfinite(hit.distance)) << "ray " << r;
+        }
+    }
+}
+
 TEST(RayScene, MeshWithoutFacesIsAnEmptySceneThatEveryRayMisses) {
     // A point cloud (MeshLab layers may have no faces): valid input, nothing to hit.
     const std::vector<float> points = {0, 0, 0, 1, 0, 0};

@@ -1,0 +1,49 @@
+// libFuzzer harness for the progressive-mesh reader (common/simplify/progressive_mesh.h): the input is
+// a .rpm file beside a fixed base (written once by bench/fuzz/make_progressive_seeds.cpp as base.rply
+// in the fuzzing folder); every input either loads or is refused with ProgressiveMeshError (or the
+// base's RadianceFileError); nothing else may escape, and the sanitizers watch memory and undefined
+// behaviour. A file that loads must replay every level without error and with face counts that
+// never rise. Built and run by bench/fuzz_readers.sh (not part of the CMake build or of CI).
+#include "io/radiance_ply.h"
+#include "simplify/progressive_mesh.h"
+
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+namespace {
+
+bool writeFile(const std::string& path, const std::uint8_t* data, std::size_t size) {
+    std::FILE* f = std::fopen(path.c_str(), "wb");
+    if (!f) return false;
+    const bool ok = std::fwrite(data, 1, size, f) == size;
+    return std::fclose(f) == 0 && ok;
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    const char* folder = std::getenv("RPM_FUZZ_DIR");  // holds base.rply (the script sets it)
+    if (!folder) std::abort();
+    const std::string input = std::string(folder) + "/input.rpm";
+    if (!writeFile(input, data, size)) std::abort();
+    rad::ProgressiveRadianceMesh mesh;
+    try {
+        mesh = rad::readProgressiveMesh(input);
+    } catch (const rad::ProgressiveMeshError&) {
+        return 0;
+    } catch (const rad::RadianceFileError&) {
+        return 0;  // the header named another base file, which is not a radiance PLY
+    }
+    std::size_t last = mesh.baseFaceCount();
+    for (std::size_t k = 0; k <= mesh.steps.size(); k += 1 + mesh.steps.size() / 8) {
+        const rad::RadianceMesh level = mesh.extract(k);
+        if (level.faceCount() > last || !rad::validateRadianceMesh(level).empty()) {
+            std::fprintf(stderr, "level %zu of an accepted file is wrong\n", k);
+            std::abort();
+        }
+        last = level.faceCount();
+    }
+    return 0;
+}
