@@ -20,14 +20,7 @@ import sys
 import tempfile
 import time
 
-RECIPE = """[[step]]
-filter = "radiance_create_radiance_data_from_analytic_material"
-[[step]]
-filter = "radiance_radiance_aware_simplification"
-params = { targetpercentage = 0.25 }
-[output]
-format = "rply"
-"""
+from pymeshlab_radiance.recipe import EXAMPLE as RECIPE
 
 
 def make_collection(folder, count, subdiv):

@@ -31,6 +31,7 @@ import numpy as np
 import pycolmap
 import pymeshlab
 import pymeshlab_radiance  # noqa: F401  (loads our plugins)
+from pymeshlab_radiance.thumbnail import write_png
 
 IMPORT = "radiance_import_cameras_as_rasters"
 FIT = "radiance_fit_radiance_functions_from_rasters"
@@ -92,17 +93,6 @@ def read_png_rgb(path):
         out[r] = cur
         previous = cur
     return out.reshape(height, width, channels)[:, :, :3].astype(np.uint8)
-
-
-def write_png(path, rgb):
-    raw = b"".join(b"\x00" + rgb[r].tobytes() for r in range(rgb.shape[0]))
-
-    def chunk(tag, body):
-        return struct.pack(">I", len(body)) + tag + body + struct.pack(">I", zlib.crc32(tag + body) & 0xFFFFFFFF)
-
-    header = struct.pack(">IIBBBBB", rgb.shape[1], rgb.shape[0], 8, 2, 0, 0, 0)
-    with open(path, "wb") as f:
-        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(raw, 1)) + chunk(b"IEND", b""))
 
 
 def project_cameras(project):

@@ -1,33 +1,22 @@
 // libFuzzer harness for the progressive-mesh reader (common/simplify/progressive_mesh.h): the input is
-// a .rpm file beside a fixed base (written once by bench/fuzz/make_progressive_seeds.cpp as base.rply
+// a .rpm file beside a fixed base (written once by bench/fuzz/make_reader_seeds.cpp as base.rply
 // in the fuzzing folder); every input either loads or is refused with ProgressiveMeshError (or the
 // base's RadianceFileError); nothing else may escape, and the sanitizers watch memory and undefined
 // behaviour. A file that loads must replay every level without error and with face counts that
-// never rise. Built and run by bench/fuzz_readers.sh (not part of the CMake build or of CI).
+// never rise. Built by bench/fuzz/CMakeLists.txt (RADIANCE_FUZZ=ON) and run by bench/fuzz_readers.sh (not in CI).
 #include "io/radiance_ply.h"
 #include "simplify/progressive_mesh.h"
+
+#include "fuzz_input_file.h"
 
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
 
-namespace {
-
-bool writeFile(const std::string& path, const std::uint8_t* data, std::size_t size) {
-    std::FILE* f = std::fopen(path.c_str(), "wb");
-    if (!f) return false;
-    const bool ok = std::fwrite(data, 1, size, f) == size;
-    return std::fclose(f) == 0 && ok;
-}
-
-}  // namespace
-
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-    const char* folder = std::getenv("RPM_FUZZ_DIR");  // holds base.rply (the script sets it)
-    if (!folder) std::abort();
-    const std::string input = std::string(folder) + "/input.rpm";
-    if (!writeFile(input, data, size)) std::abort();
+    if (!std::getenv("RPM_FUZZ_DIR")) std::abort();  // the folder holding base.rply (the script sets it)
+    const std::string input = fuzz::writeInput("RPM_FUZZ_DIR", "input.rpm", data, size);
     rad::ProgressiveRadianceMesh mesh;
     try {
         mesh = rad::readProgressiveMesh(input);

@@ -2,8 +2,10 @@
 // or is refused with RadianceFileError; nothing else may escape, and the sanitizers watch memory and
 // undefined behaviour. A file that loads must also be saveable as it is (what the reader accepts, the
 // writer accepts: e.g. block metadata) and must read back with the same counts.
-// Built and run by bench/fuzz_radiance_ply.sh (not part of the CMake build or of CI).
+// Built by bench/fuzz/CMakeLists.txt (RADIANCE_FUZZ=ON) and run by bench/fuzz_radiance_ply.sh (not in CI).
 #include "io/radiance_ply.h"
+
+#include "fuzz_input_file.h"
 
 #include <cstdint>
 #include <cstdio>
@@ -11,34 +13,8 @@
 #include <cstring>
 #include <string>
 
-#include <unistd.h>
-
-namespace {
-
-// The reader takes a path: inputs go through a file in a private folder (tmpfs when available).
-const std::string& folder() {
-    static const std::string dir = [] {
-        const char* base = std::getenv("RPLY_FUZZ_TMP");
-        std::string d = std::string(base ? base : "/tmp") + "/rply_fuzz_" + std::to_string(getpid());
-        std::string command = "mkdir -p '" + d + "'";
-        if (std::system(command.c_str()) != 0) std::abort();
-        return d;
-    }();
-    return dir;
-}
-
-bool writeFile(const std::string& path, const std::uint8_t* data, std::size_t size) {
-    std::FILE* f = std::fopen(path.c_str(), "wb");
-    if (!f) return false;
-    const bool ok = std::fwrite(data, 1, size, f) == size;
-    return std::fclose(f) == 0 && ok;
-}
-
-}  // namespace
-
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-    const std::string input = folder() + "/input.rply";
-    if (!writeFile(input, data, size)) std::abort();
+    const std::string input = fuzz::writeInput("RPLY_FUZZ_TMP", "input.rply", data, size);
     rad::RadianceMesh mesh;
     try {
         mesh = rad::readRadiancePly(input);
@@ -52,7 +28,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         std::fprintf(stderr, "loaded a mesh the writer refuses: %s\n", problem.c_str());
         std::abort();
     }
-    const std::string copy = folder() + "/copy.rply";
+    const std::string copy = fuzz::workFolder("RPLY_FUZZ_TMP") + "/copy.rply";
     rad::writeRadiancePly(copy, mesh);
     const rad::RadianceMesh back = rad::readRadiancePly(copy);
     if (back.vertexCount() != mesh.vertexCount() || back.faces != mesh.faces ||

@@ -140,15 +140,37 @@ std::string trim(const std::string& s) {
     return s.substr(a, s.find_last_not_of(" \t\r\n") - a + 1);
 }
 
+// The data lines of a COLMAP text model, trimmed: blank lines and '#' comments are skipped, and each
+// line knows where it is ("'path', line N") for the messages.
+class TextModelLines {
+public:
+    explicit TextModelLines(const std::string& path) : path_(path), in_(slurp(path)) {}
+    bool next(std::string& line) {
+        for (std::string raw; std::getline(in_, raw);) {
+            ++number_;
+            line = trim(raw);
+            if (!line.empty() && line[0] != '#') return true;
+        }
+        return false;
+    }
+    // Consumes the next line whatever it holds (an image's observations line may be empty).
+    void skipRawLine() {
+        std::string raw;
+        if (std::getline(in_, raw)) ++number_;
+    }
+    std::string where() const { return "'" + path_ + "', line " + std::to_string(number_); }
+
+private:
+    std::string path_;
+    std::istringstream in_;
+    int number_ = 0;
+};
+
 std::map<std::uint32_t, ColmapCamera> readCamerasText(const std::string& path) {
-    std::istringstream in(slurp(path));
+    TextModelLines lines(path);
     std::map<std::uint32_t, ColmapCamera> cameras;
-    int lineNumber = 0;
-    for (std::string line; std::getline(in, line);) {
-        ++lineNumber;
-        line = trim(line);
-        if (line.empty() || line[0] == '#') continue;
-        const std::string where = "'" + path + "', line " + std::to_string(lineNumber);
+    for (std::string line; lines.next(line);) {
+        const std::string where = lines.where();
         const std::vector<std::string> t = tokens(line);
         if (t.size() < 4)
             throw CameraFileError(where + ": expected CAMERA_ID MODEL WIDTH HEIGHT PARAMS...; the file is not a COLMAP "
@@ -224,14 +246,10 @@ std::vector<ImportedCamera> readImagesBinary(const std::string& path, const std:
 }
 
 std::vector<ImportedCamera> readImagesText(const std::string& path, const std::map<std::uint32_t, ColmapCamera>& cameras) {
-    std::istringstream in(slurp(path));
+    TextModelLines lines(path);
     std::vector<ImportedCamera> out;
-    int lineNumber = 0;
-    for (std::string line; std::getline(in, line);) {
-        ++lineNumber;
-        line = trim(line);
-        if (line.empty() || line[0] == '#') continue;
-        const std::string where = "'" + path + "', line " + std::to_string(lineNumber);
+    for (std::string line; lines.next(line);) {
+        const std::string where = lines.where();
         // IMAGE_ID QW QX QY QZ TX TY TZ CAMERA_ID NAME; the name is the rest of the line.
         std::istringstream fields(line);
         std::string t[9];
@@ -248,8 +266,7 @@ std::vector<ImportedCamera> readImagesText(const std::string& path, const std::m
         const double cameraId = number(t[8], where);
         out.push_back(makeCamera(cameras, std::uint32_t(cameraId), name, q, tr, where));
         // Every image line is followed by its observations' line (possibly empty), as COLMAP reads it.
-        std::getline(in, line);
-        ++lineNumber;
+        lines.skipRawLine();
     }
     return out;
 }

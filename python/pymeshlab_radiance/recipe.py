@@ -1,12 +1,5 @@
-"""Batch recipes: an ordered list of pymeshlab filters with their parameters, and what to save.
-
-    [[step]]
-    filter = "radiance_create_radiance_data_from_analytic_material"
-    [[step]]
-    filter = "radiance_radiance_aware_simplification"
-    params = { targetpercentage = 0.25 }
-    [output]
-    format = "rply"
+"""Batch recipes: an ordered list of pymeshlab filters with their parameters, and what to save
+(``EXAMPLE`` below: radiance from an analytic material, then a simplification to a quarter).
 
 Parameter values are TOML values passed to ``MeshSet.apply_filter`` as they are (enumerations by
 their index), except: a string ending in ``%`` (``"0.5%"``) becomes ``pymeshlab.PercentageValue``, a
@@ -28,7 +21,19 @@ try:
 except ImportError:  # Python 3.10
     import tomli as tomllib
 
-__all__ = ["RecipeError", "Recipe", "load_recipe", "parse_recipe", "expand_value"]
+# A whole recipe: radiance from an analytic material on the input mesh, simplified to a quarter of its
+# triangles, saved as a radiance PLY (the documentation's example; the tests and the throughput
+# benchmark run it).
+EXAMPLE = """[[step]]
+filter = "radiance_create_radiance_data_from_analytic_material"
+[[step]]
+filter = "radiance_radiance_aware_simplification"
+params = { targetpercentage = 0.25 }
+[output]
+format = "rply"
+"""
+
+__all__ = ["EXAMPLE", "RecipeError", "Recipe", "load_recipe", "parse_recipe", "expand_value"]
 
 
 class RecipeError(ValueError):

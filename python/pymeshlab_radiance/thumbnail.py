@@ -105,20 +105,22 @@ def _splat(image, xy, z, rgb):
 
 
 def png_bytes(rgba):
-    """An 8-bit RGBA PNG (filter 0 on every row, zlib level 6)."""
+    """An 8-bit PNG of an (H, W, 4) RGBA or (H, W, 3) RGB array (filter 0 on every row, zlib level 6)."""
     rgba = np.ascontiguousarray(rgba, dtype=np.uint8)
-    height, width = rgba.shape[:2]
+    height, width, channels = rgba.shape
+    if channels not in (3, 4):
+        raise ValueError("a PNG image needs 3 (RGB) or 4 (RGBA) channels, not %d" % channels)
     raw = b"".join(b"\x00" + rgba[y].tobytes() for y in range(height))
 
     def chunk(kind, data):
         return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
 
-    header = struct.pack(">IIBBBBB", width, height, 8, 6, 0, 0, 0)
+    header = struct.pack(">IIBBBBB", width, height, 8, 6 if channels == 4 else 2, 0, 0, 0)
     return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b"")
 
 
 def write_png(path, rgba):
-    """Writes the PNG to a unique temporary beside `path`, then renames it over `path`."""
+    """Writes the PNG (RGBA or RGB, see png_bytes) to a unique temporary beside `path`, then renames it over `path`."""
     write_atomically(path, png_bytes(rgba))
 
 

@@ -20,16 +20,8 @@ import pytest
 
 import pymeshlab_test_helpers as h
 from pymeshlab_radiance import batch_job, rply
+from pymeshlab_radiance.recipe import EXAMPLE as RECIPE
 
-RECIPE = """
-[[step]]
-filter = "radiance_create_radiance_data_from_analytic_material"
-[[step]]
-filter = "radiance_radiance_aware_simplification"
-params = { targetpercentage = 0.25 }
-[output]
-format = "rply"
-"""
 SCANS = [f"scan{i:02d}.ply" for i in range(12)]
 SPHERE_FACES = 1280  # create_sphere(subdiv=3): 20 * 4^3
 

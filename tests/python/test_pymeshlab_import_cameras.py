@@ -19,6 +19,7 @@ import pycolmap
 import pymeshlab
 import pymeshlab_radiance  # noqa: F401  (loads our plugins into pymeshlab)
 import pytest
+from pymeshlab_radiance.thumbnail import write_png
 
 import pymeshlab_test_helpers as h
 
@@ -66,21 +67,6 @@ def draw_spots(centres):
     v, u = np.mgrid[0:HEIGHT, 0:WIDTH] + 0.5
     code = np.round(h.srgb_encode(spots(centres, u, v))).astype(np.uint8)
     return np.repeat(code[:, :, None], 3, axis=2)
-
-
-def write_png(path, rgb):
-    """A minimal PNG writer (zlib, filter 0) so the test needs no imaging library."""
-    import struct
-    import zlib
-
-    raw = b"".join(b"\x00" + rgb[r].tobytes() for r in range(rgb.shape[0]))
-
-    def chunk(tag, data):
-        return struct.pack(">I", len(data)) + tag + data + struct.pack(">I", zlib.crc32(tag + data) & 0xFFFFFFFF)
-
-    header = struct.pack(">IIBBBBB", rgb.shape[1], rgb.shape[0], 8, 2, 0, 0, 0)
-    with open(path, "wb") as f:
-        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
 
 
 def make_capture(folder, models=CAMERAS):

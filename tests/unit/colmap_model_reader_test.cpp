@@ -4,6 +4,7 @@
 // origin at the top-left corner) and refusals.
 #include "cameras/camera_file.h"
 #include "cameras/colmap_model_reader.h"
+#include "test_support.h"
 
 #include <gtest/gtest.h>
 
@@ -132,12 +133,7 @@ TEST(ColmapModelReader, BinaryModel) {
 }
 
 std::string refusal(const std::string& path) {
-    try {
-        rad::readCameraFile(path);
-    } catch (const rad::CameraFileError& e) {
-        return e.what();
-    }
-    return "";
+    return radtest::refusalMessage<rad::CameraFileError>([&] { rad::readCameraFile(path); });
 }
 
 TEST(ColmapModelReader, RefusesUnsupportedAndUnknownModelsByName) {

@@ -4,6 +4,7 @@
 // sensors; disabled and unaligned cameras skipped and counted; refusals.
 #include "cameras/camera_file.h"
 #include "cameras/metashape_xml_reader.h"
+#include "test_support.h"
 
 #include <gtest/gtest.h>
 
@@ -99,12 +100,7 @@ TEST(MetashapeXmlReader, ProjectsThroughChunkAndCameraTransformsWithMetashapesLe
 }
 
 std::string refusal(const std::string& path) {
-    try {
-        rad::readCameraFile(path);
-    } catch (const rad::CameraFileError& e) {
-        return e.what();
-    }
-    return "";
+    return radtest::refusalMessage<rad::CameraFileError>([&] { rad::readCameraFile(path); });
 }
 
 TEST(MetashapeXmlReader, RefusesBadFiles) {

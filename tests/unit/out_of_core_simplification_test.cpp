@@ -40,6 +40,17 @@ std::string writePly(const fs::path& path, const rad::TriangleMesh& mesh) {
     return path.string();
 }
 
+// A request over `mesh` written as <folder>/<name>.ply, with outputs at <folder>/<name>_*.
+rad::OutOfCoreRequest requestFor(const Folder& folder, const std::string& name, const rad::TriangleMesh& mesh,
+                                 std::size_t targetTriangles, int textureSize) {
+    rad::OutOfCoreRequest request;
+    request.plyPath = writePly(folder.path / (name + ".ply"), mesh);
+    request.targetTriangles = targetTriangles;
+    request.textureSize = textureSize;
+    request.outputBase = (folder.path / name).string();
+    return request;
+}
+
 // Mean angle, in degrees, between the written map at each face's UV centroid and the unit sphere's
 // normal at the face's centroid (the direction from the centre); infinite when the map's size is
 // not `size`.
@@ -65,11 +76,8 @@ double meanDegreesFromTheSphereAtUvCentroids(const rad::OutOfCoreReport& report,
 
 TEST(OutOfCoreSimplification, SphereFileGivesASimplifiedMeshAndAMap) {
     const Folder folder("radiance_ooc_sphere");
-    rad::OutOfCoreRequest request;
-    request.plyPath = writePly(folder.path / "sphere.ply", rad::makeIcosphere(5));  // 20,480 triangles
-    request.targetTriangles = 500;
-    request.textureSize = 256;
-    request.outputBase = (folder.path / "out").string();
+    // A level-5 icosphere: 20,480 triangles.
+    const rad::OutOfCoreRequest request = requestFor(folder, "sphere", rad::makeIcosphere(5), 500, 256);
     const rad::OutOfCoreReport report = rad::simplifyOutOfCore(request);
     EXPECT_FALSE(report.normalsFromFile);
     EXPECT_EQ(report.read.trianglesEmitted, 20480u);
@@ -83,7 +91,7 @@ TEST(OutOfCoreSimplification, SphereFileGivesASimplifiedMeshAndAMap) {
     // The map at each face's UV centroid is the sphere's normal at the face's centroid (within the
     // faceting of the points' normals: area-weighted normals of a level-5 icosphere).
     EXPECT_LT(meanDegreesFromTheSphereAtUvCentroids(report, 256), 2.0);
-    EXPECT_EQ(folder.files(), 3u);  // sphere.ply, out_normal.png, out_bake.txt: no temporary left
+    EXPECT_EQ(folder.files(), 3u);  // sphere.ply, sphere_normal.png, sphere_bake.txt: no temporary left
 }
 
 // Gutter 0 packs the atlas's triangles edge to edge: 64^2 texels hold 288 triangles (cells of 5
@@ -91,11 +99,7 @@ TEST(OutOfCoreSimplification, SphereFileGivesASimplifiedMeshAndAMap) {
 // baked with 0; no texel is covered by two triangles, and the map still gives the sphere's normals.
 TEST(OutOfCoreSimplification, GutterZeroFitsTwiceAsManyTrianglesWithoutSharedTexels) {
     const Folder folder("radiance_ooc_gutter0");
-    rad::OutOfCoreRequest request;
-    request.plyPath = writePly(folder.path / "sphere.ply", rad::makeIcosphere(5));
-    request.targetTriangles = 200;
-    request.textureSize = 64;
-    request.outputBase = (folder.path / "out").string();
+    rad::OutOfCoreRequest request = requestFor(folder, "sphere", rad::makeIcosphere(5), 200, 64);
     request.gutterTexels = 1;
     EXPECT_THROW(rad::simplifyOutOfCore(request), rad::BakeInputError);
     request.gutterTexels = -1;
@@ -131,11 +135,7 @@ TEST(OutOfCoreSimplification, GutterZeroFitsTwiceAsManyTrianglesWithoutSharedTex
 
 TEST(OutOfCoreSimplification, RefusalsAndCancelLeaveNoFile) {
     const Folder folder("radiance_ooc_refusals");
-    rad::OutOfCoreRequest request;
-    request.plyPath = writePly(folder.path / "sphere.ply", rad::makeIcosphere(3));
-    request.targetTriangles = 100;
-    request.textureSize = 128;
-    request.outputBase = (folder.path / "out").string();
+    const rad::OutOfCoreRequest request = requestFor(folder, "sphere", rad::makeIcosphere(3), 100, 128);
 
     rad::OutOfCoreRequest badSize = request;
     badSize.textureSize = 100;
@@ -160,16 +160,9 @@ TEST(OutOfCoreSimplification, RefusalsAndCancelLeaveNoFile) {
 TEST(OutOfCoreSimplification, AnUnreferencedFarVertexChangesNothing) {
     const Folder folder("radiance_ooc_stray");
     rad::TriangleMesh sphere = rad::makeIcosphere(4);
-    rad::OutOfCoreRequest request;
-    request.targetTriangles = 400;
-    request.textureSize = 256;
-    request.plyPath = writePly(folder.path / "clean.ply", sphere);
-    request.outputBase = (folder.path / "clean").string();
-    const rad::OutOfCoreReport clean = rad::simplifyOutOfCore(request);
+    const rad::OutOfCoreReport clean = rad::simplifyOutOfCore(requestFor(folder, "clean", sphere, 400, 256));
     sphere.positions.insert(sphere.positions.end(), {1e6f, 0.0f, 0.0f});
-    request.plyPath = writePly(folder.path / "stray.ply", sphere);
-    request.outputBase = (folder.path / "stray").string();
-    const rad::OutOfCoreReport stray = rad::simplifyOutOfCore(request);
+    const rad::OutOfCoreReport stray = rad::simplifyOutOfCore(requestFor(folder, "stray", sphere, 400, 256));
     EXPECT_EQ(stray.mesh.faceCount(), clean.mesh.faceCount());
     EXPECT_GT(stray.mesh.faceCount(), 300u);
     EXPECT_EQ(stray.pointsSplatted, clean.pointsSplatted);  // the stray point is not in the map
@@ -183,11 +176,7 @@ TEST(OutOfCoreSimplification, ScalesTheCoresCannotComputeWithAreRefused) {
     for (float scale : {1e-30f, 1e-12f, 1e15f, 1e20f}) {
         rad::TriangleMesh sphere = rad::makeIcosphere(3);
         for (float& x : sphere.positions) x *= scale;
-        rad::OutOfCoreRequest request;
-        request.targetTriangles = 100;
-        request.textureSize = 128;
-        request.plyPath = writePly(folder.path / "scaled.ply", sphere);
-        request.outputBase = (folder.path / "out").string();
+        const rad::OutOfCoreRequest request = requestFor(folder, "scaled", sphere, 100, 128);
         try {
             rad::simplifyOutOfCore(request);
             ADD_FAILURE() << "a sphere of radius " << scale << " was accepted";
@@ -205,12 +194,8 @@ TEST(OutOfCoreSimplification, ScalesTheCoresCannotComputeWithAreRefused) {
 // leftover at the old fixed name (a folder here, which no write can go through) is never used.
 TEST(OutOfCoreSimplification, TemporariesAreUniquePerRun) {
     const Folder folder("radiance_ooc_temporaries");
-    rad::OutOfCoreRequest request;
-    request.plyPath = writePly(folder.path / "sphere.ply", rad::makeIcosphere(3));
-    request.targetTriangles = 100;
-    request.textureSize = 128;
+    rad::OutOfCoreRequest request = requestFor(folder, "out", rad::makeIcosphere(3), 100, 128);
     request.bits = 8;
-    request.outputBase = (folder.path / "out").string();
     fs::create_directory(folder.path / "out_normal.png.part");
     fs::create_directory(folder.path / "out_bake.txt.part");
     const rad::OutOfCoreReport report = rad::simplifyOutOfCore(request);

@@ -102,6 +102,17 @@ inline void addGrid(rad::TriangleMesh& mesh, int n, float lo = -1.0f, float hi =
         }
 }
 
+// The message of the Error that call() throws, or "" when it returns: for tests of refusals.
+template <class Error, class Call>
+std::string refusalMessage(Call&& call) {
+    try {
+        call();
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
 // Whole files as bytes (for tests that truncate or corrupt files).
 inline std::vector<char> readBytes(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
