@@ -99,6 +99,27 @@ def test_mean_colour_toggle_and_exposure(scenes, tmp_path):
     assert np.abs(half[mask] - rf[mask]).max() > 40, "exposure had no effect"
 
 
+def test_served_on_loopback(scenes, tmp_path):
+    """Without --output / --screenshot the viewer is served on 127.0.0.1: the page and the model."""
+    import urllib.request
+
+    ms = create(scenes("sphere", level=1), 0, 1)
+    ms.apply_filter(EXPORT, outputfile=str(tmp_path / "p.glb"))
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([os.path.join(h.REPO, "python"), os.environ.get("PYTHONPATH", "")]))
+    server = subprocess.Popen([sys.executable, "-m", "pymeshlab_radiance.view", str(tmp_path / "p.glb"), "--no-browser"],
+                              stdout=subprocess.PIPE, text=True, env=env)
+    try:
+        line = server.stdout.readline()
+        assert line.startswith("Radiance viewer at http://127.0.0.1:"), line
+        url = line.split()[3]
+        page = urllib.request.urlopen(url, timeout=30).read().decode()
+        assert "webgl2" in page and '"model": "/model.glb"' in page
+        assert urllib.request.urlopen(url + "model.glb", timeout=30).read() == (tmp_path / "p.glb").read_bytes()
+    finally:
+        server.terminate()
+        server.wait(30)
+
+
 def test_standalone_page_and_refusals(scenes, tmp_path):
     ms = create(scenes("sphere", level=1), 1, 1)
     ms.apply_filter(EXPORT, outputfile=str(tmp_path / "s.glb"))
