@@ -160,11 +160,20 @@ def screenshot(model, png_path, size, camera=None, exposure=1.0, mean_color=Fals
                "--ignore-gpu-blocklist", "--no-first-run", "--disable-extensions", "--mute-audio",
                f"--user-data-dir={profile}", f"--window-size={width},{height}",
                "--remote-debugging-port=0", server.url]
-    process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    log = tempfile.TemporaryFile()
+    process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=log)
     try:
-        if not server.received.wait(timeout):
-            raise ViewerError(f"Chromium sent no picture within {timeout} s; try a smaller --size or a simpler mesh")
+        deadline = time.monotonic() + timeout
+        while not server.received.wait(0.5):
+            if process.poll() is not None:  # Chromium ended without posting: say why
+                log.seek(0)
+                tail = log.read().decode("utf-8", "replace").strip().splitlines()[-5:]
+                raise ViewerError(f"Chromium exited (status {process.returncode}) without a picture: "
+                                  + " | ".join(tail))
+            if time.monotonic() > deadline:
+                raise ViewerError(f"Chromium sent no picture within {timeout} s; try a smaller --size or a simpler mesh")
     finally:
+        log.close()
         process.terminate()
         try:
             process.wait(10)

@@ -205,3 +205,25 @@ def test_refusals_write_nothing(scenes, tmp_path):
     h.expect_refusal(ms, EXPORT, "does not end in .glb", outputfile=str(tmp_path / "x.gltf"))
     h.expect_refusal(ms, EXPORT, "none given", outputfile="")
     assert os.listdir(tmp_path) == []
+
+
+def test_command_line_export(scenes, tmp_path):
+    """meshlab-radiance export: the same file as the filter, and a refusal on stderr with status 1."""
+    import sys
+
+    ms = create(scenes("sphere", level=1), 1, 2)
+    ms.save_current_mesh(str(tmp_path / "s.rply"))
+    ms.apply_filter(EXPORT, outputfile=str(tmp_path / "direct.glb"))
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([os.path.join(h.REPO, "python"), os.environ.get("PYTHONPATH", "")]))
+
+    def cli(*args):
+        return subprocess.run([sys.executable, "-m", "pymeshlab_radiance", "export", *map(str, args)],
+                              capture_output=True, text=True, timeout=300, env=env)
+
+    run = cli(tmp_path / "s.rply", "-o", tmp_path / "cli.glb")
+    assert run.returncode == 0, run.stdout + run.stderr
+    a, blob_a = load_glb(tmp_path / "direct.glb")
+    b, blob_b = load_glb(tmp_path / "cli.glb")
+    assert blob_a == blob_b, "the command line's file differs from the filter's"
+    run = cli(tmp_path / "s.rply", "-o", tmp_path / "missing" / "x.glb")
+    assert run.returncode == 1 and "does not exist" in run.stderr, run.stderr
