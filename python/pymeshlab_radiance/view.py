@@ -159,7 +159,7 @@ def screenshot(model, png_path, size, camera=None, exposure=1.0, mean_color=Fals
                "--use-gl=angle", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
                "--ignore-gpu-blocklist", "--no-first-run", "--disable-extensions", "--mute-audio",
                f"--user-data-dir={profile}", f"--window-size={width},{height}",
-               "--remote-debugging-port=0", server.url]
+               server.url]
     log = tempfile.TemporaryFile()
     process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=log)
     try:
@@ -173,13 +173,13 @@ def screenshot(model, png_path, size, camera=None, exposure=1.0, mean_color=Fals
             if time.monotonic() > deadline:
                 raise ViewerError(f"Chromium sent no picture within {timeout} s; try a smaller --size or a simpler mesh")
     finally:
-        log.close()
         process.terminate()
         try:
             process.wait(10)
         except subprocess.TimeoutExpired:
             process.kill()
             process.wait()
+        log.close()
         server.close()
         shutil.rmtree(profile, ignore_errors=True)
     result = server.result
