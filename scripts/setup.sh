@@ -38,6 +38,7 @@ APT_PACKAGES=(
   python3                      # small test helpers (image comparison, PLY checks)
   python3-opencv               # scripts/calibrate_chessboard.py: calibrates OpenCV's chessboard photographs
   blender                      # tests/blender: Blender's MikkTSpace tangents and glTF import, headless
+  chromium                     # the web viewer's --screenshot and its tests (headless, SwiftShader WebGL2)
 )
 
 apt_missing() {
@@ -164,7 +165,8 @@ log "MeshLab 2025.07 source tree: $MESHLAB2025_DIR ($(cat "$MESHLAB2025_DIR/ML_V
 # pycolmap (COLMAP's own model writer and camera models: tests/python/test_pymeshlab_import_cameras.py),
 # tqdm (the command line's progress bars), Dask distributed (`meshlab-radiance batch`: the local
 # cluster and its tests), matplotlib (PNG and SVG plots of the main job and the benchmarks; the
-# package's extra `plots`) and the package builder; our package is installed into it by
+# package's extra `plots`), meshoptimizer (bench/gltf_compression.py: what quantisation and meshopt
+# compression would save on a radiance .glb) and the package builder; our package is installed into it by
 # scripts/test.sh and the main job.
 VENV="$BUILD_DIR/python-venv"
 if [ ! -x "$VENV/bin/python" ]; then
@@ -173,7 +175,7 @@ if [ ! -x "$VENV/bin/python" ]; then
   python3 -m venv "$VENV"
 fi
 "$VENV/bin/python" -m pip install -q --disable-pip-version-check 'pymeshlab==2025.7.post1' 'numpy>=1.21' pytest pygltflib pycolmap \
-  'tqdm>=4.60' 'dask[distributed]>=2023.1' 'matplotlib>=3.5' 'scikit-build-core>=0.8' 2>&1 | grep -v "is ignored" || true
+  'tqdm>=4.60' 'dask[distributed]>=2023.1' 'matplotlib>=3.5' 'scikit-build-core>=0.8' meshoptimizer 2>&1 | grep -v "is ignored" || true
 "$VENV/bin/python" -c "import pymeshlab" || { echo "[setup] pymeshlab does not import in $VENV" >&2; exit 1; }
 
 if [ "${SKIP_DATA:-0}" != "1" ]; then

@@ -2,9 +2,13 @@
 // renderer (render/radiance_renderer.h), optionally against a photograph.
 //
 //   render_radiance MESH.rply --project project.mlp --view K -o out.png
+//   render_radiance MESH.rply --look-at EX,EY,EZ,TX,TY,TZ,UX,UY,UZ --fov HFOV --size WxH -o out.png
 //                   [--mode vertex|fragment] [--supersampling N] [--exposure E]
 //                   [--background R,G,B] [--compare PHOTO|raster] [--side-by-side FILE.png]
 //
+// --look-at / --fov / --size: a camera without a project (rad::PinholeCamera::lookAt: horizontal field
+//   of view in degrees, principal point at the centre), the camera syntax of the web viewer
+//   (python -m pymeshlab_radiance.view --screenshot), so that both render the same view.
 // --mode: Vanhoey et al. 2015 sec. 5 per-vertex ("Gouraud-like") or eq. (8) per-fragment shading [fragment].
 // --compare: the photograph to compare with; "raster" takes the image of raster K of the project.
 //   Prints RMSE and PSNR (render/image_metrics.h) in 8-bit sRGB and linear units over the pixels
@@ -28,6 +32,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "command_line.h"
 
@@ -39,6 +44,8 @@ using radtools::toNumber;
 
 void usage(std::ostream& out) {
     out << "usage: render_radiance MESH.rply --project project.mlp --view K -o out.png [options]\n"
+           "       render_radiance MESH.rply --look-at EX,EY,EZ,TX,TY,TZ,UX,UY,UZ [--fov HFOV] --size WxH -o out.png\n"
+           "  --look-at, --fov, --size  camera from eye, target, up; horizontal fov in degrees [40]; image size\n"
            "  --mode vertex|fragment   per-vertex (Vanhoey et al. 2015 sec. 5) or per-fragment eq. (8) shading [fragment]\n"
            "  --supersampling N        N x N rays per pixel [2]\n"
            "  --exposure E             linear scale before sRGB encoding [1]\n"
@@ -53,8 +60,23 @@ void printErrors(const char* what, const rad::ImageErrors& e) {
                 e.pixelCount, e.rmseSrgb8, e.psnrSrgb8, e.rmseLinear, e.psnrLinear);
 }
 
+// The camera of --look-at EX,EY,EZ,TX,TY,TZ,UX,UY,UZ --fov HFOV --size WxH.
+rad::PinholeCamera lookAtCamera(const std::string& lookAt, double fov, const std::string& size) {
+    std::vector<double> v;
+    std::stringstream in(lookAt);
+    for (std::string item; std::getline(in, item, ',');) v.push_back(toNumber("--look-at", item));
+    if (v.size() != 9) throw UsageError("--look-at needs 9 numbers: eye, target, up");
+    const std::size_t x = size.find('x');
+    if (x == std::string::npos) throw UsageError("--size needs WIDTHxHEIGHT, e.g. 640x480");
+    const int width = toInt("--size", size.substr(0, x)), height = toInt("--size", size.substr(x + 1));
+    if (width < 1 || height < 1) throw UsageError("--size must be positive");
+    if (!(fov > 0.0 && fov < 179.0)) throw UsageError("--fov must lie in (0, 179) degrees");
+    return rad::PinholeCamera::lookAt({v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, fov, width, height);
+}
+
 int run(int argc, char** argv) {
-    std::string meshPath, projectPath, output, compare, sideBySide, mode = "fragment";
+    std::string meshPath, projectPath, output, compare, sideBySide, mode = "fragment", lookAt, size;
+    double fov = 40.0;
     int view = -1, supersampling = 2;
     double exposure = 1.0;
     Eigen::Vector3d background = Eigen::Vector3d::Zero();
@@ -73,6 +95,9 @@ int run(int argc, char** argv) {
         const std::string v = argv[++i];
         if (a == "-o" || a == "--output") output = v;
         else if (a == "--project") projectPath = v;
+        else if (a == "--look-at") lookAt = v;
+        else if (a == "--fov") fov = toNumber(a, v);
+        else if (a == "--size") size = v;
         else if (a == "--view") view = toInt(a, v);
         else if (a == "--mode") mode = v;
         else if (a == "--supersampling") supersampling = toInt(a, v);
@@ -91,7 +116,8 @@ int run(int argc, char** argv) {
         } else throw UsageError("unknown option '" + a + "'");
     }
     if (meshPath.empty()) throw UsageError("no mesh given");
-    if (projectPath.empty()) throw UsageError("no project given (--project project.mlp)");
+    if (projectPath.empty() == lookAt.empty())
+        throw UsageError("give one camera: --project project.mlp --view K, or --look-at ... --size WxH");
     if (output.empty()) throw UsageError("no output image (-o out.png)");
     if (mode != "vertex" && mode != "fragment") throw UsageError("--mode must be vertex or fragment, got '" + mode + "'");
     if (!sideBySide.empty() && compare.empty()) throw UsageError("--side-by-side needs --compare");
@@ -99,12 +125,18 @@ int run(int argc, char** argv) {
 
     using Clock = std::chrono::steady_clock;
     const auto t0 = Clock::now();
-    const rad::MeshLabProject project = rad::readMeshLabProject(projectPath);
-    if (view < 0 || view >= static_cast<int>(project.rasters.size()))
-        throw UsageError("--view must lie in 0.." + std::to_string(static_cast<int>(project.rasters.size()) - 1) +
-                         " (the project has " + std::to_string(project.rasters.size()) + " rasters)");
-    const rad::ProjectRaster& raster = project.rasters[view];
-    const rad::PinholeCamera camera = rad::fromVcgCamera(raster.camera);
+    rad::ProjectRaster raster;
+    if (!projectPath.empty()) {
+        const rad::MeshLabProject project = rad::readMeshLabProject(projectPath);
+        if (view < 0 || view >= static_cast<int>(project.rasters.size()))
+            throw UsageError("--view must lie in 0.." + std::to_string(static_cast<int>(project.rasters.size()) - 1) +
+                             " (the project has " + std::to_string(project.rasters.size()) + " rasters)");
+        raster = project.rasters[view];
+    } else {
+        raster.label = "look-at";
+    }
+    const rad::PinholeCamera camera =
+        projectPath.empty() ? lookAtCamera(lookAt, fov, size) : rad::fromVcgCamera(raster.camera);
 
     const rad::RadianceMesh mesh = rad::readRadiancePly(meshPath);
     if (!mesh.radiance) throw std::runtime_error(meshPath + " has no radiance data (fit or create it first)");

@@ -3,6 +3,8 @@
 // PNG images; the JSON refers to them by byte offset.
 #include "io/gltf_writer.h"
 
+#include "io/glb_container.h"
+
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -70,48 +72,6 @@ std::vector<std::uint32_t> splitCorners(const GltfMesh& m, std::vector<std::size
     return index;
 }
 
-class Binary {
-public:
-    // Appends `bytes` at a 4-byte boundary; returns the offset.
-    std::size_t append(const void* bytes, std::size_t size) {
-        while (data_.size() % 4) data_.push_back(0);
-        const std::size_t offset = data_.size();
-        data_.insert(data_.end(), static_cast<const unsigned char*>(bytes), static_cast<const unsigned char*>(bytes) + size);
-        return offset;
-    }
-    std::vector<unsigned char>& data() { return data_; }
-
-private:
-    std::vector<unsigned char> data_;
-};
-
-std::string number(double v) {
-    char text[40];
-    std::snprintf(text, sizeof text, "%.9g", v);
-    return text;
-}
-
-std::string jsonString(const std::string& s) {
-    std::string out = "\"";
-    for (unsigned char ch : s) {
-        if (ch == '"' || ch == '\\') {
-            out += '\\';
-            out += char(ch);
-        } else if (ch < 0x20) {
-            char escaped[8];
-            std::snprintf(escaped, sizeof escaped, "\\u%04x", ch);
-            out += escaped;
-        } else {
-            out += char(ch);
-        }
-    }
-    return out + "\"";
-}
-
-void appendLittleEndian32(std::vector<unsigned char>& out, std::uint32_t v) {
-    for (int k = 0; k < 4; ++k) out.push_back(static_cast<unsigned char>((v >> (8 * k)) & 0xffu));
-}
-
 }  // namespace
 
 std::size_t gltfVertexCount(const GltfMesh& mesh) {
@@ -156,21 +116,12 @@ std::vector<unsigned char> buildGlb(const GltfMesh& m) {
         }
     }
 
-    Binary bin;
-    struct View {
-        std::size_t offset, length;
-        int target;  // 0: none (images)
-    };
-    std::vector<View> views;
-    const auto addView = [&](const void* bytes, std::size_t size, int target) {
-        views.push_back({bin.append(bytes, size), size, target});
-        return views.size() - 1;
-    };
-    const std::size_t positionView = addView(position.data(), position.size() * 4, 34962);
-    const std::size_t normalView = addView(normal.data(), normal.size() * 4, 34962);
-    const std::size_t uvView = addView(uv.data(), uv.size() * 4, 34962);
-    const std::size_t tangentView = withTangents ? addView(tangent.data(), tangent.size() * 4, 34962) : 0;
-    const std::size_t indexView = addView(indices.data(), indices.size() * 4, 34963);
+    GlbBinary bin;
+    const std::size_t positionView = bin.addView(position.data(), position.size() * 4, 34962);
+    const std::size_t normalView = bin.addView(normal.data(), normal.size() * 4, 34962);
+    const std::size_t uvView = bin.addView(uv.data(), uv.size() * 4, 34962);
+    const std::size_t tangentView = withTangents ? bin.addView(tangent.data(), tangent.size() * 4, 34962) : 0;
+    const std::size_t indexView = bin.addView(indices.data(), indices.size() * 4, 34963);
     struct Texture {
         const char* role;
         std::size_t view;
@@ -179,9 +130,7 @@ std::vector<unsigned char> buildGlb(const GltfMesh& m) {
     for (const auto& [role, png] : {std::pair<const char*, const std::vector<unsigned char>*>{"normal", &m.normalTexturePng},
                                     {"baseColor", &m.baseColorTexturePng},
                                     {"metallicRoughness", &m.metallicRoughnessTexturePng}})
-        if (!png->empty()) textures.push_back({role, addView(png->data(), png->size(), 0)});
-    std::vector<unsigned char>& binary = bin.data();
-    while (binary.size() % 4) binary.push_back(0);
+        if (!png->empty()) textures.push_back({role, bin.addView(png->data(), png->size(), 0)});
 
     // JSON.
     std::ostringstream j;
@@ -192,21 +141,15 @@ std::vector<unsigned char> buildGlb(const GltfMesh& m) {
       << (withTangents ? 4 : 3) << ",\"material\":0,\"mode\":4}]}],";
     j << "\"accessors\":[";
     j << "{\"bufferView\":" << positionView << ",\"componentType\":5126,\"count\":" << n << ",\"type\":\"VEC3\",\"min\":["
-      << number(lo[0]) << "," << number(lo[1]) << "," << number(lo[2]) << "],\"max\":[" << number(hi[0]) << ","
-      << number(hi[1]) << "," << number(hi[2]) << "]},";
+      << jsonNumber(lo[0]) << "," << jsonNumber(lo[1]) << "," << jsonNumber(lo[2]) << "],\"max\":[" << jsonNumber(hi[0]) << ","
+      << jsonNumber(hi[1]) << "," << jsonNumber(hi[2]) << "]},";
     j << "{\"bufferView\":" << normalView << ",\"componentType\":5126,\"count\":" << n << ",\"type\":\"VEC3\"},";
     j << "{\"bufferView\":" << uvView << ",\"componentType\":5126,\"count\":" << n << ",\"type\":\"VEC2\"},";
     if (withTangents)
         j << "{\"bufferView\":" << tangentView << ",\"componentType\":5126,\"count\":" << n << ",\"type\":\"VEC4\"},";
     j << "{\"bufferView\":" << indexView << ",\"componentType\":5125,\"count\":" << indices.size()
       << ",\"type\":\"SCALAR\"}],";
-    j << "\"bufferViews\":[";
-    for (std::size_t i = 0; i < views.size(); ++i) {
-        j << (i ? "," : "") << "{\"buffer\":0,\"byteOffset\":" << views[i].offset << ",\"byteLength\":" << views[i].length;
-        if (views[i].target) j << ",\"target\":" << views[i].target;
-        j << "}";
-    }
-    j << "],\"buffers\":[{\"byteLength\":" << binary.size() << "}]";
+    j << bin.viewsJson();
     int normalIndex = -1, baseColorIndex = -1, metallicRoughnessIndex = -1;
     if (!textures.empty()) {
         j << ",\"samplers\":[{\"magFilter\":9729,\"minFilter\":9987,\"wrapS\":33071,\"wrapT\":33071}],\"images\":[";
@@ -224,28 +167,14 @@ std::vector<unsigned char> buildGlb(const GltfMesh& m) {
     j << ",\"materials\":[{\"name\":" << jsonString(m.name + " material") << ",\"pbrMetallicRoughness\":{";
     if (baseColorIndex >= 0) j << "\"baseColorTexture\":{\"index\":" << baseColorIndex << "},";
     if (metallicRoughnessIndex >= 0) j << "\"metallicRoughnessTexture\":{\"index\":" << metallicRoughnessIndex << "},";
-    j << "\"metallicFactor\":" << number(m.metallicFactor) << ",\"roughnessFactor\":" << number(m.roughnessFactor) << "}";
+    j << "\"metallicFactor\":" << jsonNumber(m.metallicFactor) << ",\"roughnessFactor\":" << jsonNumber(m.roughnessFactor) << "}";
     if (normalIndex >= 0) j << ",\"normalTexture\":{\"index\":" << normalIndex << "}";
     j << "}]}";
-    std::string json = j.str();
-    while (json.size() % 4) json += ' ';  // JSON chunk padding: spaces (sec. 4.4.3.2)
-
-    const std::uint64_t total = 12 + 8 + json.size() + 8 + binary.size();
-    if (total > 0xffffffffull)
-        throw GltfInputError("The glTF file would be " + std::to_string(total >> 20) +
-                             " MiB, beyond the format's 4 GiB: bake smaller maps or simplify the mesh further.");
-    std::vector<unsigned char> out;
-    out.reserve(std::size_t(total));
-    appendLittleEndian32(out, 0x46546C67u);  // "glTF"
-    appendLittleEndian32(out, 2);
-    appendLittleEndian32(out, std::uint32_t(total));
-    appendLittleEndian32(out, std::uint32_t(json.size()));
-    appendLittleEndian32(out, 0x4E4F534Au);  // "JSON"
-    out.insert(out.end(), json.begin(), json.end());
-    appendLittleEndian32(out, std::uint32_t(binary.size()));
-    appendLittleEndian32(out, 0x004E4942u);  // "BIN\0"
-    out.insert(out.end(), binary.begin(), binary.end());
-    return out;
+    try {
+        return assembleGlb(j.str(), bin.bytes(), "bake smaller maps or simplify the mesh further.");
+    } catch (const std::length_error& e) {
+        throw GltfInputError(e.what());
+    }
 }
 
 }  // namespace rad

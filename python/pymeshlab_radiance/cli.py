@@ -4,6 +4,8 @@
     meshlab-radiance simplify fit.rply -o fit_25.rply --percentage 0.25
     meshlab-radiance bake scan.ply coarse.ply -o coarse_baked.ply --size 1024
     meshlab-radiance info fit_25.rply
+    meshlab-radiance export fit_25.rply -o fit_25.glb
+    meshlab-radiance view fit_25.glb --screenshot fit_25.png
     meshlab-radiance filters
     meshlab-radiance batch recipe.toml scans/ out/ --workers 2
 
@@ -27,6 +29,7 @@ PROG = "meshlab-radiance"
 FIT = "radiance_fit_radiance_functions_from_rasters"
 SIMPLIFY = "radiance_radiance_aware_simplification"
 BAKE = "bake_normal_map"
+EXPORT_GLTF = "radiance_export_gltf"
 
 EXAMPLES = {
     "fit": f"""example (photographs of a sphere made by the repository's tool, then the fit):
@@ -49,6 +52,15 @@ the scan has vertex colours), the LEAN moments (coarse_baked_lean.exr) and coars
   {PROG} info fit_25.rply scan.ply
 prints vertices, faces, bounding box and vertex colours as pymeshlab loads them, and for .rply
 files the radiance basis and its coefficients (read with pymeshlab_radiance.rply).""",
+    "export": f"""example:
+  {PROG} export fit.rply -o fit.glb
+writes the radiance mesh as glTF 2.0 (docs/gltf-radiance.md): every glTF viewer shows the mean colour
+(COLOR_0); {PROG} view fit.glb shows the view-dependent radiance.""",
+    "view": f"""examples:
+  {PROG} view fit.glb                       serve the viewer on 127.0.0.1 and open a browser
+  {PROG} view fit.glb --output fit.html     one standalone page, the model inside
+  {PROG} view fit.glb --screenshot fit.png --look-at 0,0,3,0,0,0,0,1,0 --fov 40 --size 640x480
+the same as python -m pymeshlab_radiance.view.""",
     "filters": f"""example:
   {PROG} filters --ours
 lists the Python names pymeshlab knows once our plugins are loaded (the names recipes use).""",
@@ -202,6 +214,31 @@ def cmd_info(args):
     return status
 
 
+def cmd_export(args):
+    from .batch_job import run_job
+
+    output = os.path.abspath(args.output)
+    job = {"meshes": [_existing(args.input, "the input")], "steps": [{"filter": EXPORT_GLTF, "params": {"outputfile": output}}],
+           "output_path": None}
+    result = run_job(job, timeout=args.timeout)
+    if result["status"] != "done":
+        print(f"{PROG} export: {result.get('message', 'failed')}", file=sys.stderr)
+        return 1
+    for step in result.get("steps", []):
+        for line in step.get("log", []):
+            print(f"{step['filter']}: {line}")
+    return 0
+
+
+def cmd_view(args):
+    from . import view
+    try:
+        return view.run(args)
+    except view.ViewerError as e:
+        print(f"{PROG} view: {e}", file=sys.stderr)
+        return 1
+
+
 def cmd_filters(args):
     from .batch_job import run_job
 
@@ -270,6 +307,17 @@ def build_parser():
     p.add_argument("meshes", nargs="+", help="mesh files")
     p.add_argument("--timeout", type=float, default=600, help="seconds to load one file")
     p.set_defaults(run=cmd_info)
+
+    p = command("export", "write a radiance mesh as glTF 2.0 (.glb) with its radiance functions")
+    p.add_argument("input", help="the mesh with radiance functions (.rply)")
+    p.add_argument("-o", "--output", required=True, help="the .glb to write")
+    p.add_argument("--timeout", type=float, default=600, help="seconds the job may run")
+    p.set_defaults(run=cmd_export)
+
+    from .view import add_arguments as add_view_arguments
+    p = command("view", "show a .glb's radiance functions in a browser (WebGL2), or render a screenshot")
+    add_view_arguments(p)
+    p.set_defaults(run=cmd_view)
 
     p = command("filters", "list the filters pymeshlab knows with our plugins loaded")
     p.add_argument("--ours", action="store_true", help="only this package's filters")

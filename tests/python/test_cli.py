@@ -16,7 +16,7 @@ except ImportError:  # Python 3.10
 from pymeshlab_radiance import cli, rply
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-COMMANDS = ("fit", "simplify", "bake", "info", "filters", "batch")
+COMMANDS = ("fit", "simplify", "bake", "info", "export", "view", "filters", "batch")
 
 
 def meshlab_radiance(*args, timeout=120):

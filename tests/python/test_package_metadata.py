@@ -90,3 +90,13 @@ def test_licence_and_typing_marker_ship_with_the_package():
     assert "LICENSE" in project["tool"]["scikit-build"]["wheel"]["license-files"]
     assert os.path.isfile(os.path.join(_PACKAGE, "py.typed"))
     assert set(project["project"]["optional-dependencies"]) >= {"test", "plots"}
+
+
+def test_the_web_viewer_ships_with_the_package():
+    """python -m pymeshlab_radiance.view needs its page inside the package folder (which the wheel's
+    wheel.packages copies whole), with the markers view.py fills in."""
+    page = os.path.join(_PACKAGE, "viewer", "viewer.html")
+    assert os.path.isfile(page)
+    with open(page, encoding="utf-8") as f:
+        text = f.read()
+    assert "webgl2" in text and "/*CONFIG*/{}/*END*/" in text and "<!--MODEL-->" in text

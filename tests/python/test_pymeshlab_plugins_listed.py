@@ -26,6 +26,7 @@ EXPECTED_PARAMETERS = {
     h.CREATE: ["basis", "degree", "reflected", "albedo", "specularColor", "specular", "shininess", "stripes",
                "stripeAxis", "lightType", "light", "lightIntensity", "ambient", "setColor"],
     h.EVALUATE: ["viewpoint", "exposure"],
+    h.EXPORT_GLTF: ["outputFile"],
     h.FIT: ["visibleOnly", "basis", "degree", "regularization", "depthTolerance", "grazingAngle", "borderMargin",
             "minSamples", "reflected", "quality", "setColor", "validation", "robust", "exposureCompensation",
             "fitModel", "heldOutEvery"],
@@ -76,6 +77,7 @@ def recorded_script(scenes, tmp_path_factory):
     ms = h.load(scenes("sphere", level=2))
     ms.apply_filter(h.CREATE, degree=2)
     ms.apply_filter(h.EVALUATE)
+    ms.apply_filter(h.EXPORT_GLTF, outputfile=str(work / "radiance.glb"))
     ms.apply_filter(h.SIMPLIFY, targetpercentage=0.5)
     ms.apply_filter(h.TRANSFER, order=3, rays=16)
     ms.apply_filter(h.UNIFORM, budget=0, budgetfactor=4)
