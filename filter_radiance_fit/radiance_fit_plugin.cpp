@@ -5,6 +5,7 @@ RadianceFitPlugin::RadianceFitPlugin() {
     addFilter(radml::makeCreateAnalyticRadianceFilter());
     addFilter(radml::makeRadianceToVertexColorFilter());
     addFilter(radml::makeImportCamerasFilter());
+    addFilter(radml::makeTransferGaussianSplatsFilter());
 }
 
 MESHLAB_PLUGIN_NAME_EXPORTER(RadianceFitPlugin)

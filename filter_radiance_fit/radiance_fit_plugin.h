@@ -1,6 +1,7 @@
 // Radiance data onto a layer (Vanhoey et al. 2015): fitted from calibrated photographs (raster
 // layers), created from an analytic material, and evaluated toward a viewpoint as vertex colours;
-// and the calibrated photographs themselves, imported from COLMAP, Metashape or nerfstudio.
+// the calibrated photographs themselves, imported from COLMAP, Metashape or nerfstudio; and the
+// view-dependent colour of a 3D Gaussian Splatting scene, transferred onto the vertices.
 // One filter per file; this class only registers them with the host.
 #pragma once
 
@@ -11,6 +12,7 @@ std::unique_ptr<Filter> makeFitFromRastersFilter();
 std::unique_ptr<Filter> makeCreateAnalyticRadianceFilter();
 std::unique_ptr<Filter> makeRadianceToVertexColorFilter();
 std::unique_ptr<Filter> makeImportCamerasFilter();
+std::unique_ptr<Filter> makeTransferGaussianSplatsFilter();
 }  // namespace radml
 
 class RadianceFitPlugin : public radml::FilterPluginBase {

@@ -11,7 +11,8 @@ for name in "Radiance: Create Radiance Data from Analytic Material" \
             "Extract Level of Detail (POP Buffer)" \
             "Out-of-Core Simplification and Normal Map" \
             "Compute Irradiance Vector Grid" \
-            "Import Cameras as Raster Layers"; do
+            "Import Cameras as Raster Layers" \
+            "Radiance: Transfer Radiance from Gaussian Splats"; do
     grep -qF "$name" "$WORK/dump.txt" || fail "filter '$name' missing from meshlabserver -d"
 done
 # Help text, with the paper it implements.
