@@ -58,6 +58,7 @@ _FILTERS: Sequence[str] = (
     "out_of_core_simplification_and_normal_map",
     "compute_irradiance_vector_grid",
     "radiance_import_cameras_as_rasters",
+    "radiance_transfer_gaussian_splats",
 )
 
 
