@@ -192,17 +192,32 @@ Layout findLayout(const Header& header, std::size_t& vertexElement, const std::s
     return layout;
 }
 
-double decodeBinary(const unsigned char* p, const std::string& type, bool swap) {
+enum class Scalar { Int8, Uint8, Int16, Uint16, Int32, Uint32, Float32, Float64 };
+
+Scalar scalarKind(const std::string& type) {
+    if (type == "float" || type == "float32") return Scalar::Float32;
+    if (type == "double" || type == "float64") return Scalar::Float64;
+    if (type == "char" || type == "int8") return Scalar::Int8;
+    if (type == "uchar" || type == "uint8") return Scalar::Uint8;
+    if (type == "short" || type == "int16") return Scalar::Int16;
+    if (type == "ushort" || type == "uint16") return Scalar::Uint16;
+    if (type == "int" || type == "int32") return Scalar::Int32;
+    return Scalar::Uint32;
+}
+
+double decodeBinary(const unsigned char* p, Scalar kind, int bytes, bool swap) {
     unsigned char b[8];
-    const int n = scalarBytes(type);
-    for (int i = 0; i < n; ++i) b[i] = swap ? p[n - 1 - i] : p[i];
-    if (type == "float" || type == "float32") { float v; std::memcpy(&v, b, 4); return v; }
-    if (type == "double" || type == "float64") { double v; std::memcpy(&v, b, 8); return v; }
-    if (type == "char" || type == "int8") { std::int8_t v; std::memcpy(&v, b, 1); return v; }
-    if (type == "uchar" || type == "uint8") return b[0];
-    if (type == "short" || type == "int16") { std::int16_t v; std::memcpy(&v, b, 2); return v; }
-    if (type == "ushort" || type == "uint16") { std::uint16_t v; std::memcpy(&v, b, 2); return v; }
-    if (type == "int" || type == "int32") { std::int32_t v; std::memcpy(&v, b, 4); return v; }
+    for (int i = 0; i < bytes; ++i) b[i] = swap ? p[bytes - 1 - i] : p[i];
+    switch (kind) {
+    case Scalar::Float32: { float v; std::memcpy(&v, b, 4); return v; }
+    case Scalar::Float64: { double v; std::memcpy(&v, b, 8); return v; }
+    case Scalar::Int8: { std::int8_t v; std::memcpy(&v, b, 1); return v; }
+    case Scalar::Uint8: return b[0];
+    case Scalar::Int16: { std::int16_t v; std::memcpy(&v, b, 2); return v; }
+    case Scalar::Uint16: { std::uint16_t v; std::memcpy(&v, b, 2); return v; }
+    case Scalar::Int32: { std::int32_t v; std::memcpy(&v, b, 4); return v; }
+    case Scalar::Uint32: break;
+    }
     std::uint32_t v;
     std::memcpy(&v, b, 4);
     return v;
@@ -229,12 +244,14 @@ struct RecordReader {
     const Element& vertex;
     Encoding encoding;
     std::vector<std::size_t> offsets;  // binary: byte offset of each property in a record
+    std::vector<Scalar> kinds;
     std::size_t recordBytes = 0;
 
     RecordReader(const Element& v, Encoding e) : vertex(v), encoding(e) {
         std::size_t offset = 0;
         for (const Property& p : vertex.properties) {
             offsets.push_back(offset);
+            kinds.push_back(scalarKind(p.type));
             offset += p.bytes;
         }
         recordBytes = offset;
@@ -305,7 +322,7 @@ GaussianSplats readGaussianSplatPly(const std::string& path, const ProgressCallb
             } else {
                 const unsigned char* record = bytes.data() + (s - first) * reader.recordBytes;
                 for (std::size_t i = 0; i < propertyCount; ++i)
-                    values[i] = decodeBinary(record + reader.offsets[i], vertex.properties[i].type, swap);
+                    values[i] = decodeBinary(record + reader.offsets[i], reader.kinds[i], vertex.properties[i].bytes, swap);
             }
             // 3b. Every value the transfer uses must be finite (a diverged training leaves NaN).
             auto take = [&](int property) {

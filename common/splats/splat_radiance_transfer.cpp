@@ -20,11 +20,22 @@
 namespace rad {
 namespace {
 
-// The hemisphere rule the per-vertex fit samples (precision 23: 194 sphere points, ~100 on the
-// hemisphere, six times the 16 coefficients of SH3).
-constexpr int kFitPrecision = 23;
+// The hemisphere rule the per-vertex fit samples (precision 17: the upper half of the 110-point
+// sphere rule, over three times the 16 coefficients of SH3; precision 23 gave the same errors in
+// splat_radiance_transfer_test at twice the cost).
+constexpr int kFitPrecision = 17;
 // Tikhonov weight of the fit (relative, radiance_projection.h): only a guard on conditioning.
 constexpr double kFitLambda = 1e-6;
+
+// An upper bound of |Y_k| over the sphere for our real SH of bands 0..3: sqrt(2) sqrt((2l+1) / (4 pi))
+// (the complex Y_l^m are bounded by sqrt((2l+1) / (4 pi)); the real ones are sqrt(2) times a real or
+// imaginary part). Only used to prove that a splat's colour never needs the clamp at 0.
+const double kShBound[16] = {0.28209479177387814,
+                             0.690988298942671, 0.690988298942671, 0.690988298942671,
+                             0.892062058076386, 0.892062058076386, 0.892062058076386, 0.892062058076386,
+                             0.892062058076386,
+                             1.055502061411188, 1.055502061411188, 1.055502061411188, 1.055502061411188,
+                             1.055502061411188, 1.055502061411188, 1.055502061411188};
 
 // A splat kept for the transfer, in the form the per-vertex loop needs.
 struct KeptSplat {
@@ -169,7 +180,7 @@ SplatTransferResult transferSplatRadiance(const std::vector<float>& positions, c
 #pragma omp parallel
     {
         std::vector<std::uint32_t> near;
-        std::vector<double> weights, coefficients;
+        std::vector<double> weights, clamped, clampedWeights, blended(3 * k);
         std::vector<RadianceSample> samples(rule.size());
         std::vector<double> basisValues(k), fitted(3 * k);
 #pragma omp for schedule(dynamic, 64)
@@ -202,24 +213,46 @@ SplatTransferResult transferSplatRadiance(const std::vector<float>& positions, c
                 loop.itemDone(omp_get_thread_num() == 0);
                 continue;
             }
-            // 3b. The near splats' coefficients as functions of our viewer direction.
-            coefficients.resize(near.size() * 3 * k);
+            // 3b. The near splats' coefficients as functions of our viewer direction. A splat whose colour
+            // cannot go below 0 in any direction (DC part minus a bound of the other bands) is never
+            // clamped, so its weighted coefficients are summed once; only the others are evaluated,
+            // and clamped, one by one at every direction. Both give the same C(w).
+            std::fill(blended.begin(), blended.end(), 0.0);
+            double blendedOffset = 0.0;
+            clamped.clear();
+            clampedWeights.clear();
             for (std::size_t i = 0; i < near.size(); ++i) {
                 used[near[i]].store(1, std::memory_order_relaxed);
                 const float* sh = splats.sh.data() + std::size_t(kept[near[i]].index) * 3 * k;
-                for (int c = 0; c < 3; ++c) toViewerShCoefficients(degree, sh + c * k, coefficients.data() + (i * 3 + c) * k);
+                double converted[3 * 16];
+                bool neverNegative = true;
+                for (int c = 0; c < 3; ++c) {
+                    toViewerShCoefficients(degree, sh + c * k, converted + c * k);
+                    double bound = 0.0;
+                    for (int j = 1; j < k; ++j) bound += std::fabs(converted[c * k + j]) * kShBound[j];
+                    if (converted[c * k] * kSplatShC0 + kSplatColorOffset - bound < 0.0) neverNegative = false;
+                }
+                if (neverNegative) {
+                    for (int j = 0; j < 3 * k; ++j) blended[j] += weights[i] * converted[j];
+                    blendedOffset += weights[i] * kSplatColorOffset;
+                } else {
+                    clamped.insert(clamped.end(), converted, converted + 3 * k);
+                    clampedWeights.push_back(weights[i]);
+                }
             }
             // 3c. The blended, decoded colour at every hemisphere point.
             for (std::size_t q = 0; q < rule.size(); ++q) {
                 const Eigen::Vector3d w = frame.toWorld(Eigen::Vector3d(rule.x[q], rule.y[q], rule.z[q]));
                 evaluateSphericalHarmonics(degree, w.x(), w.y(), w.z(), basisValues.data());
-                Eigen::Vector3d display = Eigen::Vector3d::Zero();
-                for (std::size_t i = 0; i < near.size(); ++i)
+                Eigen::Vector3d display = Eigen::Vector3d::Constant(blendedOffset);
+                for (int c = 0; c < 3; ++c)
+                    for (int j = 0; j < k; ++j) display[c] += blended[c * k + j] * basisValues[j];
+                for (std::size_t i = 0; i < clampedWeights.size(); ++i)
                     for (int c = 0; c < 3; ++c) {
-                        const double* a = coefficients.data() + (i * 3 + c) * k;
+                        const double* a = clamped.data() + (i * 3 + c) * k;
                         double sum = kSplatColorOffset;
                         for (int j = 0; j < k; ++j) sum += a[j] * basisValues[j];
-                        display[c] += weights[i] * std::max(0.0, sum);
+                        display[c] += clampedWeights[i] * std::max(0.0, sum);
                     }
                 display /= total;
                 samples[q].direction = w;

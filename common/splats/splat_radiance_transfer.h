@@ -18,7 +18,7 @@
 // mean of the splats' colours, each clamped at 0 as the rasteriser does,
 //     C(w) = sum_i a_i max(0, S_i(w) + 0.5) / sum_i a_i      (S_i: splat_radiance_conventions.h),
 // its linear radiance L(w) = sRGB-decode(clamp(C(w), 0, 1)), and the RF is the least-squares fit of L
-// over the hemisphere (a Lebedev hemisphere rule of precision 23, quadrature weights; the RF is
+// over the hemisphere (a Lebedev hemisphere rule of precision 17, quadrature weights; the RF is
 // evaluated border-extended below the horizon, so only the hemisphere matters). A vertex no splat
 // reaches gets the zero RF (black) and is counted.
 #pragma once
