@@ -87,11 +87,12 @@ Eigen::Vector4f quaternionOfFrame(const Eigen::Vector3d& t, const Eigen::Vector3
     return Eigen::Vector4f(float(q.w()), float(q.x()), float(q.y()), float(q.z()));
 }
 
-// The splat scene of the known field on the unit sphere: flat splats tangent to the surface, their
+// The splat scene of the known field on and near the unit sphere: flat splats tangent to the surface, their
 // 3DGS coefficients fitted (least squares over 400 directions) so that the reference rasteriser's
 // colour seen from direction w is the sRGB encoding of the known radiance toward w.
 std::vector<RefSplat> splatsOfKnownField(const KnownField& field, int count, unsigned seed) {
     std::mt19937 rng(seed);
+    std::normal_distribution<double> offset;
     const std::vector<Eigen::Vector3d> dirs = fibonacciSphere(400);
     // Design matrix: B(i, k) = Y3dgs_k(-w_i) (camera-to-splat direction is -w for a viewer toward w).
     Eigen::MatrixXd design(dirs.size(), 16);
@@ -106,7 +107,9 @@ std::vector<RefSplat> splatsOfKnownField(const KnownField& field, int count, uns
     for (RefSplat& s : splats) {
         const Eigen::Vector3d n = radtest::randomUnit(rng);
         const Eigen::Vector3d t = n.unitOrthogonal(), b = n.cross(t);
-        s.position = n.cast<float>();
+        // On or near the surface: centres off the sphere by a normal offset of standard deviation
+        // 0.005 (a tenth of the mesh's edge), as trained splats scatter about a surface.
+        s.position = (n * (1.0 + 0.005 * offset(rng))).cast<float>();
         Eigen::MatrixXd display(dirs.size(), 3);
         for (std::size_t i = 0; i < dirs.size(); ++i) {
             const Eigen::Vector3d linear = field(n, dirs[i]);
@@ -164,9 +167,9 @@ TEST(SplatRadianceTransfer, KnownRadianceComesBackWithinThreeLevels) {
     std::printf("known field: mean-colour error %.2f levels (worst %.0f), directional %.2f levels, %.1f splats per vertex\n",
                 meanError, worstMean, directionalError,
                 double(std::accumulate(result.splatCount.begin(), result.splatCount.end(), 0.0)) / n);
-    // The target is 3 levels of mean colour. Measured: 0.17 (mean colour) and 0.16 (toward
+    // The target is 3 levels of mean colour. Measured: 0.16 (mean colour) and 0.16 (toward
     // directions); the same scene with the direction flip left out of the conversion (only the
-    // Condon-Shortley phase undone) gives 2.75 and 6.46, so the directional bound is 1 level.
+    // Condon-Shortley phase undone) gives 2.75 and 6.47, so the directional bound is 1 level.
     EXPECT_LE(meanError, 3.0);
     EXPECT_LE(directionalError, 1.0);
 }
