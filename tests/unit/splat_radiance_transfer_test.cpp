@@ -239,6 +239,35 @@ TEST(SplatRadianceTransfer, WeightsAreOpacityTimesTheWidenedGaussian) {
     EXPECT_NEAR(r.weightSum[0], wa + wb, 1e-5);
 }
 
+TEST(SplatRadianceTransfer, EachSplatIsClampedAtZeroBeforeTheBlend) {
+    // Two equal splats at vertex 0: A shows 0.3 + 0.6 w_x (negative for w_x < -0.5, so the rasteriser
+    // clamps it there), B a constant 0.7. The vertex's mean colour is the hemisphere mean of
+    // decode(0.5 max(0, 0.3 + 0.6 w_x) + 0.35), computed here by brute force; without the clamp it
+    // would be measurably different.
+    const Square square;
+    const double c0 = 0.28209479177387814, c1 = 0.4886025119029199;
+    RefSplat a = constantSplat({0, 0, 0}), b = constantSplat({0, 0, 0});
+    for (int c = 0; c < 3; ++c) {
+        // 3DGS: value(d) = C0 g0 - C1 x_d g3 + ...; with d = -w, -C1 (-w_x) g3 = C1 w_x g3.
+        a.sh[c] = {float(-0.2 / c0), 0.0f, 0.0f, float(0.6 / c1)};
+        b.sh[c] = {float(0.2 / c0), 0.0f, 0.0f, 0.0f};
+    }
+    const std::string path = tmp("clamp.ply");
+    splattest::writeSplatPly(path, {a, b}, 1);
+    const rad::SplatTransferResult r =
+        rad::transferSplatRadiance(square.positions, square.normals, square.faces, rad::readGaussianSplatPly(path));
+    const Eigen::Vector3d n(0, 0, 1);
+    const double clamped = radtest::bruteHemisphere(n, 64, 128, [](const Eigen::Vector3d& w) {
+        return splattest::referenceSrgbDecode(0.5 * std::max(0.0, 0.3 + 0.6 * w.x()) + 0.35);
+    });
+    const double unclamped = radtest::bruteHemisphere(n, 64, 128, [](const Eigen::Vector3d& w) {
+        return splattest::referenceSrgbDecode(0.5 * (0.3 + 0.6 * w.x()) + 0.35);
+    });
+    std::printf("clamp test: transferred %.5f, clamped %.5f, unclamped %.5f\n", r.meanColor[0], clamped, unclamped);
+    EXPECT_NEAR(r.meanColor[0], clamped, 1e-3);
+    EXPECT_GT(std::fabs(clamped - unclamped), 5e-3);
+}
+
 TEST(SplatRadianceTransfer, SplatsBehindTheSurfaceOrTooLargeAreLeftOut) {
     const Square square;
     // Below vertex 0's tangent plane by 2 footprints: behind; a huge splat: larger than 10 % of the
