@@ -6,6 +6,7 @@ RadianceFitPlugin::RadianceFitPlugin() {
     addFilter(radml::makeRadianceToVertexColorFilter());
     addFilter(radml::makeImportCamerasFilter());
     addFilter(radml::makeExportGltfFilter());
+    addFilter(radml::makeTransferGaussianSplatsFilter());
 }
 
 MESHLAB_PLUGIN_NAME_EXPORTER(RadianceFitPlugin)

@@ -59,6 +59,7 @@ _FILTERS: Sequence[str] = (
     "compute_irradiance_vector_grid",
     "radiance_import_cameras_as_rasters",
     "radiance_export_gltf",
+    "radiance_transfer_gaussian_splats",
 )
 
 

@@ -3,6 +3,7 @@
     meshlab-radiance fit mesh.ply project.mlp -o fit.rply --degree 4
     meshlab-radiance simplify fit.rply -o fit_25.rply --percentage 0.25
     meshlab-radiance bake scan.ply coarse.ply -o coarse_baked.ply --size 1024
+    meshlab-radiance splats mesh.ply point_cloud.ply -o mesh.rply
     meshlab-radiance info fit_25.rply
     meshlab-radiance export fit_25.rply -o fit_25.glb
     meshlab-radiance view fit_25.glb --screenshot fit_25.png
@@ -30,6 +31,7 @@ FIT = "radiance_fit_radiance_functions_from_rasters"
 SIMPLIFY = "radiance_radiance_aware_simplification"
 BAKE = "bake_normal_map"
 EXPORT_GLTF = "radiance_export_gltf"
+SPLATS = "radiance_transfer_gaussian_splats"
 
 EXAMPLES = {
     "fit": f"""example (photographs of a sphere made by the repository's tool, then the fit):
@@ -48,6 +50,11 @@ at 50 % and 10 % into the progressive file; -p NAME=VALUE passes any other param
 writes coarse_baked.ply with its texture coordinates, coarse_baked_normal.png, the diffuse map (when
 the scan has vertex colours), the LEAN moments (coarse_baked_lean.exr) and coarse_baked.glb; -p NAME=VALUE passes any other parameter of {BAKE}
 (e.g. -p space=1 for tangent space, -p bits=1 for 8 bit).""",
+    "splats": f"""example (a 3D Gaussian Splatting scene's view-dependent colour onto a mesh in its frame):
+  {PROG} splats mesh.ply output/point_cloud/iteration_30000/point_cloud.ply -o mesh.rply
+gives every vertex an SH radiance function of the splats' degree and its mean colour; -p NAME=VALUE
+passes any other parameter of {SPLATS} (e.g. -p maxsplatsize=5 -p fronttolerance=2); see
+docs/gaussian-splats.md.""",
     "info": f"""example:
   {PROG} info fit_25.rply scan.ply
 prints vertices, faces, bounding box and vertex colours as pymeshlab loads them, and for .rply
@@ -184,6 +191,13 @@ def cmd_bake(args):
     return _run_steps(args, meshes, [{"filter": BAKE, "params": params}], output)[0]
 
 
+def cmd_splats(args):
+    params = {"splatfile": _existing(args.splats, "the splat file")}
+    params.update(_params(args.param))
+    return _run_steps(args, [_existing(args.mesh, "the mesh")], [{"filter": SPLATS, "params": params}],
+                      args.output)[0]
+
+
 def cmd_info(args):
     from .batch_job import run_job
 
@@ -302,6 +316,13 @@ def build_parser():
     p.add_argument("--gltf", action="store_true", help="also write a glTF 2.0 .glb beside the map")
     _add_job_options(p)
     p.set_defaults(run=cmd_bake)
+
+    p = command("splats", "transfer a 3D Gaussian Splatting scene's radiance onto a mesh's vertices")
+    p.add_argument("mesh", help="the mesh, in the splats' coordinate frame")
+    p.add_argument("splats", help="the 3DGS .ply (reference trainer's point_cloud.ply or SuperSplat's export)")
+    p.add_argument("-o", "--output", required=True, help="the mesh with its radiance functions (.rply)")
+    _add_job_options(p)
+    p.set_defaults(run=cmd_splats)
 
     p = command("info", "what a mesh file holds: counts, bounding box, colours, radiance basis")
     p.add_argument("meshes", nargs="+", help="mesh files")

@@ -12,7 +12,8 @@ for name in "Radiance: Create Radiance Data from Analytic Material" \
             "Out-of-Core Simplification and Normal Map" \
             "Compute Irradiance Vector Grid" \
             "Import Cameras as Raster Layers" \
-            "Radiance: Export Radiance Functions as glTF (.glb)"; do
+            "Radiance: Export Radiance Functions as glTF (.glb)" \
+            "Radiance: Transfer Radiance from Gaussian Splats"; do
     grep -qF "$name" "$WORK/dump.txt" || fail "filter '$name' missing from meshlabserver -d"
 done
 # Help text, with the paper it implements.

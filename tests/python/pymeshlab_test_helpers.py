@@ -41,8 +41,9 @@ FILTERS = {
     "Compute Irradiance Vector Grid": "compute_irradiance_vector_grid",
     # Named by issue 29 (the plugin overrides pythonFilterName): not MeshLab's derived name.
     "Import Cameras as Raster Layers": "radiance_import_cameras_as_rasters",
-    # Named by issue 30 (pythonName override).
+    # Named by issue 30 (pythonFilterName overrides).
     "Radiance: Export Radiance Functions as glTF (.glb)": "radiance_export_gltf",
+    "Radiance: Transfer Radiance from Gaussian Splats": "radiance_transfer_gaussian_splats",
 }
 CREATE = FILTERS["Radiance: Create Radiance Data from Analytic Material"]
 EVALUATE = FILTERS["Radiance: Evaluate Radiance toward a Viewpoint as Vertex Color"]
@@ -58,6 +59,7 @@ OUT_OF_CORE = FILTERS["Out-of-Core Simplification and Normal Map"]
 IRRADIANCE_GRID = FILTERS["Compute Irradiance Vector Grid"]
 IMPORT_CAMERAS = FILTERS["Import Cameras as Raster Layers"]
 EXPORT_GLTF = FILTERS["Radiance: Export Radiance Functions as glTF (.glb)"]
+SPLATS = FILTERS["Radiance: Transfer Radiance from Gaussian Splats"]
 
 # The plugin files the package must load (the 2025 builds of build/pymeshlab_plugins).
 PLUGIN_FILES = ("libio_radiance.so", "libfilter_radiance_fit.so", "libfilter_radiance_simplify.so",

@@ -16,7 +16,7 @@ except ImportError:  # Python 3.10
 from pymeshlab_radiance import cli, rply
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-COMMANDS = ("fit", "simplify", "bake", "info", "export", "view", "filters", "batch")
+COMMANDS = ("fit", "simplify", "bake", "splats", "info", "export", "view", "filters", "batch")
 
 
 def meshlab_radiance(*args, timeout=120):
@@ -85,3 +85,17 @@ def test_info_reads_counts_and_radiance_basis(radiance_sphere):
     assert result.returncode == 0, result.stderr
     assert "642 vertices, 1280 faces" in result.stdout
     assert "radiance PB4, 15 coefficients per channel" in result.stdout
+
+
+def test_splats_end_to_end(tmp_path):
+    """A splat field on the unit sphere (tests/integration/splat_writer.py) onto a UV sphere: SH1 radiance."""
+    sys.path.insert(0, os.path.join(REPO, "tests", "integration"))
+    import splat_writer
+
+    mesh, splats, output = tmp_path / "sphere.ply", tmp_path / "splats.ply", tmp_path / "sphere.rply"
+    splat_writer.write_scenario("sphere_mesh", str(mesh))
+    splat_writer.write_scenario("sphere_splats", str(splats))
+    result = meshlab_radiance("splats", mesh, splats, "-o", output, "--no-progress")
+    assert result.returncode == 0, result.stderr
+    assert rply.read_rply(str(output)).basis == "SH1"
+    assert "Transferred SH1 radiance functions" in result.stdout

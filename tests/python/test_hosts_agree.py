@@ -6,6 +6,7 @@ build, the private prefix build/meshlab-prefix, under xvfb-run, every parameter 
     coefficients within a relative 1e-4 of the largest coefficient (float vs double hosts; the cores
     compute in their own precision, so they are expected to agree far closer).
   - 'Radiance-Aware Simplification' to 25 %: the same face count, and (by position) the same faces.
+  - 'Transfer Radiance from Gaussian Splats': the same SH1 coefficients (relative 1e-4) and colours.
 """
 import os
 import subprocess
@@ -88,3 +89,33 @@ def test_simplification_agrees_between_hosts(scenes, tmp_path):
     original = rply.read_rply(str(source))
     h.check_original_vertices_and_rows(original, a, "meshlabserver")
     h.check_original_vertices_and_rows(original, b, "pymeshlab")
+
+
+def test_splat_transfer_agrees_between_hosts(tmp_path):
+    import splat_writer  # tests/integration (on the path through pymeshlab_test_helpers)
+
+    mesh, splats = tmp_path / "sphere.ply", tmp_path / "splats.ply"
+    splat_writer.write_scenario("sphere_mesh", str(mesh))
+    splat_writer.write_scenario("sphere_splats", str(splats))
+    mlx = tmp_path / "splats.mlx"
+    mlx.write_text(
+        '<!DOCTYPE FilterScript>\n<FilterScript>\n <filter name="Radiance: Transfer Radiance from Gaussian Splats">\n'
+        f'  <Param type="RichOpenFile" name="splatfile" value="{splats}" exts_cardinality="1" exts_val0="*.ply"/>\n'
+        '  <Param type="RichFloat" name="maxSplatSize" value="10"/>\n'
+        '  <Param type="RichFloat" name="frontTolerance" value="1"/>\n'
+        '  <Param type="RichBool" name="setColor" value="true"/>\n </filter>\n</FilterScript>\n')
+    server_out = tmp_path / "meshlabserver.rply"
+    status, log = h.run_meshlabserver(tmp_path, "-i", mesh, "-o", server_out, "-m", "vc", "vn", "-s", mlx)
+    assert status == 0 and server_out.is_file(), f"meshlabserver failed ({status}):\n{log[-3000:]}"
+    ms = h.load(mesh)
+    ms.apply_filter(h.SPLATS, splatfile=str(splats), maxsplatsize=10.0, fronttolerance=1.0, setcolor=True)
+    python_out = tmp_path / "pymeshlab.rply"
+    ms.save_current_mesh(str(python_out))
+
+    a, b = rply.read_rply(str(server_out)), rply.read_rply(str(python_out))
+    assert a.basis == b.basis == "SH1"
+    assert np.array_equal(a.positions, b.positions) and np.array_equal(a.faces, b.faces)
+    scale = np.abs(a.coefficients).max()
+    difference = np.abs(a.coefficients - b.coefficients).max()
+    assert difference <= 1e-4 * scale, f"coefficients differ by {difference:.3g} (largest {scale:.3g})"
+    assert np.abs(a.colors.astype(int) - b.colors.astype(int)).max() <= 1

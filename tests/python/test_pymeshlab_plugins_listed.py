@@ -19,6 +19,7 @@ import pymeshlab_radiance
 from pymeshlab_radiance import rply
 
 import pymeshlab_test_helpers as h
+import splat_writer
 
 # Parameters of each filter, as the meshlabserver 2020.09 scripts list them (tests/integration/lib.sh,
 # scripts/write_simplify_mlx.sh, scripts/write_prt_mlx.sh, scripts/bake_normal_map_filter.sh).
@@ -44,6 +45,7 @@ EXPECTED_PARAMETERS = {
     h.IRRADIANCE_GRID: ["resolution", "bounces", "rays", "lightSource", "envMap", "lightCount", "envScale",
                         "lightDirection", "lightIrradiance", "outputFile"],
     h.IMPORT_CAMERAS: ["camerafile", "imagefolder", "cachefolder"],
+    h.SPLATS: ["splatfile", "maxSplatSize", "frontTolerance", "setColor"],
 }
 
 
@@ -106,8 +108,12 @@ def recorded_script(scenes, tmp_path_factory):
     imported.apply_filter(h.IMPORT_CAMERAS, camerafile=str(work / "colmap"), imagefolder=str(work / "photos"))
     assert imported.raster_number() == 1
     imported.save_filter_script(str(work / "import.mlx"))
+    splat_writer.write_scenario("sphere_splats", str(work / "splats.ply"))
+    splatted = h.load(scenes("sphere", level=2))
+    splatted.apply_filter(h.SPLATS, splatfile=str(work / "splats.ply"))
+    splatted.save_filter_script(str(work / "splats.mlx"))
     filters = {}
-    for script in ("filters.mlx", "fit.mlx", "import.mlx"):
+    for script in ("filters.mlx", "fit.mlx", "import.mlx", "splats.mlx"):
         for element in ET.parse(str(work / script)).getroot().iter("filter"):
             filters[element.get("name")] = element
     return filters
