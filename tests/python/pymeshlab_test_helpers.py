@@ -367,6 +367,21 @@ def read_png(path):
     return array / (65535.0 if png.depth == 16 else 255.0), png.depth
 
 
+def write_png(path, rgb):
+    """A minimal PNG writer (zlib, filter 0) so the test needs no imaging library."""
+    import struct
+    import zlib
+
+    raw = b"".join(b"\x00" + rgb[r].tobytes() for r in range(rgb.shape[0]))
+
+    def chunk(tag, data):
+        return struct.pack(">I", len(data)) + tag + data + struct.pack(">I", zlib.crc32(tag + data) & 0xFFFFFFFF)
+
+    header = struct.pack(">IIBBBBB", rgb.shape[1], rgb.shape[0], 8, 2, 0, 0, 0)
+    with open(path, "wb") as f:
+        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
+
+
 def texels_inside_faces(positions, faces, wedge_uv, normals, width, height, with_weights=False):
     """For every texel centre inside a face's UV triangle (v up, row 0 at the top): the face index,
     column, row, the surface point and the interpolated (unnormalised) vertex normal (and, with

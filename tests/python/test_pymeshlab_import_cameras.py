@@ -68,21 +68,6 @@ def draw_spots(centres):
     return np.repeat(code[:, :, None], 3, axis=2)
 
 
-def write_png(path, rgb):
-    """A minimal PNG writer (zlib, filter 0) so the test needs no imaging library."""
-    import struct
-    import zlib
-
-    raw = b"".join(b"\x00" + rgb[r].tobytes() for r in range(rgb.shape[0]))
-
-    def chunk(tag, data):
-        return struct.pack(">I", len(data)) + tag + data + struct.pack(">I", zlib.crc32(tag + data) & 0xFFFFFFFF)
-
-    header = struct.pack(">IIBBBBB", rgb.shape[1], rgb.shape[0], 8, 2, 0, 0, 0)
-    with open(path, "wb") as f:
-        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
-
-
 def make_capture(folder, models=CAMERAS):
     """A pycolmap reconstruction (one image per camera), its photographs, written as binary
     (folder/sparse_bin) and text (folder/sparse_txt) models. Returns (reconstruction, expected), where
@@ -107,7 +92,7 @@ def make_capture(folder, models=CAMERAS):
             if uv is not None and 14 < uv[0] < WIDTH - 14 and 14 < uv[1] < HEIGHT - 14:
                 seen.append((X, np.asarray(uv, dtype=float)))
         assert len(seen) >= 20, f"camera {camera_id} sees only {len(seen)} points"
-        write_png(images / name, draw_spots([uv for _, uv in seen]))
+        h.write_png(images / name, draw_spots([uv for _, uv in seen]))
         expected[name] = seen
     for kind in ("bin", "txt"):
         (folder / f"sparse_{kind}").mkdir(exist_ok=True)
@@ -259,7 +244,7 @@ def test_default_cache_is_beside_the_images_and_resized_photographs_scale_the_ca
     half.mkdir()
     image, _ = h.read_png(tmp_path / "images" / "view_2.png")
     code = np.round(image * 255).astype(np.uint8)
-    write_png(half / "view_2.png", code[::2, ::2].copy())
+    h.write_png(half / "view_2.png", code[::2, ::2].copy())
     ms = pymeshlab.MeshSet()
     import_cameras(ms, tmp_path / "sparse_bin", half)
     ms.add_mesh(pymeshlab.Mesh(vertex_matrix=scene_points()))
@@ -308,7 +293,7 @@ def test_bad_input_is_refused_and_nothing_is_added(tmp_path):
     wrong = tmp_path / "wrong"
     wrong.mkdir()
     shutil.copy(images / "view_1.png", wrong)
-    write_png(wrong / "view_2.png", np.zeros((HEIGHT, WIDTH + 40, 3), dtype=np.uint8))
+    h.write_png(wrong / "view_2.png", np.zeros((HEIGHT, WIDTH + 40, 3), dtype=np.uint8))
     refuse(ms, f"{WIDTH + 40} x {HEIGHT} pixels", tmp_path / "sparse_bin", wrong)
 
     # A pose that is not a rotation (a quaternion of norm 2), and a NaN focal length.
@@ -464,7 +449,7 @@ def test_exif_orientation_is_honoured(tmp_path):
 
     _, expected = make_capture(tmp_path, {2: CAMERAS[2]})
     upright = np.round(h.read_png(tmp_path / "images" / "view_2.png")[0] * 255).astype(np.uint8)
-    write_png(tmp_path / "stored.png", np.ascontiguousarray(np.rot90(upright, 1)))  # counter-clockwise
+    h.write_png(tmp_path / "stored.png", np.ascontiguousarray(np.rot90(upright, 1)))  # counter-clockwise
     photos = tmp_path / "jpeg"
     photos.mkdir()
     subprocess.run(["convert", str(tmp_path / "stored.png"), "-quality", "98", str(photos / "view_2.jpg")], check=True)
