@@ -37,9 +37,8 @@ function(add_meshlab_plugin name)
       # puts it back after auditwheel, which keeps only paths inside the wheel.
       SKIP_BUILD_RPATH TRUE INSTALL_RPATH "$ORIGIN/../../pymeshlab/lib")
     target_link_libraries(${name}_2025 PRIVATE radiance_meshlab_glue_2025 ${ARG_LIBRARIES})
-    # --as-needed: only the libraries whose symbols the plugin uses are recorded (no libOpenGL.so.0,
-    # which Qt's OpenGL target brings but no plugin calls, and which is neither in pymeshlab nor in the
-    # manylinux policy's system libraries).
+    # --as-needed: only the libraries whose symbols the plugin uses are recorded (the wheel then
+    # carries no library a plugin does not need).
     target_link_options(${name}_2025 PRIVATE -Wl,--no-undefined -Wl,--as-needed)
     target_compile_options(${name}_2025 PRIVATE -Wall -Wextra -Wno-unused-parameter)
     if(RADIANCE_PYTHON_PACKAGE)

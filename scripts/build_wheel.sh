@@ -8,9 +8,10 @@
 #      pymeshlab 2025.7.post1's own tag (a newer one would shut out pymeshlab's users; auditwheel refuses
 #      if a symbol version needs more). The libraries pymeshlab ships that the plugins link directly
 #      (libmeshlab-common, Qt 5, libgomp) are excluded: the plugins must use pymeshlab's copies;
-#   3. the plugins' RUNPATH gets pymeshlab's lib folder back ($ORIGIN/../../pymeshlab/lib: auditwheel
-#      keeps only paths inside the wheel), and the bundled libraries' Debian copyright files go into
-#      the wheel's licences.
+#   3. the plugins' RUNPATH must still name pymeshlab's lib folder ($ORIGIN/../../pymeshlab/lib, set
+#      by CMake: auditwheel keeps an $ORIGIN path only while it stays inside the unpacked wheel, which
+#      this one does lexically; it is put back if a version of auditwheel dropped it), and the
+#      bundled libraries' Debian copyright files go into the wheel's licences.
 # Prints the wheel's path on stdout (the rest goes to stderr). Needs `SETUP_MODE=wheel bash
 # scripts/setup.sh` (or the full setup) once.
 #
@@ -50,11 +51,11 @@ PLUGINS=("$WORK"/raw-tree/*/pymeshlab_radiance/plugins/*.so)
 [ -e "${PLUGINS[0]}" ] || die "the wheel $RAW holds no plugin"
 # The plugins' direct dependencies that pymeshlab ships: theirs, never copies (pymeshlab's loader
 # accepts only plugins bound to its own libmeshlab-common; two Qt or OpenMP runtimes would clash).
-EXCLUDE=()
+EXCLUDE=() FROM_PYMESHLAB=()
 for soname in $(for p in "${PLUGINS[@]}"; do patchelf --print-needed "$p"; done | sort -u); do
-  if [ -e "$PYMESHLAB_LIB/$soname" ]; then EXCLUDE+=(--exclude "$soname"); fi
+  if [ -e "$PYMESHLAB_LIB/$soname" ]; then EXCLUDE+=(--exclude "$soname"); FROM_PYMESHLAB+=("$soname"); fi
 done
-log "   from pymeshlab: ${EXCLUDE[*]//--exclude /}"
+log "   left to pymeshlab: ${FROM_PYMESHLAB[*]}"
 "$PY" -m auditwheel repair --plat "$PLAT" "${EXCLUDE[@]}" -w "$WORK/repaired" "$RAW" >"$WORK/auditwheel.log" 2>&1 ||
   { tail -n 30 "$WORK/auditwheel.log" >&2; die "auditwheel repair failed (whole log: $WORK/auditwheel.log)"; }
 REPAIRED="$(ls "$WORK"/repaired/pymeshlab_radiance-*.whl)"
@@ -62,8 +63,12 @@ REPAIRED="$(ls "$WORK"/repaired/pymeshlab_radiance-*.whl)"
 log "3. RUNPATH to pymeshlab's lib folder, licences of the bundled libraries"
 "$PY" -m wheel unpack -d "$WORK/tree" "$REPAIRED" >/dev/null
 TREE="$(ls -d "$WORK"/tree/pymeshlab_radiance-*)"
+PYMESHLAB_RUNPATH='$ORIGIN/../../pymeshlab/lib'
 for p in "$TREE"/pymeshlab_radiance/plugins/*.so; do
-  patchelf --add-rpath '$ORIGIN/../../pymeshlab/lib' "$p"
+  case ":$(patchelf --print-rpath "$p"):" in
+    *":$PYMESHLAB_RUNPATH:"*) ;;
+    *) patchelf --add-rpath "$PYMESHLAB_RUNPATH" "$p" ;;
+  esac
 done
 LICENSES="$(ls -d "$TREE"/*.dist-info)/licenses"
 mkdir -p "$LICENSES"
