@@ -26,6 +26,8 @@ DIST="${DIST_DIR:-$REPO/dist}"
 PLAT="manylinux_2_35_x86_64"
 WORK="$BUILD_DIR/wheel-work"
 
+# ccache when installed (scripts/compiler_cache.sh: the build folder's cache, shared with the cmake build).
+source "$REPO/scripts/compiler_cache.sh"
 log() { printf '[wheel] %s\n' "$*" >&2; }
 die() { printf '[wheel] %s\n' "$*" >&2; exit 1; }
 

@@ -37,6 +37,7 @@ APT_PACKAGES=(
   libopenexr-dev               # OpenEXR: the HDR environment maps (.exr) used for lighting
   libgtest-dev                 # unit tests
   cmake g++ make dpkg-dev      # build, and apt-get source
+  ninja-build ccache           # faster builds; ccache shares the cores' objects with the Python package's build
   xvfb xauth                   # meshlabserver needs an X display, even for batch work
   libgl1-mesa-dri              # Mesa llvmpipe: software OpenGL under Xvfb (no GPU here)
   imagemagick xdotool          # GUI test: screenshots and key presses
@@ -203,9 +204,13 @@ if [ "${SKIP_DATA:-0}" != "1" ]; then
 fi
 
 log "configuring in $BUILD_DIR"
+source "$REPO/scripts/compiler_cache.sh"
+# Ninja for a new build folder (an existing one keeps the generator it was made with).
+GENERATOR_ARGS=()
+if [ ! -f "$BUILD_DIR/CMakeCache.txt" ] && command -v ninja >/dev/null 2>&1; then GENERATOR_ARGS=(-G Ninja); fi
 # RADIANCE_PLUGINS_2025 / RADIANCE_BUILD_BENCH (ON unless set): the test command turns both off,
 # since pip install compiles the 2025 plugins it tests and no test runs a benchmark program.
-cmake -S "$REPO" -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DMESHLAB_SOURCE_DIR="$MESHLAB_SRC" \
+cmake -S "$REPO" -B "$BUILD_DIR" "${GENERATOR_ARGS[@]}" -DCMAKE_BUILD_TYPE=Release -DMESHLAB_SOURCE_DIR="$MESHLAB_SRC" \
   -DMESHLAB2025_SOURCE_DIR="$MESHLAB2025_DIR" -DRADIANCE_PYTHON="$VENV/bin/python" \
   -DRADIANCE_PLUGINS_2025="${RADIANCE_PLUGINS_2025:-ON}" -DRADIANCE_BUILD_BENCH="${RADIANCE_BUILD_BENCH:-ON}" >/dev/null
 log "building with $JOBS jobs"
