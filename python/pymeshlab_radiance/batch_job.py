@@ -275,8 +275,12 @@ def _run(job):
         result.update(faces_after=mesh.face_number(), vertices_after=mesh.vertex_number())
         box = mesh.bounding_box()
         result.update(bbox_min=[float(x) for x in box.min()], bbox_max=[float(x) for x in box.max()],
-                      vertex_color=bool(mesh.has_vertex_color()), layers=ms.mesh_number())
-        if job.get("output_path"):  # none for 'info'
+                      vertex_color=bool(mesh.has_vertex_color()), layers=ms.mesh_number(),
+                      rasters_after=ms.raster_number())
+        if (job.get("output_path") or "").lower().endswith(".mlp"):  # a MeshLab project: layers and rasters
+            _save_project_atomically(ms, job["output_path"])
+            result["seconds_save"] = round(time.time() - t, 3)
+        elif job.get("output_path"):  # none for 'info'
             save = {k: expand_value(v, job["names"]) for k, v in job["output"].get("params", {}).items()}
             _save_atomically(ms, job["output_path"], save)
             result["seconds_save"] = round(time.time() - t, 3)
@@ -313,6 +317,20 @@ def _save_atomically(ms, path, save_params):
             os.replace(os.path.join(partial, f), os.path.join(folder, f))
     finally:
         shutil.rmtree(partial, ignore_errors=True)
+
+
+def _save_project_atomically(ms, path):
+    """A MeshLab project names its mesh and photographs relative to its own folder: it is written in
+    that folder under a unique temporary name, then renamed into place."""
+    folder = os.path.dirname(os.path.abspath(path))
+    os.makedirs(folder, exist_ok=True)
+    partial = os.path.join(folder, f".partial-{uuid.uuid4().hex}.mlp")
+    try:
+        ms.save_project(partial)
+        os.replace(partial, path)
+    finally:
+        if os.path.exists(partial):
+            os.remove(partial)
 
 
 def _probe(query):

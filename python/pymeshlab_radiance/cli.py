@@ -1,5 +1,6 @@
 """``meshlab-radiance``: the command line over pymeshlab and our filters (also ``python -m pymeshlab_radiance``).
 
+    meshlab-radiance import-cameras scan.ply colmap/sparse/0 --images colmap/images -o scan.mlp
     meshlab-radiance fit mesh.ply project.mlp -o fit.rply --degree 4
     meshlab-radiance simplify fit.rply -o fit_25.rply --percentage 0.25
     meshlab-radiance bake scan.ply coarse.ply -o coarse_baked.ply --size 1024
@@ -32,6 +33,7 @@ SIMPLIFY = "radiance_radiance_aware_simplification"
 BAKE = "bake_normal_map"
 EXPORT_GLTF = "radiance_export_gltf"
 SPLATS = "radiance_transfer_gaussian_splats"
+IMPORT_CAMERAS = "radiance_import_cameras_as_rasters"
 
 EXAMPLES = {
     "fit": f"""example (photographs of a sphere made by the repository's tool, then the fit):
@@ -39,6 +41,14 @@ EXAMPLES = {
   {PROG} fit photos/mesh.ply photos/project.mlp -o fit.rply --degree 4 --regularization 0.02
 The project (.mlp) gives the calibrated photographs as raster layers; any other parameter of
 {FIT} is passed with -p NAME=VALUE (e.g. -p grazingangle=70 -p basis=1 for SH).""",
+    "import-cameras": f"""example (a scan and its COLMAP reconstruction: sparse model and photographs):
+  {PROG} import-cameras scan.ply colmap/sparse/0 --images colmap/images -o scan.mlp
+  {PROG} fit scan.ply scan.mlp -o fit.rply
+adds one raster layer per calibrated photograph of the camera file (a COLMAP model folder or one of its
+.bin/.txt files, a Metashape camera XML, a nerfstudio transforms.json), undistorts the photographs that
+have lens distortion once into --cache (default: <images>/undistorted; a rerun with the same
+calibration reuses them), and writes a MeshLab project with the mesh and the rasters, which fit (or
+MeshLab's File > Open Project) reads. Filter: {IMPORT_CAMERAS}; docs/camera-import.md.""",
     "simplify": f"""example:
   {PROG} simplify fit.rply -o fit_25.rply --percentage 0.25 --lod "0.5 0.1" --progressive fit.rpm
 keeps 25 % of the faces of the radiance mesh (radiance-aware edge collapse), writes levels of detail
@@ -170,6 +180,25 @@ def cmd_fit(args):
     return _run_steps(args, [mesh], [{"filter": FIT, "params": params}], args.output, project=project)[0]
 
 
+def cmd_import_cameras(args):
+    mesh = _existing(args.mesh, "the mesh")
+    camerafile = os.path.abspath(args.camerafile)
+    if not os.path.exists(camerafile):
+        print(f"{PROG}: the camera file {args.camerafile} does not exist", file=sys.stderr)
+        return 2
+    if not args.output.lower().endswith(".mlp"):
+        print(f"{PROG} import-cameras: the output {args.output} must be a MeshLab project (.mlp), which holds the "
+              f"raster layers", file=sys.stderr)
+        return 2
+    params = {"camerafile": camerafile, "imagefolder": os.path.abspath(args.images) if args.images else "",
+              "cachefolder": os.path.abspath(args.cache) if args.cache else ""}
+    params.update(_params(args.param))
+    status, result = _run_steps(args, [mesh], [{"filter": IMPORT_CAMERAS, "params": params}], args.output)
+    if status == 0:
+        print(f"{result['rasters_after']} raster layers in {args.output}")
+    return status
+
+
 def cmd_simplify(args):
     params = {"targetfaces": args.faces} if args.faces else {"targetpercentage": args.percentage}
     if args.lod:
@@ -294,6 +323,19 @@ def build_parser():
     p.add_argument("--regularization", type=float, default=0.001, help="regularisation weight of the least squares")
     _add_job_options(p)
     p.set_defaults(run=cmd_fit)
+
+    p = command("import-cameras", "calibrated photographs (COLMAP, Metashape, nerfstudio) as raster layers of a "
+                                  "MeshLab project, ready for fit")
+    p.add_argument("mesh", help="the mesh the cameras photographed (.ply, .obj, ...)")
+    p.add_argument("camerafile", help="COLMAP model folder or file (.bin, .txt), Metashape XML or nerfstudio "
+                                      "transforms.json")
+    p.add_argument("-o", "--output", required=True, help="the MeshLab project (.mlp) to write")
+    p.add_argument("--images", "--imagefolder", dest="images",
+                   help="folder the camera file's image names are relative to (default: the camera file's folder)")
+    p.add_argument("--cache", "--cachefolder", dest="cache",
+                   help="folder of the undistorted photographs (default: <images>/undistorted)")
+    _add_job_options(p)
+    p.set_defaults(run=cmd_import_cameras)
 
     p = command("simplify", "radiance-aware simplification (edge collapse) of a mesh")
     p.add_argument("input", help="the mesh (.rply with radiance functions, or any mesh)")

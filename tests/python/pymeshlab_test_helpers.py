@@ -372,6 +372,13 @@ def read_png(path):
     return array / (65535.0 if png.depth == 16 else 255.0), png.depth
 
 
+def write_png(path, rgb):
+    """An 8-bit RGB (H, W, 3) or RGBA PNG, by the package's writer (atomic; no imaging library)."""
+    from pymeshlab_radiance.thumbnail import write_png as package_write_png
+
+    package_write_png(str(path), rgb)
+
+
 def texels_inside_faces(positions, faces, wedge_uv, normals, width, height, with_weights=False):
     """For every texel centre inside a face's UV triangle (v up, row 0 at the top): the face index,
     column, row, the surface point and the interpolated (unnormalised) vertex normal (and, with

@@ -19,7 +19,6 @@ import pycolmap
 import pymeshlab
 import pymeshlab_radiance  # noqa: F401  (loads our plugins into pymeshlab)
 import pytest
-from pymeshlab_radiance.thumbnail import write_png
 
 import pymeshlab_test_helpers as h
 
@@ -93,7 +92,7 @@ def make_capture(folder, models=CAMERAS):
             if uv is not None and 14 < uv[0] < WIDTH - 14 and 14 < uv[1] < HEIGHT - 14:
                 seen.append((X, np.asarray(uv, dtype=float)))
         assert len(seen) >= 20, f"camera {camera_id} sees only {len(seen)} points"
-        write_png(images / name, draw_spots([uv for _, uv in seen]))
+        h.write_png(images / name, draw_spots([uv for _, uv in seen]))
         expected[name] = seen
     for kind in ("bin", "txt"):
         (folder / f"sparse_{kind}").mkdir(exist_ok=True)
@@ -245,7 +244,7 @@ def test_default_cache_is_beside_the_images_and_resized_photographs_scale_the_ca
     half.mkdir()
     image, _ = h.read_png(tmp_path / "images" / "view_2.png")
     code = np.round(image * 255).astype(np.uint8)
-    write_png(half / "view_2.png", code[::2, ::2].copy())
+    h.write_png(half / "view_2.png", code[::2, ::2].copy())
     ms = pymeshlab.MeshSet()
     import_cameras(ms, tmp_path / "sparse_bin", half)
     ms.add_mesh(pymeshlab.Mesh(vertex_matrix=scene_points()))
@@ -294,7 +293,7 @@ def test_bad_input_is_refused_and_nothing_is_added(tmp_path):
     wrong = tmp_path / "wrong"
     wrong.mkdir()
     shutil.copy(images / "view_1.png", wrong)
-    write_png(wrong / "view_2.png", np.zeros((HEIGHT, WIDTH + 40, 3), dtype=np.uint8))
+    h.write_png(wrong / "view_2.png", np.zeros((HEIGHT, WIDTH + 40, 3), dtype=np.uint8))
     refuse(ms, f"{WIDTH + 40} x {HEIGHT} pixels", tmp_path / "sparse_bin", wrong)
 
     # A pose that is not a rotation (a quaternion of norm 2), and a NaN focal length.
@@ -450,7 +449,7 @@ def test_exif_orientation_is_honoured(tmp_path):
 
     _, expected = make_capture(tmp_path, {2: CAMERAS[2]})
     upright = np.round(h.read_png(tmp_path / "images" / "view_2.png")[0] * 255).astype(np.uint8)
-    write_png(tmp_path / "stored.png", np.ascontiguousarray(np.rot90(upright, 1)))  # counter-clockwise
+    h.write_png(tmp_path / "stored.png", np.ascontiguousarray(np.rot90(upright, 1)))  # counter-clockwise
     photos = tmp_path / "jpeg"
     photos.mkdir()
     subprocess.run(["convert", str(tmp_path / "stored.png"), "-quality", "98", str(photos / "view_2.jpg")], check=True)
