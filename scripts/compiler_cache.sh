@@ -5,8 +5,8 @@
 # earlier run on the machine left behind. Without ccache everything compiles as before.
 if command -v ccache >/dev/null 2>&1; then
   export CCACHE_DIR="${CCACHE_DIR:-$BUILD_DIR/ccache}"
-  # Paths under the repository are hashed relative to it, so both build folders share entries.
-  export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$REPO}"
+  # No CCACHE_BASEDIR: it would rewrite the include paths relative to each build folder, and the two
+  # folders (build/, build/python-package/) sit at different depths, so no entry would match.
   export CCACHE_MAXSIZE="${CCACHE_MAXSIZE:-5G}"
   # Read by CMake when it configures a build folder for the first time (cmake and scikit-build-core).
   export CMAKE_CXX_COMPILER_LAUNCHER="${CMAKE_CXX_COMPILER_LAUNCHER:-ccache}"
