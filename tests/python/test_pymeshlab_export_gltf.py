@@ -4,7 +4,7 @@ read independently of the writer (the .rply saved from the same layer, decoded b
   - positions and faces are the layer's; NORMAL the RF frame normal; TANGENT the frame tangent (PB);
   - COLOR_0 of a Lambertian material (constant RF) is the closed-form radiance of the material;
   - the coefficients are the .rply's, SH ones times (-1)^(l+m) (the documented 3DGS sign convention),
-    and 3D Gaussian Splatting's own eval_sh (constants of its sh_utils.py) at the viewing ray gives the
+    and 3D Gaussian Splatting's evaluation (its published eval_sh's conventions) at the viewing ray gives the
     colours of the filter 'Evaluate Radiance toward a Viewpoint as Vertex Color';
   - the extension object and extras say basis, degree, reflection and colour space;
   - Blender (Debian's package, headless) imports the file and finds COLOR_0 as a colour attribute;
@@ -66,8 +66,8 @@ def attribute(gltf, blob, name):
 
 
 def eval_sh_3dgs(degree, sh, dirs):
-    """eval_sh of the 3D Gaussian Splatting reference code (Kerbl et al. 2023, utils/sh_utils.py):
-    sh (..., C, (degree+1)^2), dirs (..., 3); constants copied from there."""
+    """The SH evaluation of 3D Gaussian Splatting (Kerbl et al. 2023): sh (..., C, (degree+1)^2),
+    dirs (..., 3); the real-SH normalisations with the Condon-Shortley signs its published eval_sh uses."""
     C0 = 0.28209479177387814
     C1 = 0.4886025119029199
     C2 = [1.0925484305920792, -1.0925484305920792, 0.31539156525252005, -1.0925484305920792, 0.5462742152960396]

@@ -1,7 +1,7 @@
 // io/radiance_gltf.h: the .glb read back here (container, JSON parsed by io/json_value.h, accessors
 // decoded from the binary chunk), and the radiance it describes evaluated the way a reader would:
-//  - SH: with 3D Gaussian Splatting's own evaluation (Kerbl et al. 2023, eval_sh in its sh_utils.py:
-//    the constants below are copied from there, Condon-Shortley phase included) at the viewing ray
+//  - SH: as 3D Gaussian Splatting evaluates them (Kerbl et al. 2023: the real-SH normalisations with
+//    the Condon-Shortley signs that its published eval_sh uses, written out below) at the viewing ray
 //    d = -w, which must give our L(w) (radiance_evaluation.h), plain and reflected storage;
 //  - PB: monomials u^i v^j in the frame (TANGENT, cross(NORMAL, TANGENT), NORMAL) read from the file;
 //  - COLOR_0 of constant functions (whose mean is the constant, whatever the basis), clamped;
