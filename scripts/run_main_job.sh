@@ -20,6 +20,7 @@ BUILD_DIR="${BUILD_DIR:-$REPO/build}"
 OUT_DIR="${OUT_DIR:-$REPO/out}"
 DATA="${RADIANCE_DATA_CACHE:-$REPO/data-cache}"
 export BUILD_DIR
+source "$REPO/scripts/compiler_cache.sh"  # the package build below reuses the cmake build's core objects
 
 bash "$REPO/scripts/setup.sh"
 
