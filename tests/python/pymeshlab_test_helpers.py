@@ -415,3 +415,34 @@ def angle_degrees(a, b):
 
 
 Y00 = 0.5 / math.sqrt(math.pi)
+
+
+def blender_import_glb(glb_path, folder, report):
+    """Imports the .glb with Debian's Blender (headless, factory settings) and returns Blender's log
+    and the words of the line that `report` prints (Blender Python run after the import with the one
+    imported mesh's data as `mesh`; the line must start with IMPORTED)."""
+    import shutil
+
+    blender = os.environ.get("BLENDER") or shutil.which("blender")
+    assert blender, "Blender not found: install Debian's 'blender' package (scripts/setup.sh does) or set BLENDER"
+    script = os.path.join(str(folder), "import_glb.py")
+    # Debian 12's Blender 3.4 glTF add-on still uses numpy.bool, which Debian's numpy 1.24 no longer
+    # has: every glTF import fails in set_poly_smoothing. The alias (the builtin bool, which is what
+    # numpy.bool was) lets the add-on run; nothing else is changed.
+    with open(script, "w") as f:
+        f.write("import numpy\n"
+                "if not hasattr(numpy, 'bool'):\n"
+                "    numpy.bool = bool\n"
+                "import bpy\n"
+                "bpy.ops.wm.read_factory_settings(use_empty=True)\n"
+                f"result = bpy.ops.import_scene.gltf(filepath={str(glb_path)!r})\n"
+                "assert result == {'FINISHED'}, result\n"
+                "meshes = [o for o in bpy.context.scene.objects if o.type == 'MESH']\n"
+                "assert len(meshes) == 1, meshes\n"
+                "mesh = meshes[0].data\n" + report)
+    run = subprocess.run([blender, "-b", "--factory-startup", "-noaudio", "--python-exit-code", "1", "-P", script],
+                         capture_output=True, text=True, timeout=300)
+    log = run.stdout + run.stderr
+    assert run.returncode == 0, log
+    assert "Traceback" not in log, log
+    return log, next(l for l in log.splitlines() if l.startswith("IMPORTED")).split()

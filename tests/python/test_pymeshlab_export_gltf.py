@@ -12,7 +12,6 @@ read independently of the writer (the .rply saved from the same layer, decoded b
 """
 import math
 import os
-import shutil
 import subprocess
 import warnings
 
@@ -162,33 +161,13 @@ def test_blender_imports_the_glb_with_color_0(scenes, tmp_path):
     ms = create(scenes("sphere", level=2), 0, 2)
     path = tmp_path / "pb.glb"
     ms.apply_filter(EXPORT, outputfile=str(path))
-    blender = os.environ.get("BLENDER") or shutil.which("blender")
-    assert blender, "Blender not found: install Debian's 'blender' package (scripts/setup.sh does) or set BLENDER"
-    script = tmp_path / "import_glb.py"
-    # numpy.bool alias: Debian 12's Blender 3.4 glTF add-on needs it with Debian's numpy (test_pymeshlab_gltf.py).
-    script.write_text(
-        "import numpy\n"
-        "if not hasattr(numpy, 'bool'):\n"
-        "    numpy.bool = bool\n"
-        "import bpy\n"
-        "bpy.ops.wm.read_factory_settings(use_empty=True)\n"
-        f"result = bpy.ops.import_scene.gltf(filepath={str(path)!r})\n"
-        "assert result == {'FINISHED'}, result\n"
-        "meshes = [o for o in bpy.context.scene.objects if o.type == 'MESH']\n"
-        "assert len(meshes) == 1, meshes\n"
-        "mesh = meshes[0].data\n"
+    _, words = h.blender_import_glb(path, tmp_path, (
         "layers = mesh.color_attributes if hasattr(mesh, 'color_attributes') else mesh.vertex_colors\n"
         "names = [a.name for a in layers]\n"
         "layer = layers[0]\n"
         "import statistics\n"
         "mean = [statistics.fmean(d.color[c] for d in layer.data) for c in range(3)]\n"
-        "print('IMPORTED', len(mesh.vertices), ','.join(names), *('%.4f' % m for m in mean))\n")
-    run = subprocess.run([blender, "-b", "--factory-startup", "-noaudio", "--python-exit-code", "1", "-P", str(script)],
-                         capture_output=True, text=True, timeout=300)
-    log = run.stdout + run.stderr
-    assert run.returncode == 0, log
-    assert "Traceback" not in log, log
-    words = next(l for l in log.splitlines() if l.startswith("IMPORTED")).split()
+        "print('IMPORTED', len(mesh.vertices), ','.join(names), *('%.4f' % m for m in mean))\n"))
     gltf, blob = load_glb(path)
     colours = attribute(gltf, blob, "COLOR_0")
     assert int(words[1]) == len(colours)

@@ -15,9 +15,7 @@ independently of the writer:
 """
 import io
 import os
-import shutil
 import struct
-import subprocess
 import warnings
 
 import numpy as np
@@ -157,33 +155,12 @@ def test_glb_textures_match_the_maps(baked):
 
 def test_blender_imports_the_glb(baked, tmp_path):
     _, out = baked
-    blender = os.environ.get("BLENDER") or shutil.which("blender")
-    assert blender, "Blender not found: install Debian's 'blender' package (scripts/setup.sh does) or set BLENDER"
-    script = tmp_path / "import_glb.py"
-    # Debian 12's Blender 3.4 glTF add-on still uses numpy.bool, which Debian's numpy 1.24 no longer
-    # has: every glTF import fails in set_poly_smoothing. The alias (the builtin bool, which is what
-    # numpy.bool was) lets the add-on run; nothing else is changed.
-    script.write_text(
-        "import numpy\n"
-        "if not hasattr(numpy, 'bool'):\n"
-        "    numpy.bool = bool\n"
-        "import bpy, sys\n"
-        "bpy.ops.wm.read_factory_settings(use_empty=True)\n"
-        f"result = bpy.ops.import_scene.gltf(filepath={str(out / 'coarse.glb')!r})\n"
-        "meshes = [o for o in bpy.context.scene.objects if o.type == 'MESH']\n"
-        "assert result == {'FINISHED'}, result\n"
-        "assert len(meshes) == 1, meshes\n"
-        "mesh = meshes[0].data\n"
+    log, words = h.blender_import_glb(out / "coarse.glb", tmp_path, (
         "nodes = mesh.materials[0].node_tree.nodes\n"
         "print('IMPORTED vertices', len(mesh.vertices), 'normal_map_nodes',"
-        " sum(1 for n in nodes if n.type == 'NORMAL_MAP'), 'images', len(bpy.data.images))\n")
-    run = subprocess.run([blender, "-b", "--factory-startup", "-noaudio", "--python-exit-code", "1", "-P", str(script)],
-                         capture_output=True, text=True, timeout=300)
-    log = run.stdout + run.stderr
-    assert run.returncode == 0, log
-    assert "Error" not in log and "Traceback" not in log, log
-    line = next(l for l in log.splitlines() if l.startswith("IMPORTED"))
-    words = line.split()
+        " sum(1 for n in nodes if n.type == 'NORMAL_MAP'), 'images', len(bpy.data.images))\n"))
+    assert "Error" not in log, log
+    line = " ".join(words)
     gltf = pygltflib.GLTF2().load_binary(str(out / "coarse.glb"))
     count = gltf.accessors[gltf.meshes[0].primitives[0].attributes.POSITION].count
     # Blender merges the glTF's split vertices back where only the UVs differ; it cannot have more.
