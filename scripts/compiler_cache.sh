@@ -1,4 +1,5 @@
-# Sourced by scripts/setup.sh and scripts/test.sh: one compiler cache for the builds of one run.
+# Sourced by scripts/setup.sh, test.sh, build_wheel.sh and run_main_job.sh: one compiler cache for the
+# builds of one run.
 # The cmake build and the Python package's build (build/python-package) compile the cores with the same
 # flags; ccache hands the second build the first one's objects instead of compiling the cores again.
 # The cache lives in the build folder, so a fresh clone starts empty and no run depends on what an

