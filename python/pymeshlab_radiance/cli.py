@@ -145,6 +145,17 @@ def _add_job_options(parser):
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
+def _report_job(args, result):
+    """A failed job's message on stderr (False), or the filters' log lines on stdout (True)."""
+    if result["status"] != "done":
+        print(f"{PROG} {args.command}: {result.get('message', 'failed')}", file=sys.stderr)
+        return False
+    for step in result.get("steps", []):
+        for line in step.get("log", []):
+            print(f"{step['filter']}: {line}")
+    return True
+
+
 def _run_steps(args, meshes, steps, output, project=None, save_params=None):
     """One job (load, filters, atomic save) in a fresh process with a progress bar fed by the log."""
     from .batch_job import run_job
@@ -159,12 +170,8 @@ def _run_steps(args, meshes, steps, output, project=None, save_params=None):
            "memory_limit": args.memory_limit}
     with bar(total=100 * len(steps), unit="%", desc="loading", enabled=not args.no_progress) as progress:
         result = run_job(job, timeout=args.timeout, on_line=FilterProgress(progress, [s["filter"] for s in steps]))
-    if result["status"] != "done":
-        print(f"{PROG} {args.command}: {result.get('message', 'failed')}", file=sys.stderr)
+    if not _report_job(args, result):
         return 1, result
-    for step in result.get("steps", []):
-        for line in step.get("log", []):
-            print(f"{step['filter']}: {line}")
     print(f"{result['faces_before']} -> {result['faces_after']} faces, {result['vertices_after']} vertices; "
           f"wrote {output} ({result['seconds_total']:.2f} s)")
     return 0, result
@@ -263,14 +270,7 @@ def cmd_export(args):
     output = os.path.abspath(args.output)
     job = {"meshes": [_existing(args.input, "the input")], "steps": [{"filter": EXPORT_GLTF, "params": {"outputfile": output}}],
            "output_path": None}
-    result = run_job(job, timeout=args.timeout)
-    if result["status"] != "done":
-        print(f"{PROG} export: {result.get('message', 'failed')}", file=sys.stderr)
-        return 1
-    for step in result.get("steps", []):
-        for line in step.get("log", []):
-            print(f"{step['filter']}: {line}")
-    return 0
+    return 0 if _report_job(args, run_job(job, timeout=args.timeout)) else 1
 
 
 def cmd_view(args):
