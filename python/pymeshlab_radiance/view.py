@@ -28,6 +28,8 @@ import threading
 import time
 import webbrowser
 
+from .thumbnail import write_atomically
+
 VIEWER = os.path.join(os.path.dirname(os.path.abspath(__file__)), "viewer", "viewer.html")
 CHROMIUM_NAMES = ("chromium", "chromium-browser", "google-chrome")
 
@@ -196,15 +198,7 @@ def _write_atomically(path, data):
     folder = os.path.dirname(os.path.abspath(path))
     if not os.path.isdir(folder):
         raise ViewerError(f"the folder of '{path}' does not exist; create it or choose another path")
-    fd, temporary = tempfile.mkstemp(prefix=os.path.basename(path) + ".part-", dir=folder)
-    try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(data)
-        os.replace(temporary, path)
-    except BaseException:
-        if os.path.exists(temporary):
-            os.unlink(temporary)
-        raise
+    write_atomically(path, data)
 
 
 def serve(model, camera=None, open_browser=True):
