@@ -113,13 +113,17 @@ def run_meshlabserver(work, *args, timeout=300):
     return result.returncode, result.stdout
 
 
+def python_env(**extra):
+    """The environment for a child Python process that imports what this one imports: this process's
+    sys.path as PYTHONPATH, so the child finds the same package (the repository's python/ or, in the
+    wheel check, the installed wheel) and the same plugins, never a different copy first."""
+    return dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in sys.path if p), **extra)
+
+
 def run_python(code, timeout=300):
     """Runs `code` in a fresh Python process with this environment (same interpreter, same plugins)."""
-    env = dict(os.environ)
-    paths = [p for p in sys.path if p]
-    env["PYTHONPATH"] = os.pathsep.join(paths)
     return subprocess.run([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                          text=True, timeout=timeout, env=env)
+                          text=True, timeout=timeout, env=python_env())
 
 
 def create_mlx(path, case):

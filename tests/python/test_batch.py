@@ -27,9 +27,7 @@ SPHERE_FACES = 1280  # create_sphere(subdiv=3): 20 * 4^3
 
 
 def cli_environment():
-    env = dict(os.environ)
-    env["PYTHONPATH"] = os.pathsep.join(p for p in sys.path if p)
-    return env
+    return h.python_env()
 
 
 def start_batch(*args):

@@ -25,10 +25,8 @@ COMMANDS = ("import-cameras", "fit", "simplify", "bake", "splats", "info", "expo
 
 
 def meshlab_radiance(*args, timeout=120):
-    env = dict(os.environ)
-    env["PYTHONPATH"] = os.pathsep.join(p for p in sys.path if p)
     return subprocess.run([sys.executable, "-m", "pymeshlab_radiance", *map(str, args)], stdout=subprocess.PIPE,
-                          stderr=subprocess.PIPE, text=True, timeout=timeout, env=env)
+                          stderr=subprocess.PIPE, text=True, timeout=timeout, env=h.python_env())
 
 
 @pytest.fixture(scope="module")

@@ -193,7 +193,7 @@ def test_command_line_export(scenes, tmp_path):
     ms = create(scenes("sphere", level=1), 1, 2)
     ms.save_current_mesh(str(tmp_path / "s.rply"))
     ms.apply_filter(EXPORT, outputfile=str(tmp_path / "direct.glb"))
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join([os.path.join(h.REPO, "python"), os.environ.get("PYTHONPATH", "")]))
+    env = h.python_env()
 
     def cli(*args):
         return subprocess.run([sys.executable, "-m", "pymeshlab_radiance", "export", *map(str, args)],

@@ -210,8 +210,7 @@ except pymeshlab.PyMeshLabException as e:
     sys.exit(0)
 print("ACCEPTED")
 """
-    # The parent's own path: the child loads the package, and so the plugins, that this process found.
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in sys.path if p))
+    env = h.python_env()
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300, env=env)
     assert "REFUSED" in done.stdout, done.stdout + done.stderr
     assert "exceeds a size limit" in done.stdout, done.stdout

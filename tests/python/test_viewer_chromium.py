@@ -29,7 +29,7 @@ FOV = 40
 
 
 def view(*args):
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join([os.path.join(h.REPO, "python"), os.environ.get("PYTHONPATH", "")]))
+    env = h.python_env()
     run = subprocess.run([sys.executable, "-m", "pymeshlab_radiance.view", *map(str, args)], capture_output=True,
                          text=True, timeout=300, env=env)
     return run
@@ -105,7 +105,7 @@ def test_served_on_loopback(scenes, tmp_path):
 
     ms = create(scenes("sphere", level=1), 0, 1)
     ms.apply_filter(EXPORT, outputfile=str(tmp_path / "p.glb"))
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join([os.path.join(h.REPO, "python"), os.environ.get("PYTHONPATH", "")]))
+    env = h.python_env()
     server = subprocess.Popen([sys.executable, "-m", "pymeshlab_radiance.view", str(tmp_path / "p.glb"), "--no-browser"],
                               stdout=subprocess.PIPE, text=True, env=env)
     try:
