@@ -57,6 +57,7 @@ void collectScene(MeshDocument& md, MeshModel& current, rad::TriangleMesh& scene
 class ComputeIrradianceVectorGridFilter : public Filter {
 public:
     QString name() const override { return "Compute Irradiance Vector Grid"; }
+    QString pythonName() const override { return "compute_irradiance_vector_grid"; }
     QString description() const override;
     // Measure ("Quality Measure and Computations"): it computes, writes a file, changes no layer.
     int filterClass() const override { return 0x10000; /* Measure */ }
@@ -94,22 +95,9 @@ public:
         return par;
     }
 
-    void apply(FilterContext& ctx) const override {
-        try {
-            compute(ctx);
-        } catch (const rad::OperationCancelled&) {
-            throw;
-        } catch (const Refusal&) {
-            throw;
-        } catch (const std::bad_alloc&) {
-            throw Refusal("Out of memory: choose a smaller grid resolution. The layers are unchanged and no file was written.");
-        } catch (const std::exception& e) {
-            throw Refusal(asSentence(e.what()) + " The layers are unchanged and no file was written.");
-        }
-    }
+    std::string outOfMemoryAdvice() const override { return "choose a smaller grid resolution"; }
 
-private:
-    void compute(FilterContext& ctx) const {
+    void apply(FilterContext& ctx) const override {
         const RichParameterList& par = ctx.parameters;
         MeshModel& current = ctx.mesh();
         // Output path first: a refusal costs nothing.

@@ -73,6 +73,7 @@ std::vector<int> parseLevels(const QString& text) {
 class PopBufferLevelsFilter : public Filter {
 public:
     QString name() const override { return "Extract Level of Detail (POP Buffer)"; }
+    QString pythonName() const override { return "extract_level_of_detail_pop_buffer"; }
     QString description() const override;
     int filterClass() const override { return 0x00004; /* Remeshing */ }
     int postconditions() const override { return MeshModel::MM_NONE; }

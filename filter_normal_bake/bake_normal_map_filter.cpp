@@ -6,6 +6,7 @@
 
 #include "citations.h"
 #include "mesh_conversion.h"
+#include "output_naming.h"
 #include "usable_normals.h"
 
 #include "bake/normal_map_bake.h"
@@ -60,19 +61,13 @@ std::vector<float> layerTexCoords(MeshModel& m, const char*& kind) {
     return {};
 }
 
-// Output base: the parameter when given (".png" and a trailing "_normal" dropped; an existing
-// folder receives maps named after the target), else the target's file name without extension,
-// beside it; the source's directory when the target was never saved.
+// Output base: the parameter when given (output_naming.h; a folder receives maps named after the
+// target), else the target's file name without extension, beside it; the source's directory when the
+// target was never saved.
 QString outputBase(const QString& given, MeshModel& target, MeshModel& source) {
-    QString base = given.trimmed();
     QString label = QFileInfo(target.label()).completeBaseName();
     if (label.isEmpty()) label = "baked";
-    if (!base.isEmpty() && QFileInfo(base).isDir()) return QDir(QFileInfo(base).absoluteFilePath()).filePath(label);
-    if (!base.isEmpty()) {
-        if (base.endsWith(".png", Qt::CaseInsensitive)) base.chop(4);
-        if (base.endsWith("_normal")) base.chop(7);
-        return QFileInfo(base).absoluteFilePath();
-    }
+    if (const QString base = outputBaseFromParameter(given, label); !base.isEmpty()) return base;
     const QString targetFile = target.fullName();
     const QString directory = !targetFile.isEmpty() ? QFileInfo(targetFile).absolutePath()
                               : !source.fullName().isEmpty() ? QFileInfo(source.fullName()).absolutePath()
@@ -84,6 +79,7 @@ QString outputBase(const QString& given, MeshModel& target, MeshModel& source) {
 class BakeNormalMapFilter : public Filter {
 public:
     QString name() const override { return "Bake Normal Map"; }
+    QString pythonName() const override { return "bake_normal_map"; }
     QString description() const override;
     // Texture: MeshLab's GUI (re)loads the layer's textures after the filter.
     int filterClass() const override { return 0x02000; /* Texture */ }
@@ -146,24 +142,9 @@ public:
         return par;
     }
 
-    void apply(FilterContext& ctx) const override {
-        try {
-            bake(ctx);
-        } catch (const rad::BakeInputError& e) {
-            throw Refusal(asSentence(e.what()) + " The layers are unchanged.");
-        } catch (const rad::OperationCancelled&) {
-            throw;  // one message for every filter (filter_errors)
-        } catch (const std::bad_alloc&) {
-            throw Refusal("Out of memory: choose a smaller texture size. The layers are unchanged.");
-        } catch (const Refusal&) {
-            throw;
-        } catch (const std::exception& e) {
-            throw Refusal(asSentence(e.what()) + " The layers are unchanged.");
-        }
-    }
+    std::string outOfMemoryAdvice() const override { return "choose a smaller texture size"; }
 
-private:
-    void bake(FilterContext& ctx) const {
+    void apply(FilterContext& ctx) const override {
         const RichParameterList& par = ctx.parameters;
         MeshDocument& md = ctx.document;
         MeshModel* target = md.mm();

@@ -1,13 +1,11 @@
 // Normal-map baking from the full scan onto a simplified mesh (Granier et al. 2007), with LEAN
-// covariance maps (Weber and Stamminger), and the out-of-core simplification with its streamed normal
-// map (Granier et al. 2007, Lindstrom 2000). This class only registers the filters.
+// covariance maps (Weber and Stamminger). This class only registers the filter.
 #pragma once
 
 #include "filter_plugin_base.h"
 
 namespace radml {
 std::unique_ptr<Filter> makeBakeNormalMapFilter();
-std::unique_ptr<Filter> makeOutOfCoreSimplificationFilter();
 }  // namespace radml
 
 class NormalBakePlugin : public radml::FilterPluginBase {
@@ -18,7 +16,6 @@ class NormalBakePlugin : public radml::FilterPluginBase {
 public:
     NormalBakePlugin() {
         addFilter(radml::makeBakeNormalMapFilter());
-        addFilter(radml::makeOutOfCoreSimplificationFilter());
     }
     QString pluginName() const override { return "FilterNormalBake"; }
 };

@@ -16,6 +16,7 @@ namespace {
 class AdaptivePrtSubdivisionFilter : public Filter {
 public:
     QString name() const override { return "Radiance: Adaptive PRT Subdivision"; }
+    QString pythonName() const override { return "radiance_adaptive_prt_subdivision"; }
     QString description() const override {
         return QString(
                    "Subdivides the current mesh where its PRT transfer vectors change fast (Křivánek et al. 2004, "
@@ -63,9 +64,9 @@ public:
         return par;
     }
 
-    void apply(FilterContext& ctx) const override {
-        refuseOutOfMemory([&] { subdivide(ctx); });
-    }
+    std::string outOfMemoryAdvice() const override { return kPrtOutOfMemoryAdvice; }
+
+    void apply(FilterContext& ctx) const override { subdivide(ctx); }
 
 private:
     void subdivide(FilterContext& ctx) const {

@@ -51,6 +51,7 @@ void checkTransferInput(const rad::RadianceMesh& plain) {
 class ComputePrtTransferFilter : public Filter {
 public:
     QString name() const override { return "Radiance: Compute PRT Transfer"; }
+    QString pythonName() const override { return "radiance_compute_prt_transfer"; }
     QString description() const override {
         return QString(
                    "Computes the shadowed diffuse transfer vector of precomputed radiance transfer (PRT, Sloan et "
@@ -91,9 +92,9 @@ public:
         return par;
     }
 
-    void apply(FilterContext& ctx) const override {
-        refuseOutOfMemory([&] { compute(ctx); });
-    }
+    std::string outOfMemoryAdvice() const override { return kPrtOutOfMemoryAdvice; }
+
+    void apply(FilterContext& ctx) const override { compute(ctx); }
 
 private:
     void compute(FilterContext& ctx) const {

@@ -20,6 +20,7 @@ enum LightingChoice { kLightEnvironment = 0, kLightDirectional = 1 };
 class PrtRelightingFilter : public Filter {
 public:
     QString name() const override { return "Radiance: PRT Relighting as Vertex Color"; }
+    QString pythonName() const override { return "radiance_prt_relighting_as_vertex_color"; }
     QString description() const override {
         return QString(
                    "Shades every vertex from its PRT transfer vector, L = &lt;t, l&gt; (Sloan et al. 2002), under a "
@@ -80,12 +81,7 @@ public:
             const QString path = par.getString("environmentMap").trimmed();
             if (path.isEmpty()) throw Refusal("Choose an environment map file (.exr or .hdr), or the directional light.");
             ctx.progress(10, "Reading the environment map");
-            rad::EnvironmentMap map;
-            try {
-                map = rad::readEnvironmentMap(path.toStdString());
-            } catch (const rad::EnvironmentMapError& e) {
-                throw Refusal(e.what());
-            }
+            const rad::EnvironmentMap map = rad::readEnvironmentMap(path.toStdString());
             lighting = rad::prtLightingSH(settings, &map);
             description = formatLine("environment map %s (%d x %d)", qUtf8Printable(path), map.width(), map.height());
         } else {

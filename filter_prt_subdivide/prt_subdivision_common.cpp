@@ -74,14 +74,6 @@ void setShading(MeshModel& m, const std::vector<float>& linearRgb, float exposur
     setVertexQuality(m, quality);
 }
 
-void refuseOutOfMemory(const std::function<void()>& body) {
-    try {
-        body();
-    } catch (const std::bad_alloc&) {
-        throw Refusal("Out of memory: lower the SH order, the ray count or the triangle budget.");
-    }
-}
-
 void addBudgetParameters(RichParameterList& par, const MeshModel& m) {
     par.addParam(RichInt("budget", 4 * m.cm.fn, "Triangle budget",
                          "Maximum number of triangles of the result (used when the factor is 0)."));

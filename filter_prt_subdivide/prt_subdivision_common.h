@@ -34,9 +34,8 @@ std::vector<float> whiteSkyShading(const rad::TransferField& field);
 // (before the exposure). One RGB triple per live vertex.
 void setShading(MeshModel& m, const std::vector<float>& linearRgb, float exposure);
 
-// Runs `body`; an allocation failure becomes a refusal with advice for these filters (a stop request
-// is mapped by runFilter; the body changes the layer only once its core succeeded).
-void refuseOutOfMemory(const std::function<void()>& body);
+// What the PRT filters' users change when memory runs out (Filter::outOfMemoryAdvice).
+inline constexpr const char* kPrtOutOfMemoryAdvice = "lower the SH order, the ray count or the triangle budget";
 
 // The budget parameters of both subdivision filters ("budget", "budgetFactor").
 void addBudgetParameters(RichParameterList& par, const MeshModel& m);

@@ -15,6 +15,7 @@ namespace {
 class UniformPrtSubdivisionFilter : public Filter {
 public:
     QString name() const override { return "Radiance: Uniform PRT Subdivision"; }
+    QString pythonName() const override { return "radiance_uniform_prt_subdivision"; }
     QString description() const override {
         return QString(
                    "The baseline of Křivánek et al. 2004, Fig. 1(b): splits every triangle 1-to-4 as many times as "
@@ -41,9 +42,9 @@ public:
         return par;
     }
 
-    void apply(FilterContext& ctx) const override {
-        refuseOutOfMemory([&] { subdivide(ctx); });
-    }
+    std::string outOfMemoryAdvice() const override { return kPrtOutOfMemoryAdvice; }
+
+    void apply(FilterContext& ctx) const override { subdivide(ctx); }
 
 private:
     void subdivide(FilterContext& ctx) const {

@@ -58,6 +58,7 @@ void materialFromParameters(const RichParameterList& par, const Box3m& box, rad:
 class CreateAnalyticRadianceFilter : public Filter {
 public:
     QString name() const override { return "Radiance: Create Radiance Data from Analytic Material"; }
+    QString pythonName() const override { return "radiance_create_radiance_data_from_analytic_material"; }
     QString description() const override {
         return QString(
                    "Creates a view-dependent radiance function (RF) on every vertex of the current mesh: the "

@@ -27,6 +27,7 @@ enum QualityChoice { kQualitySampleCount = 0, kQualityResidual = 1 };
 class FitFromRastersFilter : public Filter {
 public:
     QString name() const override { return "Radiance: Fit Radiance Functions from Rasters"; }
+    QString pythonName() const override { return "radiance_fit_radiance_functions_from_rasters"; }
     QString description() const override;
     int filterClass() const override { return 0x00010 | 0x40000 | 0x00400; /* VertexColoring | Camera | RasterLayer */ }
     int postconditions() const override { return MeshModel::MM_VERTCOLOR | MeshModel::MM_VERTQUALITY; }
@@ -179,12 +180,8 @@ public:
             ctx.warning("The mesh has no faces: occlusion cannot be tested, every facing photograph is used.");
 
         // Everything is computed aside; the layer changes only once the fit succeeded.
-        rad::RadianceFromViewsResult result;
-        try {
-            result = rad::fitRadianceFromViews(mesh, training, options, ctx.progress.forCore());
-        } catch (const rad::FitError& e) {
-            throw Refusal(e.what());
-        }
+        const rad::RadianceFromViewsResult result =
+            rad::fitRadianceFromViews(mesh, training, options, ctx.progress.forCore());
         for (const std::string& warning : result.warnings) ctx.warning(warning);
         rad::HeldOutEvaluation evaluation;
         if (!heldOut.empty()) evaluation = rad::evaluateHeldOutViews(mesh, result.field, result.meanColor, training,

@@ -164,12 +164,7 @@ public:
 
         // 1. The camera file, read and validated whole.
         ctx.progress.setPhase(0, 5, "Reading cameras");
-        rad::CameraImport imported;
-        try {
-            imported = rad::readCameraFile(cameraFile.toStdString());
-        } catch (const rad::CameraFileError& e) {
-            throw Refusal(e.what());
-        }
+        const rad::CameraImport imported = rad::readCameraFile(cameraFile.toStdString());
         ctx.log(formatLine("%s '%s': %zu cameras usable, %zu skipped.", imported.format.c_str(),
                            cameraFile.toStdString().c_str(), imported.cameras.size(), imported.skipped.size()));
         for (std::size_t i = 0; i < imported.skipped.size() && i < 20; ++i) ctx.log("Skipped: " + imported.skipped[i]);

@@ -14,6 +14,7 @@ namespace {
 class RadianceToVertexColorFilter : public Filter {
 public:
     QString name() const override { return "Radiance: Evaluate Radiance toward a Viewpoint as Vertex Color"; }
+    QString pythonName() const override { return "radiance_evaluate_radiance_toward_a_viewpoint_as_vertex_color"; }
     QString description() const override {
         return QString(
                    "Evaluates every vertex's radiance function toward a viewpoint, L(p, normalize(eye - p)), "

@@ -82,12 +82,7 @@ public:
 
         // 1. The splats, read and validated whole.
         ctx.progress.setPhase(0, 20, "Reading splats");
-        rad::GaussianSplats splats;
-        try {
-            splats = rad::readGaussianSplatPly(file.toStdString(), ctx.progress.forCore());
-        } catch (const rad::SplatFileError& e) {
-            throw Refusal(e.what());
-        }
+        const rad::GaussianSplats splats = rad::readGaussianSplatPly(file.toStdString(), ctx.progress.forCore());
         ctx.log(formatLine("Read %zu splats of SH degree %d from '%s'.", splats.count(), splats.shDegree,
                            file.toStdString().c_str()));
 
@@ -98,13 +93,8 @@ public:
 
         // 3. The transfer, computed aside.
         ctx.progress.setPhase(20, 95, "Transferring splat radiance");
-        rad::SplatTransferResult result;
-        try {
-            result = rad::transferSplatRadiance(vertices.positions, vertices.normals, vertices.faces, splats, options,
-                                                ctx.progress.forCore());
-        } catch (const rad::SplatTransferError& e) {
-            throw Refusal(e.what());
-        }
+        const rad::SplatTransferResult result = rad::transferSplatRadiance(
+            vertices.positions, vertices.normals, vertices.faces, splats, options, ctx.progress.forCore());
 
         // 4. The layer changes only now.
         const std::size_t n = vertices.count();

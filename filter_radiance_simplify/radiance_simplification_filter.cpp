@@ -48,6 +48,7 @@ std::vector<double> parseRatios(const QString& text) {
 class RadianceSimplificationFilter : public Filter {
 public:
     QString name() const override { return "Radiance: Radiance-Aware Simplification"; }
+    QString pythonName() const override { return "radiance_radiance_aware_simplification"; }
     QString description() const override;
     int filterClass() const override { return 0x00004; /* Remeshing */ }
     int postconditions() const override { return MeshModel::MM_GEOMETRY_AND_TOPOLOGY_CHANGE; }
@@ -174,14 +175,7 @@ public:
         // Everything is computed aside; the layers change only once the simplification succeeded. The
         // core checks the input first (manifold, duplicates, degenerate faces...) and throws
         // SimplificationError with a message for the log.
-        rad::RadianceSimplificationResult result;
-        try {
-            result = rad::simplifyRadianceMesh(std::move(plain), options);
-        } catch (const rad::SimplificationError& e) {
-            throw Refusal(QString::fromStdString(e.what()));
-        } catch (const std::invalid_argument& e) {
-            throw Refusal(QString::fromStdString(e.what()));
-        }
+        const rad::RadianceSimplificationResult result = rad::simplifyRadianceMesh(std::move(plain), options);
         const rad::ProgressiveRadianceMesh& progressive = result.progressive;
         const std::size_t targetSteps = progressive.stepsForFaceCount(targetFaces);
         const rad::RadianceMesh target = progressive.extract(targetSteps);

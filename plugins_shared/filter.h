@@ -76,9 +76,9 @@ public:
     virtual ~Filter() = default;
     // The name shown in the menus and used by scripts (pymeshlab derives its Python name from it).
     virtual QString name() const = 0;
-    // The Python name pymeshlab calls it by, when it must differ from the one MeshLab derives from
-    // name() (an interface an issue fixed); empty: MeshLab's own derivation.
-    virtual QString pythonName() const { return {}; }
+    // The Python name pymeshlab calls it by: an interface scripts depend on, so every filter declares
+    // it rather than letting MeshLab derive it from the menu label (tests/python pins each one).
+    virtual QString pythonName() const = 0;
     // Help text (HTML), citing the paper the filter implements by authors and year.
     virtual QString description() const = 0;
     // MeshLab's FilterClass bits (same values in both hosts).
@@ -94,6 +94,11 @@ public:
     // null.
     virtual bool needsCurrentLayer() const { return true; }
     virtual RichParameterList parametersWithoutLayer(const MeshDocument&) const { return {}; }
+    // What to change when the filter runs out of memory (the parameter that drives its memory), as a
+    // clause: "choose a smaller texture size". Empty: runFilter's generic advice.
+    virtual std::string outOfMemoryAdvice() const { return {}; }
+    // Runs the filter. Throw Refusal for what the filter itself checks; anything a core throws is
+    // mapped to the user's message once, by its category (runFilter, plugins_shared/filter_errors.cpp).
     virtual void apply(FilterContext& context) const = 0;
 };
 

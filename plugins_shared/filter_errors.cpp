@@ -1,8 +1,10 @@
 #include "filter_errors.h"
 
+#include "errors/error_categories.h"
 #include "progress/progress_callback.h"
 
 #include <algorithm>
+#include <cctype>
 #include <new>
 #include <vector>
 
@@ -28,6 +30,24 @@ std::string parameterProblem(const RichParameterList& par) {
                 .arg(p.name()).toStdString();
     }
     return {};
+}
+
+// A core's refusal as the user reads it: the core's own words (what is wrong, how to fix it), then
+// what the wrapper guarantees.
+std::string withLayersUnchanged(std::string message) {
+    while (!message.empty() && std::isspace(static_cast<unsigned char>(message.back()))) message.pop_back();
+    if (message.find("unchanged") != std::string::npos) return message;
+    if (!message.empty() && std::string(".!?").find(message.back()) == std::string::npos) message += '.';
+    return message + " The layers are unchanged.";
+}
+
+std::string outOfMemoryMessage(const Filter& filter) {
+    const std::string advice = filter.outOfMemoryAdvice();
+    return "Out of memory: '" + filter.name().toStdString() + "' needs more memory than is available here; " +
+           (advice.empty() ? std::string("close other programs or layers, or run it on a smaller input (fewer faces, "
+                                         "or fewer outputs such as levels or layers)")
+                           : advice + ", or close other programs or layers") +
+           ". The layers are unchanged.";
 }
 
 }  // namespace
@@ -57,13 +77,15 @@ std::string runFilter(const Filter* filter, MeshDocument& md, const RichParamete
         refusal = e.what();
     } catch (const rad::OperationCancelled&) {
         refusal = "Cancelled on request: the layers are unchanged and no file was written.";
-    } catch (const std::invalid_argument& e) {
-        refusal = e.what();
+    } catch (const std::invalid_argument& e) {  // rad::InputError and the cores' plain argument checks
+        refusal = withLayersUnchanged(e.what());
+    } catch (const rad::FileError& e) {
+        refusal = withLayersUnchanged(e.what());
+    } catch (const rad::ResourceError& e) {
+        refusal = withLayersUnchanged(std::string(e.what()) + "; retry with a smaller input or on another machine");
     } catch (const std::bad_alloc&) {
-        refusal = "Out of memory: '" + filter->name().toStdString() +
-                  "' needs more memory than is available here; close other programs or layers, or run it on a "
-                  "smaller input (fewer faces, or fewer outputs such as levels or layers). The layers are unchanged.";
-    } catch (const std::exception& e) {
+        refusal = outOfMemoryMessage(*filter);
+    } catch (const std::exception& e) {  // rad::InternalError and anything unforeseen
         refusal = std::string("Internal error (please report it): ") + e.what();
     }
     removeAddedLayers();

@@ -1,5 +1,8 @@
 // Argument parsing shared by the command-line tools: strict numbers with messages naming the option.
 #pragma once
+
+#include "errors/error_categories.h"
+
 #include <cmath>
 #include <exception>
 #include <iostream>
@@ -45,7 +48,8 @@ inline std::vector<double> numberList(const std::string& key, const std::string&
 
 // A tool's main(): run(argc, argv); a UsageError prints the message and the usage (exit 2), any
 // other exception its message (exit 1), each prefixed with the tool's name. Tools whose generators
-// refuse parameters with std::invalid_argument pass invalidArgumentIsUsage: exit 2, no usage.
+// refuse parameters with std::invalid_argument pass invalidArgumentIsUsage: exit 2, no usage (a
+// rad::InputError, a core refusing the mesh or scene, stays exit 1).
 template <typename Run, typename Usage>
 int runTool(const char* name, int argc, char** argv, Run run, Usage usage, bool invalidArgumentIsUsage = false) {
     try {
@@ -54,6 +58,9 @@ int runTool(const char* name, int argc, char** argv, Run run, Usage usage, bool 
         std::cerr << name << ": " << e.what() << "\n";
         usage(std::cerr);
         return 2;
+    } catch (const rad::InputError& e) {  // a core's refusal of the mesh or scene, never a usage error
+        std::cerr << name << ": " << e.what() << "\n";
+        return 1;
     } catch (const std::invalid_argument& e) {
         std::cerr << name << ": " << e.what() << "\n";
         return invalidArgumentIsUsage ? 2 : 1;

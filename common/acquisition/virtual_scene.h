@@ -27,6 +27,8 @@
 // the neighbouring surface; there n.w_i is close to 0 and so is the contribution that is lost.
 #pragma once
 
+#include "errors/error_categories.h"
+
 #include "geometry/triangle_mesh.h"
 #include "radiance/analytic_material.h"
 #include "raycast/ray_scene.h"
@@ -40,8 +42,8 @@
 
 namespace rad {
 
-struct VirtualSceneError : std::runtime_error {
-    using std::runtime_error::runtime_error;
+struct VirtualSceneError : InputError {
+    using InputError::InputError;
 };
 
 // Smooth procedural variation of the material over position. Each modulation is

@@ -9,17 +9,15 @@
 // Wedge arrays: 6 floats per face, (u0, v0, u1, v1, u2, v2) for the face's corners in the order
 // of its vertex indices.
 #pragma once
+
+#include "bake/bake_input_error.h"
+
 #include <cstddef>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace rad {
-
-// Thrown for inputs a bake must refuse (the message says what is wrong and how to fix it).
-struct BakeInputError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
 
 struct PerTriangleAtlas {
     std::vector<float> wedgeUv;  // 6 floats per face

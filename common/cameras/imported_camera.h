@@ -4,6 +4,8 @@
 // conventions into this one (docs/design-notes.md, "Importing cameras").
 #pragma once
 
+#include "errors/error_categories.h"
+
 #include "camera/pinhole_camera.h"
 #include "cameras/lens_model.h"
 
@@ -16,8 +18,8 @@
 namespace rad {
 
 // A camera file that cannot be used: the message says what is wrong, where, and what to do.
-struct CameraFileError : std::runtime_error {
-    using std::runtime_error::runtime_error;
+struct CameraFileError : FileError {
+    using FileError::FileError;
 };
 
 struct ImportedCamera {

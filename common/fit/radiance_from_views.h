@@ -25,6 +25,8 @@
 // filled vertex for data that is a guess anyway; we accept the approximation.
 #pragma once
 
+#include "errors/error_categories.h"
+
 #include "fit/robust_radiance_fit.h"
 #include "fit/shared_radiance_fit.h"
 #include "fit/view_sampling.h"
@@ -42,8 +44,8 @@
 namespace rad {
 
 // Thrown when the fit cannot run; what() is a sentence for the user (what is wrong, how to fix it).
-struct FitError : std::runtime_error {
-    using std::runtime_error::runtime_error;
+struct FitError : InputError {
+    using InputError::InputError;
 };
 
 // Which fit produces the radiance functions:

@@ -30,6 +30,9 @@
 // Quads are not split here: the input is triangles (the reference splits quads along a diagonal
 // of its own choosing; a triangulated mesh gives the same result in every tool).
 #pragma once
+
+#include "errors/error_categories.h"
+
 #include <cstddef>
 #include <cstdint>
 #include <stdexcept>
@@ -63,8 +66,8 @@ struct CornerTangents {
     std::size_t zeroTangentCorners = 0;   // reached, but the sum was zero (dP/ds along the normal)
 };
 
-struct TangentSpaceInputError : std::invalid_argument {
-    using std::invalid_argument::invalid_argument;
+struct TangentSpaceInputError : InputError {
+    using InputError::InputError;
 };
 
 // Throws TangentSpaceInputError for missing arrays or a vertex index out of range.

@@ -7,6 +7,8 @@
 // our encoder on zlib (image/parallel_png_encoder.h), because stb_image_write has no 16-bit PNG
 // writer.
 #pragma once
+
+#include "errors/error_categories.h"
 #include "image/rgb_image.h"
 
 #include <cstdint>
@@ -16,8 +18,8 @@
 
 namespace rad {
 
-struct ImageFileError : std::runtime_error {
-    using std::runtime_error::runtime_error;
+struct ImageFileError : FileError {
+    using FileError::FileError;
 };
 
 // Throws ImageFileError with the file name and the decoder's reason when the file is missing,

@@ -5,6 +5,8 @@
 // name keeps two processes writing the same path from sharing a temporary.
 #pragma once
 
+#include "errors/error_categories.h"
+
 #include <cstddef>
 #include <stdexcept>
 #include <string>
@@ -13,8 +15,8 @@
 
 namespace rad {
 
-struct AtomicFileError : std::runtime_error {
-    using std::runtime_error::runtime_error;
+struct AtomicFileError : FileError {
+    using FileError::FileError;
 };
 
 // `<path>.part-<pid>-<n>-<t>`: unique per process and call.

@@ -17,6 +17,9 @@
 // Vertices are split where a corner's UV or tangent differs from another corner's of the same
 // vertex (seams, mirrored UVs).
 #pragma once
+
+#include "errors/error_categories.h"
+
 #include <cstddef>
 #include <cstdint>
 #include <stdexcept>
@@ -41,8 +44,8 @@ struct GltfMesh {
     std::string generator = "radiance-tools";
 };
 
-struct GltfInputError : std::invalid_argument {
-    using std::invalid_argument::invalid_argument;
+struct GltfInputError : InputError {
+    using InputError::InputError;
 };
 
 // The whole .glb file. Throws GltfInputError for missing arrays, an index out of range, a

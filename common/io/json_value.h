@@ -3,6 +3,8 @@
 // and this much is easier to check than to add one.
 #pragma once
 
+#include "errors/error_categories.h"
+
 #include <map>
 #include <memory>
 #include <stdexcept>
@@ -11,8 +13,8 @@
 
 namespace rad {
 
-struct JsonError : std::runtime_error {
-    using std::runtime_error::runtime_error;
+struct JsonError : FileError {
+    using FileError::FileError;
 };
 
 struct JsonValue {

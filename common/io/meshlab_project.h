@@ -43,6 +43,8 @@
 // (storedCamera()), so that photographs and project agree exactly.
 #pragma once
 
+#include "errors/error_categories.h"
+
 #include "camera/pinhole_camera.h"
 
 #include <Eigen/Core>
@@ -55,8 +57,8 @@ namespace rad {
 
 // Every failure of reading or writing a project; what() names the file (and the line for syntax
 // errors) and says what is wrong.
-struct MeshLabProjectError : std::runtime_error {
-    using std::runtime_error::runtime_error;
+struct MeshLabProjectError : FileError {
+    using FileError::FileError;
 };
 
 // The values of a <VCGCamera> element (see the file comment), in double.

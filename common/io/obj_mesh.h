@@ -24,6 +24,8 @@
 // is kept (see mtllib above).
 #pragma once
 
+#include "errors/error_categories.h"
+
 #include "geometry/triangle_mesh.h"
 
 #include <stdexcept>
@@ -32,11 +34,11 @@
 
 namespace rad {
 
-struct ObjReadError : std::runtime_error {
-    using std::runtime_error::runtime_error;
+struct ObjReadError : FileError {
+    using FileError::FileError;
 };
-struct ObjWriteError : std::runtime_error {
-    using std::runtime_error::runtime_error;
+struct ObjWriteError : FileError {
+    using FileError::FileError;
 };
 
 struct ObjMesh {

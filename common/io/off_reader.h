@@ -16,6 +16,8 @@
 // Numbers are parsed with std::from_chars: independent of the C locale (Qt may set one).
 #pragma once
 
+#include "errors/error_categories.h"
+
 #include "geometry/triangle_mesh.h"
 
 #include <istream>
@@ -24,9 +26,9 @@
 
 namespace rad {
 
-class OffReadError : public std::runtime_error {
+class OffReadError : public FileError {
 public:
-    using std::runtime_error::runtime_error;
+    using FileError::FileError;
 };
 
 // Reads the file; throws OffReadError ("<path>:<line>: <reason>") when it cannot be opened or is

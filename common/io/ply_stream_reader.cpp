@@ -134,7 +134,7 @@ struct PlyStreamReader::Impl {
 
     [[noreturn]] void fail(const std::string& what, std::uint64_t offset) const {
         std::ostringstream message;
-        message << path << ": " << what << " (byte offset " << offset << ")";
+        message << "The PLY file cannot be read: " << path << ": " << what << " (byte offset " << offset << ")";
         throw PlyStreamError(message.str(), offset);
     }
     std::uint64_t offset() const { return bufferOffset + begin; }

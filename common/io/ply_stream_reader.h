@@ -23,6 +23,8 @@
 // ASCII numbers are parsed with std::from_chars (independent of the C locale).
 #pragma once
 
+#include "errors/error_categories.h"
+
 #include "progress/progress_callback.h"
 
 #include <cstddef>
@@ -36,9 +38,9 @@ namespace rad {
 
 // Every failure of the reader. what() names the file, the byte offset (and element index when
 // there is one), what is wrong and how to fix it.
-struct PlyStreamError : std::runtime_error {
+struct PlyStreamError : FileError {
     PlyStreamError(const std::string& message, std::uint64_t byteOffset)
-        : std::runtime_error(message), byteOffset(byteOffset) {}
+        : FileError(message), byteOffset(byteOffset) {}
     std::uint64_t byteOffset = 0;
 };
 

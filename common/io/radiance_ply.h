@@ -3,6 +3,8 @@
 // name) its coefficients; the exact layout is specified in docs/radiance-ply-format.md.
 #pragma once
 
+#include "errors/error_categories.h"
+
 #include "io/radiance_mesh.h"
 
 #include <stdexcept>
@@ -13,8 +15,8 @@ namespace rad {
 inline constexpr int kRadiancePlyFormatVersion = 1;
 
 // Every failure of readRadiancePly / writeRadiancePly. what() says what is wrong and how to fix it.
-struct RadianceFileError : std::runtime_error {
-    using std::runtime_error::runtime_error;
+struct RadianceFileError : FileError {
+    using FileError::FileError;
 };
 
 // Empty string when writeRadiancePly can write the mesh; otherwise a sentence saying what is

@@ -3,6 +3,8 @@
 // thing to read them from. Namespaces, DTDs and processing instructions are not interpreted.
 #pragma once
 
+#include "errors/error_categories.h"
+
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -10,8 +12,8 @@
 
 namespace rad {
 
-struct XmlError : std::runtime_error {
-    using std::runtime_error::runtime_error;
+struct XmlError : FileError {
+    using FileError::FileError;
 };
 
 struct XmlElement {

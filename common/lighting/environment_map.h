@@ -34,6 +34,8 @@
 // in front of the Environment Texture).
 #pragma once
 
+#include "errors/error_categories.h"
+
 #include <Eigen/Core>
 
 #include <stdexcept>
@@ -44,8 +46,8 @@ namespace rad {
 
 // Thrown for unreadable, empty, truncated or invalid environment maps; the message names the file
 // (or says "environment map" for in-memory data) and the reason.
-struct EnvironmentMapError : std::runtime_error {
-    using std::runtime_error::runtime_error;
+struct EnvironmentMapError : FileError {
+    using FileError::FileError;
 };
 
 class EnvironmentMap {

@@ -27,6 +27,8 @@
 // the shadow rays). Thread-safe: trace() is const; each thread passes its own random generator.
 #pragma once
 
+#include "errors/error_categories.h"
+
 #include "geometry/triangle_mesh.h"
 #include "radiance/analytic_material.h"
 #include "raycast/ray_scene.h"
@@ -42,8 +44,8 @@ namespace rad {
 // The albedo of a scene without vertex colours: a mid grey, the usual "clay" of a scan viewer.
 constexpr float kDefaultIndirectAlbedo = 0.5f;
 
-struct IndirectLightError : std::runtime_error {
-    using std::runtime_error::runtime_error;
+struct IndirectLightError : InputError {
+    using InputError::InputError;
 };
 
 // A small, fast generator (PCG32, O'Neill 2014) for per-thread streams: the path directions and

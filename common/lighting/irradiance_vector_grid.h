@@ -28,6 +28,8 @@
 // -y, +z, -z; per direction the channels R, G, B; per channel the vector's x, y, z.
 #pragma once
 
+#include "errors/error_categories.h"
+
 #include <array>
 #include <cstddef>
 #include <stdexcept>
@@ -36,8 +38,8 @@
 
 namespace rad {
 
-struct IrradianceVectorGridError : std::runtime_error {
-    using std::runtime_error::runtime_error;
+struct IrradianceVectorGridError : FileError {
+    using FileError::FileError;
 };
 
 struct IrradianceVectorGrid {

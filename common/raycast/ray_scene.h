@@ -5,6 +5,9 @@
 // Every query is const and thread-safe (Embree allows concurrent rtcIntersect1/rtcIntersect16/
 // rtcOccluded1/rtcOccluded16 on a committed scene); the scene holds its own copy of the geometry.
 #pragma once
+
+#include "errors/error_categories.h"
+
 #include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
@@ -40,8 +43,8 @@ struct ClosestPoint {
     Eigen::Vector3f point = Eigen::Vector3f::Zero();
 };
 
-struct RayCastError : std::runtime_error {
-    using std::runtime_error::runtime_error;
+struct RayCastError : ResourceError {
+    using ResourceError::ResourceError;
 };
 
 // Embree's BVH build: High (spatial splits, the fastest traversal) pays off when many rays are

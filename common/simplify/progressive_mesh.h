@@ -13,6 +13,8 @@
 // a radiance PLY holding the original mesh.
 #pragma once
 
+#include "errors/error_categories.h"
+
 #include "io/atomic_file.h"
 #include "io/radiance_mesh.h"
 #include "simplify/edge_collapse.h"
@@ -24,9 +26,9 @@
 
 namespace rad {
 
-class ProgressiveMeshError : public std::runtime_error {
+class ProgressiveMeshError : public FileError {
 public:
-    using std::runtime_error::runtime_error;
+    using FileError::FileError;
 };
 
 struct ProgressiveRadianceMesh {

@@ -22,61 +22,16 @@
 // coefficients live in a per-vertex tangent frame, and combining two PB functions attached to
 // different frames is not a PB function of any frame (sec. 4.3 asks for a rotation-invariant basis).
 //
-// The fast kernel. All candidate targets of one source share Omega(n0), and every d^2 involved is
-// between L~0 and a combination of the ring's L~_j. So each of the m + 1 functions (L~0 and the m
-// distinct other vertices: ring and targets) is evaluated ONCE at the P directions of the rule
-// rotated to Omega(n0), as (P x K basis values) times (K x 3 coefficients) with the square roots of
-// the rule weights folded into the basis values. With D_j = L~0 - L~_j (sampled, weighted) and the
-// m x m Gram matrix G_ij = sum_w weight(w) <D_i(w), D_j(w)>_RGB, each triangle costs
-//     d^2 = || L~0 - sum_i beta_i L~_i ||^2 = || sum_i beta_i D_i ||^2 = beta^T G beta
-// (because sum_i beta_i = 1), a 3 x 3 quadratic form. This is x^T Gfull x with x = (1, -beta) on the
-// Gram matrix of the raw functions, written on the differences so that the cancellation happens on
-// the small differences between neighbouring RF rather than on |L|^2 (an affine field costs zero to
-// rounding of |D|^2, not of |L|^2). Work per source: (m + 1) P K 3 multiply-adds for the samples,
-// m^2 P 3 / 2 for G, a few dozen flops per (target, triangle).
-//  - Directions go by chunks of 8: a chunk's K basis values stay in L1 and its 8 sums per channel in
-//    SIMD registers (Eigen fixed-size arrays). The rule is padded with zero-weight points to a
-//    multiple of 8 (50 -> 56 for PB4's default).
-//  - PB: monomials of the local (u, v) built column by column, one product each.
-//  - SH with reflected storage (always, see the constructor): L~_j(w) = C_j(w) wherever n_j.w >= 0,
-//    so the harmonics at the rule's directions are evaluated once per source and shared by every RF;
-//    only the directions below RF j's horizon (a band as wide as the tilt between n_j and n0) are
-//    re-evaluated at their border direction. This halves the SH cost.
-//  - Scratch buffers are thread_local and only grow: no heap allocation once warm (the bench counts
-//    them: 0). price*() may run concurrently on different sources.
-// Results equal those of the generic squaredDistanceToCombination path with the same rule to ~1e-15
-// relative (tests/unit/radiance_collapse_error_test.cpp).
+// The kernel evaluates each function of the ring once at the rule's directions and prices every
+// (target, triangle) as a 3 x 3 quadratic form on the Gram matrix of the differences D_j = L~0 - L~_j;
+// docs/simplification.md ("The eq. 7 pricing kernel") derives it and gives the measurements behind the
+// default quadrature rule. It equals the generic squaredDistanceToCombination path to ~1e-15 relative.
 //
 // Degenerate post-collapse triangles (TriangleGradient::create fails: zero area, collinear
 // vertices) contribute nothing: their gradient (eq. 3) is undefined, and the engine forbids such
 // collapses by its own validity checks (flips, degeneracies), so a finite price is harmless and
 // keeps the queue ordered. A collapse that kills every face of the source's star (a one-face
 // corner) sums over no triangle and costs 0, as eq. (7) says; boundary handling is the engine's.
-//
-// Default rule, chosen by measurement (bench/bench_radiance_collapse, rule tables): relative error
-// |E_rule - E_288| / E_288 of every half-edge cost against the 12 x 24 = 288-point Gauss rule of
-// radiance_distance.h, worst over four data sets: random smooth RF on a bumpy patch of 1600
-// vertices (normals up to 30 deg apart) and the striped glossy sphere of Vanhoey et al. 2015 Fig. 8
-// (analytic material projected per vertex) on icospheres of level 1, 2, 3 (neighbour normals 32-36,
-// 16-19, 8-9.5 deg apart); time per source vertex with all its half-edges, 1 thread (CPU time, patch
-// data, AMD EPYC, SSE2 build):
-//                     PB4                                    SH6
-//     rule     p50     p99     max    us/vertex     p50     p99     max    us/vertex
-//     3x6    2.6e-2  2.6e-1  4.1e-1     2.6       8.6e-2  5.2e-1  1.0e+0     4.7
-//     4x8    5.4e-4  1.0e-2  2.0e-2     3.2       2.4e-2  1.2e-1  3.7e-1     6.1
-//     5x10   1.1e-4  5.0e-3  9.4e-3     4.8  <-   2.5e-3  2.6e-2  5.0e-2     9.9
-//     6x12   3.8e-5  2.8e-3  5.5e-3     5.8       7.2e-4  1.5e-2  3.8e-2    12.8
-//     7x14   2.7e-5  1.2e-3  2.9e-3     7.9       4.6e-4  4.4e-3  1.3e-2    17.9  <-
-//     8x16   1.5e-5  7.2e-4  1.5e-3     9.6       3.3e-4  2.5e-3  5.2e-3    21.9
-//     12x24     0       0       0      20.0          0       0       0      47.6
-//     24x48  4.4e-6  2.1e-4  5.1e-4    75.5       1.2e-4  1.0e-3  2.2e-3   183.9
-// The 24x48 line is the 288-point rule's own error: the kink of the border extension (sec. 7)
-// caps every rule's convergence, so differences below ~1e-3 are noise. The default is the Gauss
-// product (d + 1) x 2 (d + 1) for degree d, the smallest that is exact when all normals agree (see
-// defaultCollapseZNodes): PB4 5x10, max error < 1e-2 at 4.2x the speed of 288 points; SH6 7x14,
-// p99 4e-3 and max 1.3e-2 at 2.7x (6x12 would be 3.7x but reaches 4e-2). On a 163842-vertex
-// icosphere (bench, level 7): PB4 5.0 us/vertex on 1 thread, 2.5 on 2 (288 points: 19.9, 10.0);
-// SH6 15.3 on 1 thread (288 points: 40.4).
 #pragma once
 
 #include "radiance/radiance_distance.h"

@@ -18,6 +18,8 @@
 //  - GeometryOnly: the memoryless QEM alone.
 #pragma once
 
+#include "errors/error_categories.h"
+
 #include "io/radiance_mesh.h"
 #include "simplify/edge_collapse.h"
 #include "simplify/progressive_mesh.h"
@@ -36,8 +38,8 @@ inline constexpr double kRadianceQuadricBalance = 1.25e-5;
 inline constexpr double kRadianceQuadricPerceptualExponent = 0.5;
 std::string describe(SimplificationMetric metric);
 
-struct SimplificationError : std::runtime_error {
-    using std::runtime_error::runtime_error;
+struct SimplificationError : InputError {
+    using InputError::InputError;
 };
 
 struct RadianceSimplificationOptions {

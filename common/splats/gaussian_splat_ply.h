@@ -24,6 +24,8 @@
 // above 3, a NaN or infinite value, a zero rotation quaternion, a truncated file, an empty splat set.
 #pragma once
 
+#include "errors/error_categories.h"
+
 #include "progress/progress_callback.h"
 
 #include <cstddef>
@@ -33,8 +35,8 @@
 
 namespace rad {
 
-struct SplatFileError : std::runtime_error {
-    using std::runtime_error::runtime_error;
+struct SplatFileError : FileError {
+    using FileError::FileError;
 };
 
 inline constexpr int kMaxSplatShDegree = 3;  // what 3DGS trains and the splat formats carry

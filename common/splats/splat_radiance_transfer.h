@@ -23,6 +23,8 @@
 // reaches gets the zero RF (black) and is counted.
 #pragma once
 
+#include "errors/error_categories.h"
+
 #include "progress/progress_callback.h"
 #include "radiance/radiance_field.h"
 #include "splats/gaussian_splat_ply.h"
@@ -35,8 +37,8 @@
 namespace rad {
 
 // A refusal of the transfer: what is wrong and what to do.
-struct SplatTransferError : std::runtime_error {
-    using std::runtime_error::runtime_error;
+struct SplatTransferError : InputError {
+    using InputError::InputError;
 };
 
 struct SplatTransferOptions {

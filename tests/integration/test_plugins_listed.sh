@@ -28,7 +28,7 @@ grep -qF "Store reflected functions" "$WORK/dump.txt" || fail "parameter descrip
 # The system plugins are loaded too.
 grep -qF "Simplification: Quadric Edge Collapse Decimation" "$WORK/dump.txt" || fail "Debian's filters missing: prefix broken"
 # No loading problem reported for our plugins.
-if grep -iE "(io_radiance|filter_radiance|filter_level_of_detail|filter_irradiance_grid).*(fail|error|undefined)" "$WORK/server.log"; then
+if grep -iE "(io_radiance|filter_radiance|filter_level_of_detail|filter_irradiance_grid|filter_out_of_core|filter_normal_bake|filter_prt_subdivide).*(fail|error|undefined)" "$WORK/server.log"; then
     fail "meshlabserver reported a problem loading our plugins"
 fi
 note "ok"

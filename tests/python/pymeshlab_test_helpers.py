@@ -64,7 +64,7 @@ SPLATS = FILTERS["Radiance: Transfer Radiance from Gaussian Splats"]
 # The plugin files the package must load (the 2025 builds of build/pymeshlab_plugins).
 PLUGIN_FILES = ("libio_radiance.so", "libfilter_radiance_fit.so", "libfilter_radiance_simplify.so",
                 "libfilter_prt_subdivide.so", "libfilter_normal_bake.so", "libfilter_level_of_detail.so",
-                "libfilter_irradiance_grid.so")
+                "libfilter_irradiance_grid.so", "libfilter_out_of_core.so")
 
 SH_BASIS = "Spherical harmonics SH(d), global frame"
 

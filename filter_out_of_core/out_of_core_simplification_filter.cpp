@@ -3,13 +3,12 @@
 // normal map of the simplified mesh (Granier et al. 2007). A thin adapter: parameters in, a call into
 // common/outofcore (out_of_core_simplification.h), the simplified mesh added as a new layer with its
 // texture coordinates and the map as its texture, log out. The current layer is not read or changed.
-#include "normal_bake_plugin.h"
+#include "out_of_core_plugin.h"
 
 #include "citations.h"
 #include "mesh_conversion.h"
+#include "output_naming.h"
 
-#include "bake/texture_atlas.h"
-#include "io/ply_stream_reader.h"
 #include "outofcore/out_of_core_simplification.h"
 
 #include <QDir>
@@ -22,23 +21,18 @@ namespace {
 
 enum BitsChoice { kBits16 = 0, kBits8 = 1 };
 
-// The output base: the parameter when given (".png" and "_normal" dropped; an existing folder
-// receives maps named after the PLY file), else beside the PLY file, named after it + "_ooc".
+// The output base: the parameter when given (output_naming.h), else beside the PLY file, named after
+// it + "_ooc".
 QString outputBase(const QString& given, const QString& plyPath) {
     const QString label = QFileInfo(plyPath).completeBaseName() + "_ooc";
-    QString base = given.trimmed();
-    if (!base.isEmpty() && QFileInfo(base).isDir()) return QDir(QFileInfo(base).absoluteFilePath()).filePath(label);
-    if (!base.isEmpty()) {
-        if (base.endsWith(".png", Qt::CaseInsensitive)) base.chop(4);
-        if (base.endsWith("_normal")) base.chop(7);
-        return QFileInfo(base).absoluteFilePath();
-    }
+    if (const QString base = outputBaseFromParameter(given, label); !base.isEmpty()) return base;
     return QDir(QFileInfo(plyPath).absolutePath()).filePath(label);
 }
 
 class OutOfCoreSimplificationFilter : public Filter {
 public:
     QString name() const override { return "Out-of-Core Simplification and Normal Map"; }
+    QString pythonName() const override { return "out_of_core_simplification_and_normal_map"; }
     QString description() const override;
     // MeshLab's "Create New Mesh Layer" class (MeshCreation) alone: the only class whose filters the
     // GUI offers in an empty document, which is where a scan too large to open is simplified.
@@ -75,26 +69,9 @@ public:
         return par;
     }
 
-    void apply(FilterContext& ctx) const override {
-        try {
-            run(ctx);
-        } catch (const rad::BakeInputError& e) {
-            throw Refusal(asSentence(e.what()) + " The layers are unchanged.");
-        } catch (const rad::PlyStreamError& e) {
-            throw Refusal("The PLY file cannot be read: " + asSentence(e.what()) + " The layers are unchanged.");
-        } catch (const rad::OperationCancelled&) {
-            throw;
-        } catch (const std::bad_alloc&) {
-            throw Refusal("Out of memory: choose a smaller target or texture size. The layers are unchanged.");
-        } catch (const Refusal&) {
-            throw;
-        } catch (const std::exception& e) {
-            throw Refusal(asSentence(e.what()) + " The layers are unchanged.");
-        }
-    }
+    std::string outOfMemoryAdvice() const override { return "choose a smaller target or texture size"; }
 
-private:
-    void run(FilterContext& ctx) const {
+    void apply(FilterContext& ctx) const override {
         const RichParameterList& par = ctx.parameters;
         const QString plyPath = par.getOpenFileName("plyFile").trimmed();
         if (plyPath.isEmpty())
