@@ -131,32 +131,32 @@ struct Frame {
     bool orientPreserving = false;
 };
 
-}  // namespace
+// The frame of every corner, and whether a group reached it.
+struct CornerFrames {
+    std::vector<Frame> frame;
+    std::vector<std::uint8_t> reached;
+};
 
-CornerTangents computeMikkTSpaceTangents(const TangentSpaceInput& input) {
-    checkInput(input);
-    CornerTangents result;
-    const std::size_t faceCount = input.faceCount, cornerCount = 3 * faceCount;
-    result.tangents.assign(4 * cornerCount, 0.0f);
-    if (faceCount == 0) return result;
-    const Corners corners(input);
-
-    // 1. Welding: corners with identical position, normal and UV share an id (the first such corner).
+// Welding: corners with identical position, normal and UV share an id (the first such corner).
+std::vector<int> weldCorners(const Corners& corners, std::size_t cornerCount) {
     std::vector<int> welded(cornerCount);
-    {
-        std::unordered_map<CornerKey, int, CornerKeyHash> first;
-        first.reserve(cornerCount);
-        for (std::size_t c = 0; c < cornerCount; ++c) {
-            const V3 p = corners.position(c), n = corners.normal(c);
-            float s, t;
-            corners.uv(c, s, t);
-            const CornerKey key{{keyBits(p.x), keyBits(p.y), keyBits(p.z), keyBits(n.x), keyBits(n.y), keyBits(n.z),
-                                 keyBits(s), keyBits(t)}};
-            welded[c] = first.emplace(key, int(c)).first->second;
-        }
+    std::unordered_map<CornerKey, int, CornerKeyHash> first;
+    first.reserve(cornerCount);
+    for (std::size_t c = 0; c < cornerCount; ++c) {
+        const V3 p = corners.position(c), n = corners.normal(c);
+        float s, t;
+        corners.uv(c, s, t);
+        const CornerKey key{{keyBits(p.x), keyBits(p.y), keyBits(p.z), keyBits(n.x), keyBits(n.y), keyBits(n.z),
+                             keyBits(s), keyBits(t)}};
+        welded[c] = first.emplace(key, int(c)).first->second;
     }
+    return welded;
+}
 
-    // 2, 3. Degenerate triangles; UV derivatives of the others.
+// Degenerate triangles (two welded corners at one position); the UV derivatives and orientation
+// of the others. Counts both kinds of trouble into `result`.
+std::vector<Triangle> classifyTriangles(const Corners& corners, const std::vector<int>& welded, std::size_t faceCount,
+                                        CornerTangents& result) {
     std::vector<Triangle> tri(faceCount);
     for (std::size_t f = 0; f < faceCount; ++f) {
         Triangle& t = tri[f];
@@ -185,44 +185,47 @@ CornerTangents computeMikkTSpaceTangents(const TangentSpaceInput& input) {
         }
         if (t.flags & kGroupWithAny) ++result.zeroUvAreaTriangles;
     }
+    return tri;
+}
 
-    // Neighbours across edges (welded ids) of good triangles: sorted by (min id, max id, face),
-    // each edge paired with the first later one running the other way and still unpaired.
-    {
-        struct Edge {
-            int lo, hi, face, k;
-        };
-        std::vector<Edge> edges;
-        edges.reserve(cornerCount);
-        for (std::size_t f = 0; f < faceCount; ++f) {
-            if (tri[f].flags & kDegenerate) continue;
-            for (int k = 0; k < 3; ++k) {
-                const int a = welded[3 * f + k], b = welded[3 * f + (k + 1) % 3];
-                edges.push_back({std::min(a, b), std::max(a, b), int(f), k});
-            }
+// Neighbours across edges (welded ids) of good triangles: sorted by (min id, max id, face), each
+// edge paired with the first later one running the other way and still unpaired.
+void findNeighbours(std::vector<Triangle>& tri, const std::vector<int>& welded) {
+    struct Edge {
+        int lo, hi, face, k;
+    };
+    std::vector<Edge> edges;
+    edges.reserve(welded.size());
+    for (std::size_t f = 0; f < tri.size(); ++f) {
+        if (tri[f].flags & kDegenerate) continue;
+        for (int k = 0; k < 3; ++k) {
+            const int a = welded[3 * f + k], b = welded[3 * f + (k + 1) % 3];
+            edges.push_back({std::min(a, b), std::max(a, b), int(f), k});
         }
-        std::sort(edges.begin(), edges.end(), [](const Edge& a, const Edge& b) {
-            return a.lo != b.lo ? a.lo < b.lo : a.hi != b.hi ? a.hi < b.hi : a.face < b.face;
-        });
-        for (std::size_t i = 0; i < edges.size(); ++i) {
-            const Edge& a = edges[i];
-            if (tri[a.face].neighbor[a.k] >= 0) continue;
-            const int aFrom = welded[3 * a.face + a.k];
-            for (std::size_t j = i + 1; j < edges.size() && edges[j].lo == a.lo && edges[j].hi == a.hi; ++j) {
-                const Edge& b = edges[j];
-                const int bFrom = welded[3 * b.face + b.k];
-                if (bFrom != aFrom && tri[b.face].neighbor[b.k] < 0) {
-                    tri[a.face].neighbor[a.k] = b.face;
-                    tri[b.face].neighbor[b.k] = a.face;
-                    break;
-                }
+    }
+    std::sort(edges.begin(), edges.end(), [](const Edge& a, const Edge& b) {
+        return a.lo != b.lo ? a.lo < b.lo : a.hi != b.hi ? a.hi < b.hi : a.face < b.face;
+    });
+    for (std::size_t i = 0; i < edges.size(); ++i) {
+        const Edge& a = edges[i];
+        if (tri[a.face].neighbor[a.k] >= 0) continue;
+        const int aFrom = welded[3 * a.face + a.k];
+        for (std::size_t j = i + 1; j < edges.size() && edges[j].lo == a.lo && edges[j].hi == a.hi; ++j) {
+            const Edge& b = edges[j];
+            const int bFrom = welded[3 * b.face + b.k];
+            if (bFrom != aFrom && tri[b.face].neighbor[b.k] < 0) {
+                tri[a.face].neighbor[a.k] = b.face;
+                tri[b.face].neighbor[b.k] = a.face;
+                break;
             }
         }
     }
+}
 
-    // 4. Groups: per corner of a good triangle not yet in one, a new group and all it reaches.
+// Groups: per corner of a good triangle not yet in one, a new group and all it reaches.
+std::vector<Group> buildGroups(std::vector<Triangle>& tri, const std::vector<int>& welded) {
     std::vector<Group> groups;
-    for (std::size_t f = 0; f < faceCount; ++f) {
+    for (std::size_t f = 0; f < tri.size(); ++f) {
         if (tri[f].flags & kDegenerate) continue;
         // A triangle without UV derivatives never starts a group (Blender's rule; the original
         // reference code let it start one with its own orientation): it only joins its
@@ -238,15 +241,15 @@ CornerTangents computeMikkTSpaceTangents(const TangentSpaceInput& input) {
             groups.push_back(std::move(g));
         }
     }
+    return groups;
+}
 
-    // Frames per corner. A corner no group reaches (every triangle around it lacks UV
-    // derivatives) keeps the convention's default, as Blender writes it: T = (1, 0, 0), sign -1.
-    std::vector<Frame> frame(cornerCount, Frame{V3{1.0f, 0.0f, 0.0f}, false});
-    std::vector<std::uint8_t> reached(cornerCount, 0);
-    // Angle-weighted sum of the projected unit dP/ds of the group's good triangles (Mikkelsen
-    // 2008, sec. 4), in increasing triangle order (the order of the float sums in Blender's).
-    std::vector<V3> groupSum(groups.size());
-    for (std::size_t f = 0; f < faceCount; ++f) {
+// Angle-weighted sum of the projected unit dP/ds of each group's good triangles (Mikkelsen 2008,
+// sec. 4), in increasing triangle order (the order of the float sums in Blender's).
+std::vector<V3> sumGroupTangents(const Corners& corners, const std::vector<int>& welded,
+                                 const std::vector<Triangle>& tri, std::size_t groupCount) {
+    std::vector<V3> groupSum(groupCount);
+    for (std::size_t f = 0; f < tri.size(); ++f) {
         const Triangle& t = tri[f];
         if (t.flags & (kDegenerate | kGroupWithAny)) continue;
         for (int k = 0; k < 3; ++k) {
@@ -261,41 +264,79 @@ CornerTangents computeMikkTSpaceTangents(const TangentSpaceInput& input) {
             groupSum[t.group[k]] = groupSum[t.group[k]] + angle * projectedUnit(t.os, n);
         }
     }
-    for (std::size_t f = 0; f < faceCount; ++f) {
+    return groupSum;
+}
+
+// Frames per corner: its group's normalised sum and orientation. A corner no group reaches (every
+// triangle around it lacks UV derivatives) keeps the convention's default, as Blender writes it:
+// T = (1, 0, 0), sign -1.
+CornerFrames groupFrames(const std::vector<Triangle>& tri, const std::vector<Group>& groups,
+                         const std::vector<V3>& groupSum) {
+    const std::size_t cornerCount = 3 * tri.size();
+    CornerFrames frames{std::vector<Frame>(cornerCount, Frame{V3{1.0f, 0.0f, 0.0f}, false}),
+                        std::vector<std::uint8_t>(cornerCount, 0)};
+    for (std::size_t f = 0; f < tri.size(); ++f) {
         for (int k = 0; k < 3; ++k) {
             const int g = tri[f].group[k];
             if (g < 0) continue;
             const V3 sum = groupSum[g];
-            frame[3 * f + k] = Frame{notZero(sum) ? normalized(sum) : sum, groups[g].orientPreserving};
-            reached[3 * f + k] = 1;
+            frames.frame[3 * f + k] = Frame{notZero(sum) ? normalized(sum) : sum, groups[g].orientPreserving};
+            frames.reached[3 * f + k] = 1;
         }
     }
+    return frames;
+}
 
-    // 2 (end). Degenerate triangles: the frame of the first good corner of the same vertex.
-    if (result.degenerateTriangles > 0) {
-        std::unordered_map<int, std::size_t> firstGood;
-        for (std::size_t c = 0; c < cornerCount; ++c)
-            if (!(tri[c / 3].flags & kDegenerate)) firstGood.emplace(welded[c], c);
-        for (std::size_t c = 0; c < cornerCount; ++c) {
-            if (!(tri[c / 3].flags & kDegenerate)) continue;
-            const auto it = firstGood.find(welded[c]);
-            if (it != firstGood.end()) {
-                frame[c] = frame[it->second];
-                reached[c] = reached[it->second];
-            }
-        }
-    }
-
+// Degenerate triangles: the frame of the first good corner of the same (welded) vertex.
+void copyFramesToDegenerateTriangles(const std::vector<Triangle>& tri, const std::vector<int>& welded,
+                                     CornerFrames& frames) {
+    const std::size_t cornerCount = welded.size();
+    std::unordered_map<int, std::size_t> firstGood;
+    for (std::size_t c = 0; c < cornerCount; ++c)
+        if (!(tri[c / 3].flags & kDegenerate)) firstGood.emplace(welded[c], c);
     for (std::size_t c = 0; c < cornerCount; ++c) {
-        float* out = result.tangents.data() + 4 * c;
-        out[0] = frame[c].os.x;
-        out[1] = frame[c].os.y;
-        out[2] = frame[c].os.z;
-        out[3] = frame[c].orientPreserving ? 1.0f : -1.0f;
-        if (!reached[c]) ++result.defaultFrameCorners;
-        else if (!notZero(frame[c].os)) ++result.zeroTangentCorners;
+        if (!(tri[c / 3].flags & kDegenerate)) continue;
+        const auto it = firstGood.find(welded[c]);
+        if (it != firstGood.end()) {
+            frames.frame[c] = frames.frame[it->second];
+            frames.reached[c] = frames.reached[it->second];
+        }
     }
-    result.reached = std::move(reached);
+}
+
+// The frames as (x, y, z, sign) per corner, with the counts of default and zero tangents.
+void writeCornerTangents(CornerFrames& frames, CornerTangents& result) {
+    for (std::size_t c = 0; c < frames.frame.size(); ++c) {
+        float* out = result.tangents.data() + 4 * c;
+        const Frame& frame = frames.frame[c];
+        out[0] = frame.os.x;
+        out[1] = frame.os.y;
+        out[2] = frame.os.z;
+        out[3] = frame.orientPreserving ? 1.0f : -1.0f;
+        if (!frames.reached[c]) ++result.defaultFrameCorners;
+        else if (!notZero(frame.os)) ++result.zeroTangentCorners;
+    }
+    result.reached = std::move(frames.reached);
+}
+
+}  // namespace
+
+CornerTangents computeMikkTSpaceTangents(const TangentSpaceInput& input) {
+    checkInput(input);
+    CornerTangents result;
+    const std::size_t faceCount = input.faceCount, cornerCount = 3 * faceCount;
+    result.tangents.assign(4 * cornerCount, 0.0f);
+    if (faceCount == 0) return result;
+    const Corners corners(input);
+
+    const std::vector<int> welded = weldCorners(corners, cornerCount);
+    std::vector<Triangle> tri = classifyTriangles(corners, welded, faceCount, result);
+    findNeighbours(tri, welded);
+    const std::vector<Group> groups = buildGroups(tri, welded);
+    const std::vector<V3> groupSum = sumGroupTangents(corners, welded, tri, groups.size());
+    CornerFrames frames = groupFrames(tri, groups, groupSum);
+    if (result.degenerateTriangles > 0) copyFramesToDegenerateTriangles(tri, welded, frames);
+    writeCornerTangents(frames, result);
     return result;
 }
 

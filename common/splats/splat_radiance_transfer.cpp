@@ -65,7 +65,7 @@ void checkInput(const std::vector<float>& positions, const std::vector<float>& n
         throw std::invalid_argument("inconsistent splat arrays");
 }
 
-// Step 3: the splats that can matter, with their support boxes for the grid.
+// The splats that can matter, with their support boxes for the grid.
 std::vector<KeptSplat> keepSplats(const GaussianSplats& splats, const Eigen::AlignedBox3d& meshBox, double diagonal,
                                   double hMax, const SplatTransferOptions& options, std::vector<SupportBox>& boxes,
                                   SplatTransferResult& result) {
@@ -98,6 +98,190 @@ std::vector<KeptSplat> keepSplats(const GaussianSplats& splats, const Eigen::Ali
         boxes.push_back(box);
     }
     return kept;
+}
+
+// The mesh's extent and the footprint h of each vertex.
+struct MeshScale {
+    Eigen::AlignedBox3d box;
+    double diagonal = 0.0;
+    std::vector<double> footprint;
+    double hMax = 0.0;
+};
+
+MeshScale measureMesh(const std::vector<float>& positions, const std::vector<std::uint32_t>& faces) {
+    MeshScale scale;
+    const std::size_t n = positions.size() / 3;
+    for (std::size_t v = 0; v < n; ++v)
+        scale.box.extend(Eigen::Vector3d(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]));
+    scale.diagonal = std::max(scale.box.diagonal().norm(), 1e-12);
+    scale.footprint = vertexFootprints(positions, faces);
+    scale.hMax = *std::max_element(scale.footprint.begin(), scale.footprint.end());
+    return scale;
+}
+
+// What every vertex of the transfer reads.
+struct VertexTransferInputs {
+    const std::vector<float>& positions;
+    const std::vector<float>& normals;
+    const std::vector<double>& footprint;
+    const GaussianSplats& splats;
+    const std::vector<KeptSplat>& kept;
+    const SplatSupportGrid& grid;
+    const SplatTransferOptions& options;
+    const HemisphereQuadrature& rule;
+    const BasisSpec& basis;
+    int degree, k;  // the splats' SH degree and coefficients per channel
+};
+
+// One thread's working arrays, reused from vertex to vertex.
+struct VertexScratch {
+    VertexScratch(int k, std::size_t samplePoints)
+        : blended(3 * k), samples(samplePoints), basisValues(k), fitted(3 * k) {}
+    std::vector<std::uint32_t> near;
+    std::vector<double> weights, clamped, clampedWeights, blended;
+    double blendedOffset = 0.0;
+    std::vector<RadianceSample> samples;
+    std::vector<double> basisValues, fitted;
+};
+
+// The kept splats near vertex v (within the support, h-widened) and in front of it, with their
+// weights (opacity times the Gaussian), into scratch.near and scratch.weights; returns the sum.
+double gatherNearSplats(const VertexTransferInputs& in, std::size_t v, const Eigen::Vector3d& p, const Frame& frame,
+                        VertexScratch& scratch) {
+    const double h2 = in.footprint[v] * in.footprint[v];
+    scratch.near.clear();
+    scratch.weights.clear();
+    in.grid.forEachContaining(p, [&](std::uint32_t j) {
+        const KeptSplat& s = in.kept[j];
+        const Eigen::Vector3d d = p - s.centre;
+        if ((-d).dot(frame.n) < -in.options.frontTolerance * in.footprint[v]) return;
+        const Eigen::Vector3d local = s.axes.transpose() * d;
+        const double m2 = (local.array().square() / (s.variances.array() + h2)).sum();
+        if (m2 > in.options.supportSigmas * in.options.supportSigmas) return;
+        const double w = s.opacity * std::exp(-0.5 * m2);
+        if (!(w > 0.0)) return;
+        scratch.near.push_back(j);
+        scratch.weights.push_back(w);
+    });
+    double total = 0.0;
+    for (double w : scratch.weights) total += w;
+    return total;
+}
+
+// The near splats' coefficients as functions of our viewer direction. A splat whose colour cannot
+// go below 0 in any direction (DC part minus a bound of the other bands) is never clamped, so its
+// weighted coefficients are summed once (scratch.blended); only the others are evaluated, and
+// clamped, one by one at every direction (scratch.clamped). Both give the same C(w). Marks the
+// near splats as used.
+void blendNearSplats(const VertexTransferInputs& in, VertexScratch& scratch, std::atomic<unsigned char>* used) {
+    const int k = in.k;
+    std::fill(scratch.blended.begin(), scratch.blended.end(), 0.0);
+    scratch.blendedOffset = 0.0;
+    scratch.clamped.clear();
+    scratch.clampedWeights.clear();
+    for (std::size_t i = 0; i < scratch.near.size(); ++i) {
+        used[scratch.near[i]].store(1, std::memory_order_relaxed);
+        const float* sh = in.splats.sh.data() + std::size_t(in.kept[scratch.near[i]].index) * 3 * k;
+        double converted[3 * 16];
+        bool neverNegative = true;
+        for (int c = 0; c < 3; ++c) {
+            toViewerShCoefficients(in.degree, sh + c * k, converted + c * k);
+            double bound = 0.0;
+            for (int j = 1; j < k; ++j) bound += std::fabs(converted[c * k + j]) * kShBound[j];
+            if (converted[c * k] * kSplatShC0 + kSplatColorOffset - bound < 0.0) neverNegative = false;
+        }
+        if (neverNegative) {
+            for (int j = 0; j < 3 * k; ++j) scratch.blended[j] += scratch.weights[i] * converted[j];
+            scratch.blendedOffset += scratch.weights[i] * kSplatColorOffset;
+        } else {
+            scratch.clamped.insert(scratch.clamped.end(), converted, converted + 3 * k);
+            scratch.clampedWeights.push_back(scratch.weights[i]);
+        }
+    }
+}
+
+// The blended, decoded (linear) colour at every hemisphere point of the rule, into scratch.samples.
+void sampleBlendedColor(const VertexTransferInputs& in, const Frame& frame, double total, VertexScratch& scratch) {
+    const int k = in.k;
+    for (std::size_t q = 0; q < in.rule.size(); ++q) {
+        const Eigen::Vector3d w = frame.toWorld(Eigen::Vector3d(in.rule.x[q], in.rule.y[q], in.rule.z[q]));
+        evaluateSphericalHarmonics(in.degree, w.x(), w.y(), w.z(), scratch.basisValues.data());
+        Eigen::Vector3d display = Eigen::Vector3d::Constant(scratch.blendedOffset);
+        for (int c = 0; c < 3; ++c)
+            for (int j = 0; j < k; ++j) display[c] += scratch.blended[c * k + j] * scratch.basisValues[j];
+        for (std::size_t i = 0; i < scratch.clampedWeights.size(); ++i)
+            for (int c = 0; c < 3; ++c) {
+                const double* a = scratch.clamped.data() + (i * 3 + c) * k;
+                double sum = kSplatColorOffset;
+                for (int j = 0; j < k; ++j) sum += a[j] * scratch.basisValues[j];
+                display[c] += scratch.clampedWeights[i] * std::max(0.0, sum);
+            }
+        display /= total;
+        scratch.samples[q].direction = w;
+        scratch.samples[q].value = Eigen::Vector3d(displayToLinear(display[0]), displayToLinear(display[1]),
+                                                   displayToLinear(display[2]));
+        scratch.samples[q].weight = in.rule.w[q];
+    }
+}
+
+// Vertex v's frame, and its radiance: the near splats in front, their blended colour over the
+// hemisphere, the least-squares SH fit. False when no splat is near (or, with non-finite colours
+// only, when the fit fails): the vertex is without splats.
+bool transferToVertex(const VertexTransferInputs& in, std::size_t v, VertexScratch& scratch,
+                      std::atomic<unsigned char>* used, SplatTransferResult& result) {
+    const Eigen::Vector3d p(in.positions[3 * v], in.positions[3 * v + 1], in.positions[3 * v + 2]);
+    const Frame frame =
+        frameFromNormal(Eigen::Vector3d(in.normals[3 * v], in.normals[3 * v + 1], in.normals[3 * v + 2]));
+    storeFrame(frame, result.field.frame(v));
+    const double total = gatherNearSplats(in, v, p, frame, scratch);
+    if (scratch.near.empty() || !(total > 0.0)) return false;
+    blendNearSplats(in, scratch, used);
+    sampleBlendedColor(in, frame, total, scratch);
+    FitOptions fit;
+    fit.lambda = kFitLambda;
+    if (!fitRadiance(in.basis, frame, scratch.samples, fit, scratch.fitted.data())) return false;
+    float* out = result.field.vertexCoefficients(v);
+    for (int j = 0; j < 3 * in.k; ++j) out[j] = static_cast<float>(scratch.fitted[j]);
+    result.splatCount[v] = static_cast<std::uint32_t>(scratch.near.size());
+    result.weightSum[v] = static_cast<float>(total);
+    return true;
+}
+
+// Every vertex (OpenMP, dynamic), with progress and stop requests; counts the vertices without
+// splats and the splats used into `result`.
+void transferToVertices(const VertexTransferInputs& in, const ProgressCallback& progress,
+                        SplatTransferResult& result) {
+    const std::size_t n = in.positions.size() / 3;
+    std::unique_ptr<std::atomic<unsigned char>[]> used(new std::atomic<unsigned char>[in.kept.size() + 1]());
+    std::atomic<std::size_t> without{0};
+    LoopProgress loop(progress, "Transferring splat radiance", n);
+    const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(n);
+#pragma omp parallel
+    {
+        VertexScratch scratch(in.k, in.rule.size());
+#pragma omp for schedule(dynamic, 64)
+        for (std::ptrdiff_t vi = 0; vi < count; ++vi) {
+            if (loop.stopRequested()) continue;
+            if (!transferToVertex(in, static_cast<std::size_t>(vi), scratch, used.get(), result)) ++without;
+            loop.itemDone(omp_get_thread_num() == 0);
+        }
+    }
+    loop.finish();
+    result.verticesWithoutSplats = without.load();
+    for (std::size_t j = 0; j < in.kept.size(); ++j) result.splatsUsed += used[j].load();
+}
+
+// Nothing near the mesh is a refusal, not a black mesh.
+void refuseWhenNoVertexHasSplats(const SplatTransferResult& result, std::size_t n, const GaussianSplats& splats,
+                                 const SplatTransferOptions& options) {
+    if (result.verticesWithoutSplats != n) return;
+    std::ostringstream why;
+    why << "no vertex of the mesh has a splat near it and in front of it (" << splats.count() << " splats: "
+        << result.splatsTooLarge << " larger than the size limit, " << result.splatsFar
+        << " far from the mesh's bounding box, the others not within " << options.supportSigmas
+        << " standard deviations of any vertex); check that the mesh and the splats are in the same coordinate "
+           "frame and scale (align the mesh to the splat scene first), and that the normals point outward";
+    throw SplatTransferError(why.str());
 }
 
 }  // namespace
@@ -143,154 +327,31 @@ std::vector<double> vertexFootprints(const std::vector<float>& positions, const 
 SplatTransferResult transferSplatRadiance(const std::vector<float>& positions, const std::vector<float>& normals,
                                           const std::vector<std::uint32_t>& faces, const GaussianSplats& splats,
                                           const SplatTransferOptions& options, const ProgressCallback& progress) {
-    // 1. Input and the mesh's scale.
     checkInput(positions, normals, faces, splats);
     if (!(options.supportSigmas > 0.0) || !(options.frontTolerance >= 0.0) || !(options.maxSplatSize > 0.0))
         throw std::invalid_argument("support, front tolerance and size limit must be positive");
     const std::size_t n = positions.size() / 3;
-    Eigen::AlignedBox3d meshBox;
-    for (std::size_t v = 0; v < n; ++v)
-        meshBox.extend(Eigen::Vector3d(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]));
-    const double diagonal = std::max(meshBox.diagonal().norm(), 1e-12);
-    const std::vector<double> footprint = vertexFootprints(positions, faces);
-    const double hMax = *std::max_element(footprint.begin(), footprint.end());
-
+    const MeshScale scale = measureMesh(positions, faces);
     SplatTransferResult result;
-    for (double h : footprint) result.meanFootprint += h / double(n);
+    for (double h : scale.footprint) result.meanFootprint += h / double(n);
 
-    // 2. The splats that can reach the mesh, indexed by their support.
     reportProgress(progress, 0.0, "Indexing splats");
     std::vector<SupportBox> boxes;
-    const std::vector<KeptSplat> kept = keepSplats(splats, meshBox, diagonal, hMax, options, boxes, result);
+    const std::vector<KeptSplat> kept = keepSplats(splats, scale.box, scale.diagonal, scale.hMax, options, boxes, result);
     const SplatSupportGrid grid(boxes);
 
-    // 3. Per vertex: the near splats in front, their blended colour over the hemisphere, the fit.
-    const int degree = splats.shDegree;
-    const int k = splats.coefficientsPerChannel();
-    const BasisSpec basis{BasisKind::SphericalHarmonics, degree};
+    const BasisSpec basis{BasisKind::SphericalHarmonics, splats.shDegree};
     result.field = RadianceField(basis, n, false);
     result.meanColor.assign(3 * n, 0.0f);
     result.splatCount.assign(n, 0);
     result.weightSum.assign(n, 0.0f);
     const HemisphereQuadrature rule = hemisphereRule(lebedevPointCountForPrecision(kFitPrecision));
-    std::unique_ptr<std::atomic<unsigned char>[]> used(new std::atomic<unsigned char>[kept.size() + 1]());
-    std::atomic<std::size_t> without{0};
-    LoopProgress loop(progress, "Transferring splat radiance", n);
-    const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(n);
-#pragma omp parallel
-    {
-        std::vector<std::uint32_t> near;
-        std::vector<double> weights, clamped, clampedWeights, blended(3 * k);
-        std::vector<RadianceSample> samples(rule.size());
-        std::vector<double> basisValues(k), fitted(3 * k);
-#pragma omp for schedule(dynamic, 64)
-        for (std::ptrdiff_t vi = 0; vi < count; ++vi) {
-            if (loop.stopRequested()) continue;
-            const std::size_t v = static_cast<std::size_t>(vi);
-            const Eigen::Vector3d p(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]);
-            const Frame frame = frameFromNormal(Eigen::Vector3d(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]));
-            storeFrame(frame, result.field.frame(v));
-            const double h2 = footprint[v] * footprint[v];
-            // 3a. Near and in front, with their weights.
-            near.clear();
-            weights.clear();
-            grid.forEachContaining(p, [&](std::uint32_t j) {
-                const KeptSplat& s = kept[j];
-                const Eigen::Vector3d d = p - s.centre;
-                if ((-d).dot(frame.n) < -options.frontTolerance * footprint[v]) return;
-                const Eigen::Vector3d local = s.axes.transpose() * d;
-                const double m2 = (local.array().square() / (s.variances.array() + h2)).sum();
-                if (m2 > options.supportSigmas * options.supportSigmas) return;
-                const double w = s.opacity * std::exp(-0.5 * m2);
-                if (!(w > 0.0)) return;
-                near.push_back(j);
-                weights.push_back(w);
-            });
-            double total = 0.0;
-            for (double w : weights) total += w;
-            if (near.empty() || !(total > 0.0)) {
-                ++without;
-                loop.itemDone(omp_get_thread_num() == 0);
-                continue;
-            }
-            // 3b. The near splats' coefficients as functions of our viewer direction. A splat whose colour
-            // cannot go below 0 in any direction (DC part minus a bound of the other bands) is never
-            // clamped, so its weighted coefficients are summed once; only the others are evaluated,
-            // and clamped, one by one at every direction. Both give the same C(w).
-            std::fill(blended.begin(), blended.end(), 0.0);
-            double blendedOffset = 0.0;
-            clamped.clear();
-            clampedWeights.clear();
-            for (std::size_t i = 0; i < near.size(); ++i) {
-                used[near[i]].store(1, std::memory_order_relaxed);
-                const float* sh = splats.sh.data() + std::size_t(kept[near[i]].index) * 3 * k;
-                double converted[3 * 16];
-                bool neverNegative = true;
-                for (int c = 0; c < 3; ++c) {
-                    toViewerShCoefficients(degree, sh + c * k, converted + c * k);
-                    double bound = 0.0;
-                    for (int j = 1; j < k; ++j) bound += std::fabs(converted[c * k + j]) * kShBound[j];
-                    if (converted[c * k] * kSplatShC0 + kSplatColorOffset - bound < 0.0) neverNegative = false;
-                }
-                if (neverNegative) {
-                    for (int j = 0; j < 3 * k; ++j) blended[j] += weights[i] * converted[j];
-                    blendedOffset += weights[i] * kSplatColorOffset;
-                } else {
-                    clamped.insert(clamped.end(), converted, converted + 3 * k);
-                    clampedWeights.push_back(weights[i]);
-                }
-            }
-            // 3c. The blended, decoded colour at every hemisphere point.
-            for (std::size_t q = 0; q < rule.size(); ++q) {
-                const Eigen::Vector3d w = frame.toWorld(Eigen::Vector3d(rule.x[q], rule.y[q], rule.z[q]));
-                evaluateSphericalHarmonics(degree, w.x(), w.y(), w.z(), basisValues.data());
-                Eigen::Vector3d display = Eigen::Vector3d::Constant(blendedOffset);
-                for (int c = 0; c < 3; ++c)
-                    for (int j = 0; j < k; ++j) display[c] += blended[c * k + j] * basisValues[j];
-                for (std::size_t i = 0; i < clampedWeights.size(); ++i)
-                    for (int c = 0; c < 3; ++c) {
-                        const double* a = clamped.data() + (i * 3 + c) * k;
-                        double sum = kSplatColorOffset;
-                        for (int j = 0; j < k; ++j) sum += a[j] * basisValues[j];
-                        display[c] += clampedWeights[i] * std::max(0.0, sum);
-                    }
-                display /= total;
-                samples[q].direction = w;
-                samples[q].value = Eigen::Vector3d(displayToLinear(display[0]), displayToLinear(display[1]),
-                                                   displayToLinear(display[2]));
-                samples[q].weight = rule.w[q];
-            }
-            // 3d. The least-squares SH over the hemisphere.
-            FitOptions fit;
-            fit.lambda = kFitLambda;
-            if (!fitRadiance(basis, frame, samples, fit, fitted.data())) {
-                // Only non-finite colours can fail a fit of well-spread samples: counted as without.
-                ++without;
-                loop.itemDone(omp_get_thread_num() == 0);
-                continue;
-            }
-            float* out = result.field.vertexCoefficients(v);
-            for (int j = 0; j < 3 * k; ++j) out[j] = static_cast<float>(fitted[j]);
-            result.splatCount[v] = static_cast<std::uint32_t>(near.size());
-            result.weightSum[v] = static_cast<float>(total);
-            loop.itemDone(omp_get_thread_num() == 0);
-        }
-    }
-    loop.finish();
-    result.verticesWithoutSplats = without.load();
-    for (std::size_t j = 0; j < kept.size(); ++j) result.splatsUsed += used[j].load();
+    const VertexTransferInputs inputs{positions, normals, scale.footprint, splats, kept, grid, options, rule, basis,
+                                      splats.shDegree, splats.coefficientsPerChannel()};
+    transferToVertices(inputs, progress, result);
 
-    // 4. Nothing near the mesh is a refusal, not a black mesh.
-    if (result.verticesWithoutSplats == n) {
-        std::ostringstream why;
-        why << "no vertex of the mesh has a splat near it and in front of it (" << splats.count() << " splats: "
-            << result.splatsTooLarge << " larger than the size limit, " << result.splatsFar
-            << " far from the mesh's bounding box, the others not within " << options.supportSigmas
-            << " standard deviations of any vertex); check that the mesh and the splats are in the same coordinate "
-               "frame and scale (align the mesh to the splat scene first), and that the normals point outward";
-        throw SplatTransferError(why.str());
-    }
-    // 5. The vertex colours' source: the RF's exact mean over its hemisphere.
+    refuseWhenNoVertexHasSplats(result, n, splats, options);
+    // The vertex colours' source: the RF's exact mean over its hemisphere.
     meanHemisphereColors(result.field, result.meanColor.data());
     return result;
 }
