@@ -23,6 +23,7 @@
 // ASCII numbers are parsed with std::from_chars (independent of the C locale).
 #pragma once
 
+#include "io/ply_header.h"  // PlyEncoding
 #include "progress/progress_callback.h"
 
 #include <cstddef>
@@ -41,8 +42,6 @@ struct PlyStreamError : std::runtime_error {
         : std::runtime_error(message), byteOffset(byteOffset) {}
     std::uint64_t byteOffset = 0;
 };
-
-enum class PlyEncoding { Ascii, BinaryLittleEndian, BinaryBigEndian };
 
 struct PlyStreamInfo {
     PlyEncoding encoding = PlyEncoding::BinaryLittleEndian;
