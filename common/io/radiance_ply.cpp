@@ -183,20 +183,26 @@ BasisSpec parseBasisOrFail(const std::string& text) {
              kMaxPolynomialDegree, ", SH0..SH", kMaxHarmonicDegree, ")"));
 }
 
-RadianceHeader parseRadianceComments(const PlyHeader& header) {
-    RadianceHeader r;
-    // Version first, so that a newer file gets the "newer version" message whatever else it contains.
+// Version first, so that a newer file gets the "newer version" message whatever else it contains.
+// Returns whether the file declares the format (radiance_format_version).
+bool checkFormatVersion(const PlyHeader& header) {
+    bool ourFormat = false;
     for (const auto& c : header.comments) {
         if (c.tokens.size() < 2 || c.tokens[1] != "radiance_format_version") continue;
-        if (r.ourFormat) fail("comment radiance_format_version appears twice");
+        if (ourFormat) fail("comment radiance_format_version appears twice");
         const auto version = c.tokens.size() == 3 ? parseUnsigned(c.tokens[2]) : std::nullopt;
         if (!version || *version == 0) fail(cat("header line ", c.lineNumber, ": malformed radiance_format_version comment"));
         if (*version > static_cast<std::uint64_t>(kRadiancePlyFormatVersion))
             fail(cat("the file was written by a newer version of the radiance PLY format (version ", c.tokens[2],
                      "); this reader supports version ", kRadiancePlyFormatVersion, ": update the plugin"));
-        r.ourFormat = true;
+        ourFormat = true;
     }
+    return ourFormat;
+}
 
+// The radiance_* comments (basis, reflected, channels, colour space, frame), each at most once and
+// only with the format version.
+void parseRadianceKeys(const PlyHeader& header, RadianceHeader& r) {
     std::unordered_set<std::string> seen;
     std::string firstRadianceKey;
     for (const auto& c : header.comments) {
@@ -230,8 +236,10 @@ RadianceHeader parseRadianceComments(const PlyHeader& header) {
              "(or 1 when the coefficients encode the reflected function)");
     if (!r.basis && !seen.empty())
         fail(cat("comment ", firstRadianceKey, " without comment radiance_basis"));
-    if (!r.ourFormat) return r;  // "block" comments of foreign files are just comments
+}
 
+// The "comment block <prefix> width <n>" declarations.
+void parseBlockDeclarations(const PlyHeader& header, RadianceHeader& r) {
     for (const auto& c : header.comments) {
         if (c.tokens.size() < 2 || c.tokens[1] != "block") continue;
         const auto& t = c.tokens;
@@ -247,6 +255,10 @@ RadianceHeader parseRadianceComments(const PlyHeader& header) {
             if (b.prefix == t[2]) fail(cat("block ", shown(t[2]), " declared twice"));
         r.blocks.push_back({t[2], static_cast<int>(*width), {}});
     }
+}
+
+// The "comment block_meta <prefix> <key> <value>" lines of the declared blocks.
+void parseBlockMetadata(const PlyHeader& header, RadianceHeader& r) {
     for (const auto& c : header.comments) {
         if (c.tokens.size() < 2 || c.tokens[1] != "block_meta") continue;
         std::size_t pos = 0;
@@ -274,6 +286,15 @@ RadianceHeader parseRadianceComments(const PlyHeader& header) {
         if (!block->metadata.emplace(key, value).second)
             fail(cat("block_meta ", shown(key), " of block ", shown(prefix), " appears twice"));
     }
+}
+
+RadianceHeader parseRadianceComments(const PlyHeader& header) {
+    RadianceHeader r;
+    r.ourFormat = checkFormatVersion(header);
+    parseRadianceKeys(header, r);
+    if (!r.ourFormat) return r;  // "block" comments of foreign files are just comments
+    parseBlockDeclarations(header, r);
+    parseBlockMetadata(header, r);
     return r;
 }
 
@@ -349,17 +370,9 @@ struct VertexLayout {
     std::vector<std::string> unknown;          // names of the skipped properties
 };
 
-VertexLayout planVertices(const PlyElement& vertex, const RadianceHeader& rh) {
-    VertexLayout layout;
-    layout.recordBytes = vertex.scalarBytes;
+// The vertex properties the format knows for this header, by name.
+std::unordered_map<std::string, SlotRef> expectedVertexProperties(const RadianceHeader& rh) {
     const int K = rh.basis ? rh.basis->coefficientCount() : 0;
-
-    std::uint64_t blockTotal = 0;
-    for (const auto& b : rh.blocks) blockTotal += static_cast<std::uint64_t>(b.width);
-    if (blockTotal > vertex.properties.size())
-        fail(cat("the block comments declare ", blockTotal, " vertex properties but the vertex element has only ",
-                 vertex.properties.size(), " properties; block properties are missing"));
-
     std::unordered_map<std::string, SlotRef> expected;
     expected.emplace("x", SlotRef{Slot::Position, 0});
     expected.emplace("y", SlotRef{Slot::Position, 1});
@@ -378,55 +391,54 @@ VertexLayout planVertices(const PlyElement& vertex, const RadianceHeader& rh) {
         expected.emplace("rf_tz", SlotRef{Slot::Tangent, 2});
         for (int c = 0; c < kColorChannels; ++c)
             for (int k = 0; k < K; ++k) expected.emplace(coefficientName(c, k), SlotRef{Slot::Coefficient, c * K + k});
-        layout.coefficients.assign(static_cast<std::size_t>(kColorChannels * K), -1);
     }
-    layout.blocks.resize(rh.blocks.size());
-    for (std::size_t b = 0; b < rh.blocks.size(); ++b) {
-        layout.blocks[b].assign(static_cast<std::size_t>(rh.blocks[b].width), -1);
+    for (std::size_t b = 0; b < rh.blocks.size(); ++b)
         for (int i = 0; i < rh.blocks[b].width; ++i)
             expected.emplace(cat(rh.blocks[b].prefix, "_", i), SlotRef{Slot::Block, i, static_cast<int>(b)});
-    }
+    return expected;
+}
 
-    for (const auto& p : vertex.properties) {
-        if (p.isList)
-            fail(cat("vertex property ", shown(p.name), " is a list: variable-size vertex records are not supported; "
-                     "remove that property (or re-save the mesh from MeshLab)"));
-        const auto it = expected.find(p.name);
-        if (it == expected.end()) {
-            if (p.name.rfind("rf_", 0) == 0) {
-                if (!rh.basis)
-                    fail(cat("vertex property ", shown(p.name), " looks like radiance data but the header has no "
-                             "radiance_basis comment; the comments were probably removed by another tool: add "
-                             "'comment radiance_format_version 1', 'comment radiance_basis <basis>' and "
-                             "'comment radiance_reflected 0|1'"));
-                fail(cat("vertex property ", shown(p.name), " does not belong to basis ", rh.basis->name(),
-                         " (expected rf_tx rf_ty rf_tz and rf_r_0..rf_r_", K - 1, ", rf_g_0..rf_g_", K - 1,
-                         ", rf_b_0..rf_b_", K - 1, "); the radiance_basis comment does not match the properties"));
-            }
-            if (const BlockDeclaration* b = looksLikeBlockProperty(p.name, rh.blocks))
-                fail(cat("vertex property ", shown(p.name), " does not belong to block ", shown(b->prefix),
-                         " of width ", b->width, " (expected ", b->prefix, "_0..", b->prefix, "_", b->width - 1, ")"));
-            layout.unknown.push_back(p.name);  // skipped, and reported (it is data a save would not write)
-            continue;
-        }
-        const SlotRef& ref = it->second;
-        const PlyType want = ref.slot == Slot::Color ? PlyType::UInt8 : PlyType::Float32;
-        if (p.type != want)
-            fail(cat("vertex property ", shown(p.name), " is ", plyTypeName(p.type), " but must be ", plyTypeName(want)));
-        const long offset = static_cast<long>(p.offset);
-        switch (ref.slot) {
-            case Slot::Position: layout.position[ref.index] = offset; break;
-            case Slot::Normal: layout.normal[ref.index] = offset; break;
-            case Slot::Color: layout.color[ref.index] = offset; break;
-            case Slot::Quality: layout.quality = offset; break;
-            case Slot::Tangent: layout.tangent[ref.index] = offset; break;
-            case Slot::Coefficient: layout.coefficients[static_cast<std::size_t>(ref.index)] = offset; break;
-            case Slot::Block:
-                layout.blocks[static_cast<std::size_t>(ref.block)][static_cast<std::size_t>(ref.index)] = offset;
-                break;
-        }
+// A property the format does not know: refused when it looks like radiance or block data that does
+// not fit the header, otherwise listed in layout.unknown.
+void noteUnknownProperty(const PlyProperty& p, const RadianceHeader& rh, VertexLayout& layout) {
+    if (p.name.rfind("rf_", 0) == 0) {
+        if (!rh.basis)
+            fail(cat("vertex property ", shown(p.name), " looks like radiance data but the header has no "
+                     "radiance_basis comment; the comments were probably removed by another tool: add "
+                     "'comment radiance_format_version 1', 'comment radiance_basis <basis>' and "
+                     "'comment radiance_reflected 0|1'"));
+        const int K = rh.basis->coefficientCount();
+        fail(cat("vertex property ", shown(p.name), " does not belong to basis ", rh.basis->name(),
+                 " (expected rf_tx rf_ty rf_tz and rf_r_0..rf_r_", K - 1, ", rf_g_0..rf_g_", K - 1,
+                 ", rf_b_0..rf_b_", K - 1, "); the radiance_basis comment does not match the properties"));
     }
+    if (const BlockDeclaration* b = looksLikeBlockProperty(p.name, rh.blocks))
+        fail(cat("vertex property ", shown(p.name), " does not belong to block ", shown(b->prefix),
+                 " of width ", b->width, " (expected ", b->prefix, "_0..", b->prefix, "_", b->width - 1, ")"));
+    layout.unknown.push_back(p.name);  // skipped, and reported (it is data a save would not write)
+}
 
+void placeVertexProperty(const PlyProperty& p, const SlotRef& ref, VertexLayout& layout) {
+    const PlyType want = ref.slot == Slot::Color ? PlyType::UInt8 : PlyType::Float32;
+    if (p.type != want)
+        fail(cat("vertex property ", shown(p.name), " is ", plyTypeName(p.type), " but must be ", plyTypeName(want)));
+    const long offset = static_cast<long>(p.offset);
+    switch (ref.slot) {
+        case Slot::Position: layout.position[ref.index] = offset; break;
+        case Slot::Normal: layout.normal[ref.index] = offset; break;
+        case Slot::Color: layout.color[ref.index] = offset; break;
+        case Slot::Quality: layout.quality = offset; break;
+        case Slot::Tangent: layout.tangent[ref.index] = offset; break;
+        case Slot::Coefficient: layout.coefficients[static_cast<std::size_t>(ref.index)] = offset; break;
+        case Slot::Block:
+            layout.blocks[static_cast<std::size_t>(ref.block)][static_cast<std::size_t>(ref.index)] = offset;
+            break;
+    }
+}
+
+// Every property the header's data needs is there: positions always, all of a group or none of it
+// (normals, colours), and with radiance the normals, tangents and coefficients; every block complete.
+void checkVertexPropertiesComplete(const VertexLayout& layout, const RadianceHeader& rh) {
     static const char* xyz[3] = {"x", "y", "z"};
     static const char* nxyz[3] = {"nx", "ny", "nz"};
     static const char* rgba[4] = {"red", "green", "blue", "alpha"};
@@ -444,6 +456,7 @@ VertexLayout planVertices(const PlyElement& vertex, const RadianceHeader& rh) {
             if (layout.color[i] < 0)
                 fail(cat("missing vertex property '", rgba[i], "'; colors need red, green, blue (and optionally alpha)"));
     if (rh.basis) {
+        const int K = rh.basis->coefficientCount();
         if (normals == 0)
             fail("missing vertex property 'nx': radiance data needs the per-vertex normals (the frame normal nx ny nz)");
         for (int i = 0; i < 3; ++i)
@@ -459,6 +472,31 @@ VertexLayout planVertices(const PlyElement& vertex, const RadianceHeader& rh) {
             if (layout.blocks[b][static_cast<std::size_t>(i)] < 0)
                 fail(cat("missing vertex property '", rh.blocks[b].prefix, "_", i, "' of block ", shown(rh.blocks[b].prefix),
                          " (width ", rh.blocks[b].width, ")"));
+}
+
+VertexLayout planVertices(const PlyElement& vertex, const RadianceHeader& rh) {
+    VertexLayout layout;
+    layout.recordBytes = vertex.scalarBytes;
+    std::uint64_t blockTotal = 0;
+    for (const auto& b : rh.blocks) blockTotal += static_cast<std::uint64_t>(b.width);
+    if (blockTotal > vertex.properties.size())
+        fail(cat("the block comments declare ", blockTotal, " vertex properties but the vertex element has only ",
+                 vertex.properties.size(), " properties; block properties are missing"));
+
+    const std::unordered_map<std::string, SlotRef> expected = expectedVertexProperties(rh);
+    if (rh.basis) layout.coefficients.assign(static_cast<std::size_t>(kColorChannels * rh.basis->coefficientCount()), -1);
+    layout.blocks.resize(rh.blocks.size());
+    for (std::size_t b = 0; b < rh.blocks.size(); ++b) layout.blocks[b].assign(static_cast<std::size_t>(rh.blocks[b].width), -1);
+
+    for (const auto& p : vertex.properties) {
+        if (p.isList)
+            fail(cat("vertex property ", shown(p.name), " is a list: variable-size vertex records are not supported; "
+                     "remove that property (or re-save the mesh from MeshLab)"));
+        const auto it = expected.find(p.name);
+        if (it == expected.end()) noteUnknownProperty(p, rh, layout);
+        else placeVertexProperty(p, it->second, layout);
+    }
+    checkVertexPropertiesComplete(layout, rh);
     return layout;
 }
 
