@@ -70,19 +70,11 @@ inline double readPlyNumber(const unsigned char* p, PlyType t, bool bigEndian) {
 }
 
 // A binary integer of type t at p; 0 for the float types (list lengths and indices are integers,
-// which the header parser checks for lengths and the readers check for indices).
+// which the header parser checks for lengths and the readers check for indices). Every PLY integer
+// is exact in a double.
 inline std::int64_t readPlyInteger(const unsigned char* p, PlyType t, bool bigEndian) {
-    using ply_detail::loadScalar;
-    const bool swap = ply_detail::needsSwap(bigEndian);
-    switch (t) {
-        case PlyType::Int8: return static_cast<std::int8_t>(p[0]);
-        case PlyType::UInt8: return p[0];
-        case PlyType::Int16: return loadScalar<std::int16_t>(p, swap);
-        case PlyType::UInt16: return loadScalar<std::uint16_t>(p, swap);
-        case PlyType::Int32: return loadScalar<std::int32_t>(p, swap);
-        case PlyType::UInt32: return loadScalar<std::uint32_t>(p, swap);
-        default: return 0;
-    }
+    if (!isPlyIntegerType(t)) return 0;
+    return static_cast<std::int64_t>(readPlyNumber(p, t, bigEndian));
 }
 
 // An ASCII value of type t (the whole of text[0, length)): integers as a 64-bit integer, floats with

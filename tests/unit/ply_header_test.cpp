@@ -192,32 +192,37 @@ TEST(PlyHeader, FaultsNameTheLineItsOffsetAndTheToken) {
 }
 
 TEST(PlyHeader, RefusesWhatNoRulesAccept) {
-    for (const PlyHeaderRules& rules : {strictRules(), lenientRules()}) {
-        using K = PlyHeaderFaultKind;
-        EXPECT_EQ(faultOf("", rules), K::EmptyFile);
-        EXPECT_EQ(faultOf("plx\nformat ascii 1.0\nend_header\n", rules), K::NoPlyLine);
-        EXPECT_EQ(faultOf("ply", rules), K::NoPlyLine);
-        EXPECT_EQ(faultOf("ply \nformat ascii 1.0\nend_header\n", rules), K::NoPlyLine);
-        EXPECT_EQ(faultOf(kStart + "format binary_little_endian 1.0\nend_header\n", rules), K::RepeatedFormat);
-        EXPECT_EQ(faultOf("ply\nformat binary_little_endian\nend_header\n", rules), K::MalformedFormat);
-        EXPECT_EQ(faultOf("ply\nformat binary_middle_endian 1.0\nend_header\n", rules), K::UnknownFormat);
-        EXPECT_EQ(faultOf("ply\nformat ascii 2.0\nend_header\n", rules), K::UnsupportedVersion);
-        EXPECT_EQ(faultOf(kStart + "element vertex\nend_header\n", rules), K::MalformedElement);
-        EXPECT_EQ(faultOf(kStart + "element vertex -1\nend_header\n", rules), K::InvalidElementCount);
-        EXPECT_EQ(faultOf(kStart + "element vertex 18446744073709551616\nend_header\n", rules), K::InvalidElementCount);
-        EXPECT_EQ(faultOf(kStart + "element v 1\nelement v 2\nend_header\n", rules), K::DuplicateElement);
-        EXPECT_EQ(faultOf(kStart + "property float x\nend_header\n", rules), K::PropertyBeforeElement);
-        EXPECT_EQ(faultOf(kStart + "element f 1\nproperty list uchar integer i\nend_header\n", rules), K::UnknownListType);
-        EXPECT_EQ(faultOf(kStart + "element f 1\nproperty list float int i\nend_header\n", rules), K::NonIntegerListLength);
-        EXPECT_EQ(faultOf(kStart + "element f 1\nproperty list i\nend_header\n", rules), K::ScalarPropertyOfTypeList);
-        EXPECT_EQ(faultOf(kStart + "element f 1\nproperty real x\nend_header\n", rules), K::UnknownPropertyType);
-        EXPECT_EQ(faultOf(kStart + "element f 1\nproperty float\nend_header\n", rules), K::MalformedProperty);
-        EXPECT_EQ(faultOf(kStart + "element f 1\nproperty list uchar int\nend_header\n", rules), K::MalformedProperty);
-        EXPECT_EQ(faultOf(kStart + "elements f 1\nend_header\n", rules), K::UnknownKeyword);
-        EXPECT_EQ(faultOf(kStart + "element f 1\n", rules), K::NoEndHeader);
-        EXPECT_EQ(faultOf(kStart + "element f 1\nend_header", rules), K::NoEndHeader);  // no line break
-        EXPECT_EQ(faultOf("ply\nend_header\n", rules), K::NoFormatLine);
-    }
+    using K = PlyHeaderFaultKind;
+    const struct {
+        std::string text;
+        PlyHeaderFaultKind kind;
+    } cases[] = {
+        {"", K::EmptyFile},
+        {"plx\nformat ascii 1.0\nend_header\n", K::NoPlyLine},
+        {"ply", K::NoPlyLine},
+        {"ply \nformat ascii 1.0\nend_header\n", K::NoPlyLine},
+        {kStart + "format binary_little_endian 1.0\nend_header\n", K::RepeatedFormat},
+        {"ply\nformat binary_little_endian\nend_header\n", K::MalformedFormat},
+        {"ply\nformat binary_middle_endian 1.0\nend_header\n", K::UnknownFormat},
+        {"ply\nformat ascii 2.0\nend_header\n", K::UnsupportedVersion},
+        {kStart + "element vertex\nend_header\n", K::MalformedElement},
+        {kStart + "element vertex -1\nend_header\n", K::InvalidElementCount},
+        {kStart + "element vertex 18446744073709551616\nend_header\n", K::InvalidElementCount},
+        {kStart + "element v 1\nelement v 2\nend_header\n", K::DuplicateElement},
+        {kStart + "property float x\nend_header\n", K::PropertyBeforeElement},
+        {kStart + "element f 1\nproperty list uchar integer i\nend_header\n", K::UnknownListType},
+        {kStart + "element f 1\nproperty list float int i\nend_header\n", K::NonIntegerListLength},
+        {kStart + "element f 1\nproperty list i\nend_header\n", K::ScalarPropertyOfTypeList},
+        {kStart + "element f 1\nproperty real x\nend_header\n", K::UnknownPropertyType},
+        {kStart + "element f 1\nproperty float\nend_header\n", K::MalformedProperty},
+        {kStart + "element f 1\nproperty list uchar int\nend_header\n", K::MalformedProperty},
+        {kStart + "elements f 1\nend_header\n", K::UnknownKeyword},
+        {kStart + "element f 1\n", K::NoEndHeader},
+        {kStart + "element f 1\nend_header", K::NoEndHeader},  // no line break
+        {"ply\nend_header\n", K::NoFormatLine},
+    };
+    for (const PlyHeaderRules& rules : {strictRules(), lenientRules()})
+        for (const auto& c : cases) EXPECT_EQ(faultOf(c.text, rules), c.kind) << c.text << " strict " << rules.strict;
     const PlyHeaderParse noEnd = parse(kStart + "element f 1\n");
     ASSERT_TRUE(noEnd.fault);
     EXPECT_EQ(noEnd.fault->lineOffset, (kStart + "element f 1\n").size());  // where the bytes given end
