@@ -20,20 +20,6 @@ std::optional<PlyType> parsePlyType(const std::string& name) {
     return std::nullopt;
 }
 
-std::size_t plyTypeSize(PlyType t) {
-    switch (t) {
-        case PlyType::Int8:
-        case PlyType::UInt8: return 1;
-        case PlyType::Int16:
-        case PlyType::UInt16: return 2;
-        case PlyType::Int32:
-        case PlyType::UInt32:
-        case PlyType::Float32: return 4;
-        case PlyType::Float64: return 8;
-    }
-    return 0;
-}
-
 const char* plyTypeName(PlyType t) {
     switch (t) {
         case PlyType::Int8: return "char";

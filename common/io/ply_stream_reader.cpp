@@ -403,12 +403,12 @@ struct RecordValues {
     }
 };
 
-// The element a pass is reading, and its role.
-struct ElementPass {
-    const PlyElement& e;
-    bool isVertex, isFace;
-    const char* what;  // how messages name a record
-};
+// What an element is to a pass: a constant of readRecord, so that each role gets its own loop.
+enum class ElementRole { Vertex, Face, Other };
+
+constexpr const char* recordName(ElementRole role) {
+    return role == ElementRole::Vertex ? "vertex" : role == ElementRole::Face ? "face" : "element record";
+}
 
 // The face's vertex list of record r, whose length is count.
 void readPolygon(Impl& m, const PlyProperty& p, std::int64_t count, std::uint64_t r, std::uint64_t recordOffset,
@@ -434,23 +434,24 @@ void readPolygon(Impl& m, const PlyProperty& p, std::int64_t count, std::uint64_
 }
 
 // Record r of the element: every property read (or skipped), the values the pass keeps in values.
-void readRecord(Impl& m, const ElementPass& pass, std::uint64_t r, std::uint64_t recordOffset,
-                std::uint64_t vertexCount, RecordValues& values) {
-    const PlyElement& e = pass.e;
+template <ElementRole role>
+void readRecord(Impl& m, const PlyElement& e, std::uint64_t r, std::uint64_t recordOffset, std::uint64_t vertexCount,
+                RecordValues& values) {
+    constexpr const char* what = recordName(role);
     for (std::size_t pi = 0; pi < e.properties.size(); ++pi) {
         const PlyProperty& p = e.properties[pi];
         if (p.isList) {
-            const std::int64_t count = m.integer(p.countType, pass.what, r);
-            if (pass.isFace && int(pi) == m.faceList) {
+            const std::int64_t count = m.integer(p.countType, what, r);
+            if (role == ElementRole::Face && int(pi) == m.faceList) {
                 readPolygon(m, p, count, r, recordOffset, vertexCount, values.polygon);
             } else {
-                if (count < 0) m.fail(std::string(pass.what) + " " + std::to_string(r) + " has a list of negative length", recordOffset);
-                for (std::int64_t k = 0; k < count; ++k) m.number(p.type, pass.what, r);
+                if (count < 0) m.fail(std::string(what) + " " + std::to_string(r) + " has a list of negative length", recordOffset);
+                for (std::int64_t k = 0; k < count; ++k) m.number(p.type, what, r);
             }
             continue;
         }
-        const double value = m.number(p.type, pass.what, r);
-        if (pass.isVertex) {
+        const double value = m.number(p.type, what, r);
+        if constexpr (role == ElementRole::Vertex) {
             const int i = int(pi);
             if (i == m.x) values.xyz[0] = float(value);
             else if (i == m.y) values.xyz[1] = float(value);
@@ -463,14 +464,13 @@ void readRecord(Impl& m, const ElementPass& pass, std::uint64_t r, std::uint64_t
 }
 
 void readVertices(Impl& m, const PlyElement& e, PassOutput& out) {
-    const ElementPass pass{e, true, false, "vertex"};
     out.positions.reserve(3 * out.chunkVertices);
     if (out.info.hasNormals) out.normals.reserve(3 * out.chunkVertices);
     RecordValues values;
     for (std::uint64_t r = 0; r < e.count; ++r) {
         const std::uint64_t recordOffset = m.offset();
         values.clear();
-        readRecord(m, pass, r, recordOffset, out.info.vertexCount, values);
+        readRecord<ElementRole::Vertex>(m, e, r, recordOffset, out.info.vertexCount, values);
         const float* xyz = values.xyz;
         if (!std::isfinite(xyz[0]) || !std::isfinite(xyz[1]) || !std::isfinite(xyz[2]))
             m.fail("vertex " + std::to_string(r) + " has a NaN or infinite coordinate: the scan is damaged; "
@@ -487,13 +487,12 @@ void readVertices(Impl& m, const PlyElement& e, PassOutput& out) {
 
 // Polygons with k > 3 corners become a fan of k - 2 triangles from their first corner.
 void readFaces(Impl& m, const PlyElement& e, PassOutput& out) {
-    const ElementPass pass{e, false, true, "face"};
     out.triangles.reserve(3 * out.chunkTriangles + 3);
     RecordValues values;
     for (std::uint64_t r = 0; r < e.count; ++r) {
         const std::uint64_t recordOffset = m.offset();
         values.clear();
-        readRecord(m, pass, r, recordOffset, out.info.vertexCount, values);
+        readRecord<ElementRole::Face>(m, e, r, recordOffset, out.info.vertexCount, values);
         const std::vector<std::int64_t>& polygon = values.polygon;
         ++out.stats.facesRead;
         if (polygon.size() > 3) ++out.stats.polygonsTriangulated;
@@ -513,16 +512,15 @@ void readFaces(Impl& m, const PlyElement& e, PassOutput& out) {
 // Elements other than vertices and faces: fixed-size binary records are skipped by size, the others
 // read value by value.
 void skipElement(Impl& m, const PlyElement& e, std::uint64_t vertexCount) {
-    const ElementPass pass{e, false, false, "element record"};
     if (!m.ascii && !e.hasList) {
         const std::uint64_t record = minimumPlyRecordBytes(e);
-        for (std::uint64_t r = 0; r < e.count; ++r) m.take(record, pass.what, r);
+        for (std::uint64_t r = 0; r < e.count; ++r) m.take(record, recordName(ElementRole::Other), r);
         return;
     }
     RecordValues values;
     for (std::uint64_t r = 0; r < e.count; ++r) {
         values.clear();
-        readRecord(m, pass, r, m.offset(), vertexCount, values);
+        readRecord<ElementRole::Other>(m, e, r, m.offset(), vertexCount, values);
     }
 }
 
