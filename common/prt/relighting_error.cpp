@@ -534,6 +534,17 @@ void errorsOfBlock(const ErrorProblem& p, std::size_t begin, std::size_t end, do
 
 constexpr std::size_t kBlock = 256;
 
+// Computes the errors of block b (kBlock samples) and hands visit(s, errors of s for every lighting)
+// each sample in order. Both passes go through it, so they visit the same values in the same order.
+template <typename Visit>
+void forEachSampleOfBlock(const ErrorProblem& problem, std::ptrdiff_t b, std::vector<double>& errors,
+                          std::vector<double>& luminance, Visit&& visit) {
+    const std::size_t count = problem.samples->count();
+    const std::size_t begin = b * kBlock, end = std::min(count, begin + kBlock);
+    errorsOfBlock(problem, begin, end, errors.data(), luminance.data());
+    for (std::size_t s = begin; s < end; ++s) visit(s, errors.data() + (s - begin) * problem.lightingCount);
+}
+
 void checkErrorInput(const char* who, const RelightingSamples& samples, const std::vector<float>& interpolated,
                      int degree, int channels, const std::vector<std::vector<double>>& lightings, int lightingDegree) {
     if (degree < 0 || degree > kMaxHarmonicDegree || lightingDegree < 0 || lightingDegree > kMaxHarmonicDegree)
@@ -656,12 +667,9 @@ FirstPass sumAndHistogramErrors(const ErrorProblem& problem, int threads) {
         std::vector<double>& sum = result.sums[thread];
         std::vector<double> errors(kBlock * L), luminance(L);
 #pragma omp for schedule(static)
-        for (std::ptrdiff_t b = 0; b < blockTotal; ++b) {
-            const std::size_t begin = b * kBlock, end = std::min(count, begin + kBlock);
-            errorsOfBlock(problem, begin, end, errors.data(), luminance.data());
-            for (std::size_t s = begin; s < end; ++s) {
+        for (std::ptrdiff_t b = 0; b < blockTotal; ++b)
+            forEachSampleOfBlock(problem, b, errors, luminance, [&](std::size_t s, const double* e) {
                 const double w = samples.weights[s];
-                const double* e = errors.data() + (s - begin) * L;
                 for (int l = 0; l < L; ++l) {
                     sum[2 * l] += w * e[l];
                     sum[2 * l + 1] += w * e[l] * e[l];
@@ -669,8 +677,7 @@ FirstPass sumAndHistogramErrors(const ErrorProblem& problem, int threads) {
                     histogram[static_cast<std::size_t>(l) * kBins + bin] += w;
                     histogram[static_cast<std::size_t>(L) * kBins + bin] += w;
                 }
-            }
-        }
+            });
     }
     for (std::size_t t = 1; t < weightHistograms.size(); ++t)
         for (std::size_t i = 0; i < weightHistograms[0].size(); ++i) weightHistograms[0][i] += weightHistograms[t][i];
@@ -718,20 +725,16 @@ std::vector<std::vector<WeightedErrors>> collectQuantileBins(const ErrorProblem&
         auto& mine = collected[omp_get_thread_num()];
         std::vector<double> errors(kBlock * L), luminance(L);
 #pragma omp for schedule(static)
-        for (std::ptrdiff_t b = 0; b < blockTotal; ++b) {
-            const std::size_t begin = b * kBlock, end = std::min(count, begin + kBlock);
-            errorsOfBlock(problem, begin, end, errors.data(), luminance.data());
-            for (std::size_t s = begin; s < end; ++s) {
+        for (std::ptrdiff_t b = 0; b < blockTotal; ++b)
+            forEachSampleOfBlock(problem, b, errors, luminance, [&](std::size_t s, const double* e) {
                 const float w = samples.weights[s];
-                const double* e = errors.data() + (s - begin) * L;
                 for (int l = 0; l < L; ++l) {
                     const std::size_t bin = binOf(e[l]);
                     if (bin == 0) continue;
                     if (bin == quantileBin[l]) mine[l].emplace_back(e[l], w);
                     if (bin == quantileBin[L]) mine[L].emplace_back(e[l], w);
                 }
-            }
-        }
+            });
     }
     return collected;
 }
