@@ -24,7 +24,7 @@
 #pragma once
 
 #include "errors/error_categories.h"
-
+#include "io/ply_header.h"  // PlyEncoding
 #include "progress/progress_callback.h"
 
 #include <cstddef>
@@ -43,8 +43,6 @@ struct PlyStreamError : FileError {
         : FileError(message), byteOffset(byteOffset) {}
     std::uint64_t byteOffset = 0;
 };
-
-enum class PlyEncoding { Ascii, BinaryLittleEndian, BinaryBigEndian };
 
 struct PlyStreamInfo {
     PlyEncoding encoding = PlyEncoding::BinaryLittleEndian;

@@ -1,6 +1,7 @@
 #include "io/radiance_ply.h"
 
 #include "io/atomic_file.h"
+#include "io/ply_header.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -63,16 +64,10 @@ bool allDigits(const std::string& s) {
     return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
 }
 
-// Decimal digits only (no sign, no spaces); nullopt on anything else or overflow.
+// Decimal digits only (no sign, no spaces, at most 20); nullopt on anything else or overflow.
 std::optional<std::uint64_t> parseUnsigned(const std::string& s) {
-    if (!allDigits(s) || s.size() > 20) return std::nullopt;
-    std::uint64_t value = 0;
-    for (char c : s) {
-        const std::uint64_t d = static_cast<std::uint64_t>(c - '0');
-        if (value > (std::numeric_limits<std::uint64_t>::max() - d) / 10) return std::nullopt;
-        value = value * 10 + d;
-    }
-    return value;
+    if (s.size() > 20) return std::nullopt;
+    return parsePlyUnsigned(s);
 }
 
 // a * b, saturating at the maximum (sizes compared against the file size, never allocated).
@@ -106,237 +101,59 @@ bool isMetadataValue(const std::string& s) {
     });
 }
 
-// ---------------------------------------------------------------------------------------------------
-// PLY types and header
-
-enum class PlyType : std::uint8_t { Int8, UInt8, Int16, UInt16, Int32, UInt32, Float32, Float64 };
-
-std::optional<PlyType> parseType(const std::string& s) {
-    static const std::pair<const char*, PlyType> names[] = {
-        {"char", PlyType::Int8},     {"int8", PlyType::Int8},       {"uchar", PlyType::UInt8},
-        {"uint8", PlyType::UInt8},   {"short", PlyType::Int16},     {"int16", PlyType::Int16},
-        {"ushort", PlyType::UInt16}, {"uint16", PlyType::UInt16},   {"int", PlyType::Int32},
-        {"int32", PlyType::Int32},   {"uint", PlyType::UInt32},     {"uint32", PlyType::UInt32},
-        {"float", PlyType::Float32}, {"float32", PlyType::Float32}, {"double", PlyType::Float64},
-        {"float64", PlyType::Float64}};
-    for (const auto& n : names)
-        if (s == n.first) return n.second;
-    return std::nullopt;
-}
-
-std::size_t typeSize(PlyType t) {
-    switch (t) {
-        case PlyType::Int8:
-        case PlyType::UInt8: return 1;
-        case PlyType::Int16:
-        case PlyType::UInt16: return 2;
-        case PlyType::Int32:
-        case PlyType::UInt32:
-        case PlyType::Float32: return 4;
-        case PlyType::Float64: return 8;
-    }
-    return 0;
-}
-
-const char* typeName(PlyType t) {
-    switch (t) {
-        case PlyType::Int8: return "char";
-        case PlyType::UInt8: return "uchar";
-        case PlyType::Int16: return "short";
-        case PlyType::UInt16: return "ushort";
-        case PlyType::Int32: return "int";
-        case PlyType::UInt32: return "uint";
-        case PlyType::Float32: return "float";
-        case PlyType::Float64: return "double";
-    }
-    return "?";
-}
-
-bool isIntegerType(PlyType t) { return t != PlyType::Float32 && t != PlyType::Float64; }
-
-// Reads an integer of type t at p (little endian, unaligned).
-std::int64_t readInteger(const unsigned char* p, PlyType t) {
-    switch (t) {
-        case PlyType::Int8: return static_cast<std::int8_t>(p[0]);
-        case PlyType::UInt8: return p[0];
-        case PlyType::Int16: { std::int16_t v; std::memcpy(&v, p, 2); return v; }
-        case PlyType::UInt16: { std::uint16_t v; std::memcpy(&v, p, 2); return v; }
-        case PlyType::Int32: { std::int32_t v; std::memcpy(&v, p, 4); return v; }
-        case PlyType::UInt32: { std::uint32_t v; std::memcpy(&v, p, 4); return v; }
-        default: return 0;
-    }
-}
-
-struct PlyProperty {
-    std::string name;
-    bool isList = false;
-    PlyType type = PlyType::Float32;      // scalar type, or list item type
-    PlyType countType = PlyType::UInt8;   // list length type
-    std::size_t offset = 0;               // byte offset in the record (elements without lists)
-};
-
-struct PlyElement {
-    std::string name;
-    std::uint64_t count = 0;
-    std::vector<PlyProperty> properties;
-    std::unordered_map<std::string, std::size_t> byName;
-    bool hasList = false;
-    std::size_t scalarBytes = 0;  // record size when !hasList
-
-    const PlyProperty* find(const std::string& n) const {
-        const auto it = byName.find(n);
-        return it == byName.end() ? nullptr : &properties[it->second];
-    }
-};
-
-struct HeaderComment {
-    std::vector<std::string> tokens;  // tokens[0] == "comment"
-    std::string line;
-    std::size_t lineNumber = 0;
-};
-
-struct PlyHeader {
-    std::vector<PlyElement> elements;
-    std::vector<HeaderComment> comments;
-    std::size_t dataOffset = 0;
-
-    const PlyElement* find(const std::string& n) const {
-        for (const auto& e : elements)
-            if (e.name == n) return &e;
-        return nullptr;
-    }
-};
-
-bool isBlank(char c) { return c == ' ' || c == '\t'; }
-
-// Next blank-separated token of line from pos (pos is advanced past it); empty at end of line.
-std::string nextToken(const std::string& line, std::size_t& pos) {
-    while (pos < line.size() && isBlank(line[pos])) ++pos;
-    const std::size_t start = pos;
-    while (pos < line.size() && !isBlank(line[pos])) ++pos;
-    return line.substr(start, pos - start);
-}
-
-std::vector<std::string> tokenize(const std::string& line) {
-    std::vector<std::string> tokens;
-    std::size_t pos = 0;
-    for (std::string t = nextToken(line, pos); !t.empty(); t = nextToken(line, pos)) tokens.push_back(std::move(t));
-    return tokens;
-}
-
 const char* kConvertHint =
     "our writer produces binary little endian PLY; convert the file, e.g. open it in MeshLab and export it "
     "again as PLY with the 'Binary encoding' box checked";
 
-// `data` holds the first `size` bytes of the file; `wholeFile` when that is all of it.
-PlyHeader parseHeader(const char* data, std::size_t size, bool wholeFile) {
-    if (size == 0) fail("not a PLY file: the file is empty");
-    const bool plyLine = size >= 4 && std::memcmp(data, "ply", 3) == 0 &&
-                         (data[3] == '\n' || (data[3] == '\r' && size >= 5 && data[4] == '\n'));
-    if (!plyLine) fail("not a PLY file: it does not start with the line 'ply'");
+// The refusal of the shared header parser's fault, in this reader's words.
+[[noreturn]] void refuseHeader(const PlyHeaderFault& f, bool wholeFile) {
+    using K = PlyHeaderFaultKind;
+    const std::string line = cat("header line ", f.lineNumber, ": ");
+    switch (f.kind) {
+        case K::EmptyFile: fail("not a PLY file: the file is empty");
+        case K::NoPlyLine: fail("not a PLY file: it does not start with the line 'ply'");
+        case K::MalformedEndHeader: fail(line + "malformed end_header line");
+        case K::RepeatedFormat: fail(line + "second format line");
+        case K::FormatAfterElements: fail(line + "the format line must come before the elements");
+        case K::MalformedFormat: fail(line + "malformed format line");
+        case K::EncodingNotAccepted:
+            if (f.token == "ascii") fail(cat("the PLY file is in ASCII format, which is not supported: ", kConvertHint));
+            fail(cat("the PLY file is binary big endian, which is not supported: ", kConvertHint));
+        case K::UnknownFormat: fail(cat(line, "unknown PLY format ", shown(f.token), "; ", kConvertHint));
+        case K::UnsupportedVersion: fail(cat(line, "unsupported PLY version ", shown(f.token), " (expected 1.0)"));
+        case K::ElementBeforeFormat: fail(line + "element before the format line");
+        case K::MalformedElement: fail(line + "malformed element line");
+        case K::InvalidElementCount:
+            fail(cat(line, "element ", shown(f.token), " has an invalid count ", shown(f.detail)));
+        case K::DuplicateElement: fail(cat(line, "element ", shown(f.token), " declared twice"));
+        case K::PropertyBeforeElement: fail(line + "property before any element");
+        case K::UnknownListType: fail(cat(line, "unknown type in list property ", shown(f.token)));
+        case K::NonIntegerListLength: fail(cat(line, "list property ", shown(f.token), " has a non-integer length type"));
+        case K::ScalarPropertyOfTypeList:
+        case K::MalformedProperty: fail(line + "malformed property line");
+        case K::UnknownPropertyType: fail(cat(line, "unknown property type ", shown(f.token)));
+        case K::DuplicateProperty:
+            fail(cat(line, "property ", shown(f.token), " of element ", shown(f.detail), " declared twice"));
+        case K::UnknownKeyword: fail(cat(line, "unknown header keyword ", shown(f.token), "; not a valid PLY header"));
+        case K::NoEndHeader:
+            if (wholeFile)
+                fail("file truncated inside its header (no end_header line); the file was probably not completely written");
+            fail("no end_header line in the first 1 MiB: not a PLY header this reader accepts");
+        case K::NoFormatLine: fail("the PLY header has no format line");
+    }
+    fail("the PLY header is not valid");
+}
 
-    PlyHeader header;
-    bool formatSeen = false, ended = false;
-    std::size_t pos = 0, lineNumber = 0;
-    while (pos < size) {
-        const void* nl = std::memchr(data + pos, '\n', size - pos);
-        if (!nl) break;
-        const std::size_t end = static_cast<std::size_t>(static_cast<const char*>(nl) - data);
-        std::string line(data + pos, end - pos);
-        pos = end + 1;
-        ++lineNumber;
-        if (!line.empty() && line.back() == '\r') line.pop_back();
-        if (lineNumber == 1) continue;  // "ply"
-        std::vector<std::string> t = tokenize(line);
-        if (t.empty()) continue;
-        const std::string& keyword = t[0];
-        if (keyword == "end_header") {
-            if (t.size() != 1) fail(cat("header line ", lineNumber, ": malformed end_header line"));
-            ended = true;
-            break;
-        }
-        if (keyword == "comment") {
-            header.comments.push_back({std::move(t), std::move(line), lineNumber});
-            continue;
-        }
-        if (keyword == "obj_info") continue;
-        if (keyword == "format") {
-            if (formatSeen) fail(cat("header line ", lineNumber, ": second format line"));
-            if (!header.elements.empty())
-                fail(cat("header line ", lineNumber, ": the format line must come before the elements"));
-            if (t.size() != 3) fail(cat("header line ", lineNumber, ": malformed format line"));
-            if (t[1] == "ascii")
-                fail(cat("the PLY file is in ASCII format, which is not supported: ", kConvertHint));
-            if (t[1] == "binary_big_endian")
-                fail(cat("the PLY file is binary big endian, which is not supported: ", kConvertHint));
-            if (t[1] != "binary_little_endian")
-                fail(cat("header line ", lineNumber, ": unknown PLY format ", shown(t[1]), "; ", kConvertHint));
-            if (t[2] != "1.0")
-                fail(cat("header line ", lineNumber, ": unsupported PLY version ", shown(t[2]), " (expected 1.0)"));
-            formatSeen = true;
-            continue;
-        }
-        if (keyword == "element") {
-            if (!formatSeen) fail(cat("header line ", lineNumber, ": element before the format line"));
-            if (t.size() != 3) fail(cat("header line ", lineNumber, ": malformed element line"));
-            const auto count = parseUnsigned(t[2]);
-            if (!count)
-                fail(cat("header line ", lineNumber, ": element ", shown(t[1]), " has an invalid count ", shown(t[2])));
-            for (const auto& e : header.elements)
-                if (e.name == t[1]) fail(cat("header line ", lineNumber, ": element ", shown(t[1]), " declared twice"));
-            PlyElement element;
-            element.name = t[1];
-            element.count = *count;
-            header.elements.push_back(std::move(element));
-            continue;
-        }
-        if (keyword == "property") {
-            if (header.elements.empty()) fail(cat("header line ", lineNumber, ": property before any element"));
-            PlyElement& element = header.elements.back();
-            PlyProperty p;
-            if (t.size() == 5 && t[1] == "list") {
-                const auto countType = parseType(t[2]);
-                const auto itemType = parseType(t[3]);
-                if (!countType || !itemType)
-                    fail(cat("header line ", lineNumber, ": unknown type in list property ", shown(t[4])));
-                if (!isIntegerType(*countType))
-                    fail(cat("header line ", lineNumber, ": list property ", shown(t[4]),
-                             " has a non-integer length type"));
-                p.isList = true;
-                p.countType = *countType;
-                p.type = *itemType;
-                p.name = t[4];
-            } else if (t.size() == 3 && t[1] != "list") {
-                const auto type = parseType(t[1]);
-                if (!type) fail(cat("header line ", lineNumber, ": unknown property type ", shown(t[1])));
-                p.type = *type;
-                p.name = t[2];
-            } else {
-                fail(cat("header line ", lineNumber, ": malformed property line"));
-            }
-            if (element.byName.count(p.name))
-                fail(cat("header line ", lineNumber, ": property ", shown(p.name), " of element ", shown(element.name),
-                         " declared twice"));
-            element.byName.emplace(p.name, element.properties.size());
-            if (p.isList) {
-                element.hasList = true;
-            } else {
-                p.offset = element.scalarBytes;
-                element.scalarBytes += typeSize(p.type);
-            }
-            element.properties.push_back(std::move(p));
-            continue;
-        }
-        fail(cat("header line ", lineNumber, ": unknown header keyword ", shown(keyword), "; not a valid PLY header"));
-    }
-    if (!ended) {
-        if (wholeFile)
-            fail("file truncated inside its header (no end_header line); the file was probably not completely written");
-        fail("no end_header line in the first 1 MiB: not a PLY header this reader accepts");
-    }
-    if (!formatSeen) fail("the PLY header has no format line");
-    header.dataOffset = pos;
-    return header;
+// `data` holds the first `size` bytes of the file; `wholeFile` when that is all of it. Strict, and
+// binary little endian only: the file must read back exactly what the writer wrote.
+PlyHeader parseHeader(const char* data, std::size_t size, bool wholeFile) {
+    PlyHeaderRules rules;
+    rules.strict = true;
+    rules.acceptAscii = false;
+    rules.acceptBigEndian = false;
+    PlyHeaderParse parse = parsePlyHeader(data, size, rules);
+    if (parse.fault) refuseHeader(*parse.fault, wholeFile);
+    return std::move(parse.header);
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -366,20 +183,26 @@ BasisSpec parseBasisOrFail(const std::string& text) {
              kMaxPolynomialDegree, ", SH0..SH", kMaxHarmonicDegree, ")"));
 }
 
-RadianceHeader parseRadianceComments(const PlyHeader& header) {
-    RadianceHeader r;
-    // Version first, so that a newer file gets the "newer version" message whatever else it contains.
+// Version first, so that a newer file gets the "newer version" message whatever else it contains.
+// Returns whether the file declares the format (radiance_format_version).
+bool checkFormatVersion(const PlyHeader& header) {
+    bool ourFormat = false;
     for (const auto& c : header.comments) {
         if (c.tokens.size() < 2 || c.tokens[1] != "radiance_format_version") continue;
-        if (r.ourFormat) fail("comment radiance_format_version appears twice");
+        if (ourFormat) fail("comment radiance_format_version appears twice");
         const auto version = c.tokens.size() == 3 ? parseUnsigned(c.tokens[2]) : std::nullopt;
         if (!version || *version == 0) fail(cat("header line ", c.lineNumber, ": malformed radiance_format_version comment"));
         if (*version > static_cast<std::uint64_t>(kRadiancePlyFormatVersion))
             fail(cat("the file was written by a newer version of the radiance PLY format (version ", c.tokens[2],
                      "); this reader supports version ", kRadiancePlyFormatVersion, ": update the plugin"));
-        r.ourFormat = true;
+        ourFormat = true;
     }
+    return ourFormat;
+}
 
+// The radiance_* comments (basis, reflected, channels, colour space, frame), each at most once and
+// only with the format version.
+void parseRadianceKeys(const PlyHeader& header, RadianceHeader& r) {
     std::unordered_set<std::string> seen;
     std::string firstRadianceKey;
     for (const auto& c : header.comments) {
@@ -413,8 +236,10 @@ RadianceHeader parseRadianceComments(const PlyHeader& header) {
              "(or 1 when the coefficients encode the reflected function)");
     if (!r.basis && !seen.empty())
         fail(cat("comment ", firstRadianceKey, " without comment radiance_basis"));
-    if (!r.ourFormat) return r;  // "block" comments of foreign files are just comments
+}
 
+// The "comment block <prefix> width <n>" declarations.
+void parseBlockDeclarations(const PlyHeader& header, RadianceHeader& r) {
     for (const auto& c : header.comments) {
         if (c.tokens.size() < 2 || c.tokens[1] != "block") continue;
         const auto& t = c.tokens;
@@ -430,13 +255,17 @@ RadianceHeader parseRadianceComments(const PlyHeader& header) {
             if (b.prefix == t[2]) fail(cat("block ", shown(t[2]), " declared twice"));
         r.blocks.push_back({t[2], static_cast<int>(*width), {}});
     }
+}
+
+// The "comment block_meta <prefix> <key> <value>" lines of the declared blocks.
+void parseBlockMetadata(const PlyHeader& header, RadianceHeader& r) {
     for (const auto& c : header.comments) {
         if (c.tokens.size() < 2 || c.tokens[1] != "block_meta") continue;
         std::size_t pos = 0;
-        nextToken(c.line, pos);  // comment
-        nextToken(c.line, pos);  // block_meta
-        const std::string prefix = nextToken(c.line, pos);
-        const std::string key = nextToken(c.line, pos);
+        nextPlyToken(c.line, pos);  // comment
+        nextPlyToken(c.line, pos);  // block_meta
+        const std::string prefix = nextPlyToken(c.line, pos);
+        const std::string key = nextPlyToken(c.line, pos);
         if (key.empty())
             fail(cat("header line ", c.lineNumber, ": malformed block_meta comment (expected 'comment block_meta <prefix> <key> <value>')"));
         // The value is everything after the one blank that follows the key.
@@ -457,6 +286,15 @@ RadianceHeader parseRadianceComments(const PlyHeader& header) {
         if (!block->metadata.emplace(key, value).second)
             fail(cat("block_meta ", shown(key), " of block ", shown(prefix), " appears twice"));
     }
+}
+
+RadianceHeader parseRadianceComments(const PlyHeader& header) {
+    RadianceHeader r;
+    r.ourFormat = checkFormatVersion(header);
+    parseRadianceKeys(header, r);
+    if (!r.ourFormat) return r;  // "block" comments of foreign files are just comments
+    parseBlockDeclarations(header, r);
+    parseBlockMetadata(header, r);
     return r;
 }
 
@@ -532,17 +370,9 @@ struct VertexLayout {
     std::vector<std::string> unknown;          // names of the skipped properties
 };
 
-VertexLayout planVertices(const PlyElement& vertex, const RadianceHeader& rh) {
-    VertexLayout layout;
-    layout.recordBytes = vertex.scalarBytes;
+// The vertex properties the format knows for this header, by name.
+std::unordered_map<std::string, SlotRef> expectedVertexProperties(const RadianceHeader& rh) {
     const int K = rh.basis ? rh.basis->coefficientCount() : 0;
-
-    std::uint64_t blockTotal = 0;
-    for (const auto& b : rh.blocks) blockTotal += static_cast<std::uint64_t>(b.width);
-    if (blockTotal > vertex.properties.size())
-        fail(cat("the block comments declare ", blockTotal, " vertex properties but the vertex element has only ",
-                 vertex.properties.size(), " properties; block properties are missing"));
-
     std::unordered_map<std::string, SlotRef> expected;
     expected.emplace("x", SlotRef{Slot::Position, 0});
     expected.emplace("y", SlotRef{Slot::Position, 1});
@@ -561,55 +391,54 @@ VertexLayout planVertices(const PlyElement& vertex, const RadianceHeader& rh) {
         expected.emplace("rf_tz", SlotRef{Slot::Tangent, 2});
         for (int c = 0; c < kColorChannels; ++c)
             for (int k = 0; k < K; ++k) expected.emplace(coefficientName(c, k), SlotRef{Slot::Coefficient, c * K + k});
-        layout.coefficients.assign(static_cast<std::size_t>(kColorChannels * K), -1);
     }
-    layout.blocks.resize(rh.blocks.size());
-    for (std::size_t b = 0; b < rh.blocks.size(); ++b) {
-        layout.blocks[b].assign(static_cast<std::size_t>(rh.blocks[b].width), -1);
+    for (std::size_t b = 0; b < rh.blocks.size(); ++b)
         for (int i = 0; i < rh.blocks[b].width; ++i)
             expected.emplace(cat(rh.blocks[b].prefix, "_", i), SlotRef{Slot::Block, i, static_cast<int>(b)});
-    }
+    return expected;
+}
 
-    for (const auto& p : vertex.properties) {
-        if (p.isList)
-            fail(cat("vertex property ", shown(p.name), " is a list: variable-size vertex records are not supported; "
-                     "remove that property (or re-save the mesh from MeshLab)"));
-        const auto it = expected.find(p.name);
-        if (it == expected.end()) {
-            if (p.name.rfind("rf_", 0) == 0) {
-                if (!rh.basis)
-                    fail(cat("vertex property ", shown(p.name), " looks like radiance data but the header has no "
-                             "radiance_basis comment; the comments were probably removed by another tool: add "
-                             "'comment radiance_format_version 1', 'comment radiance_basis <basis>' and "
-                             "'comment radiance_reflected 0|1'"));
-                fail(cat("vertex property ", shown(p.name), " does not belong to basis ", rh.basis->name(),
-                         " (expected rf_tx rf_ty rf_tz and rf_r_0..rf_r_", K - 1, ", rf_g_0..rf_g_", K - 1,
-                         ", rf_b_0..rf_b_", K - 1, "); the radiance_basis comment does not match the properties"));
-            }
-            if (const BlockDeclaration* b = looksLikeBlockProperty(p.name, rh.blocks))
-                fail(cat("vertex property ", shown(p.name), " does not belong to block ", shown(b->prefix),
-                         " of width ", b->width, " (expected ", b->prefix, "_0..", b->prefix, "_", b->width - 1, ")"));
-            layout.unknown.push_back(p.name);  // skipped, and reported (it is data a save would not write)
-            continue;
-        }
-        const SlotRef& ref = it->second;
-        const PlyType want = ref.slot == Slot::Color ? PlyType::UInt8 : PlyType::Float32;
-        if (p.type != want)
-            fail(cat("vertex property ", shown(p.name), " is ", typeName(p.type), " but must be ", typeName(want)));
-        const long offset = static_cast<long>(p.offset);
-        switch (ref.slot) {
-            case Slot::Position: layout.position[ref.index] = offset; break;
-            case Slot::Normal: layout.normal[ref.index] = offset; break;
-            case Slot::Color: layout.color[ref.index] = offset; break;
-            case Slot::Quality: layout.quality = offset; break;
-            case Slot::Tangent: layout.tangent[ref.index] = offset; break;
-            case Slot::Coefficient: layout.coefficients[static_cast<std::size_t>(ref.index)] = offset; break;
-            case Slot::Block:
-                layout.blocks[static_cast<std::size_t>(ref.block)][static_cast<std::size_t>(ref.index)] = offset;
-                break;
-        }
+// A property the format does not know: refused when it looks like radiance or block data that does
+// not fit the header, otherwise listed in layout.unknown.
+void noteUnknownProperty(const PlyProperty& p, const RadianceHeader& rh, VertexLayout& layout) {
+    if (p.name.rfind("rf_", 0) == 0) {
+        if (!rh.basis)
+            fail(cat("vertex property ", shown(p.name), " looks like radiance data but the header has no "
+                     "radiance_basis comment; the comments were probably removed by another tool: add "
+                     "'comment radiance_format_version 1', 'comment radiance_basis <basis>' and "
+                     "'comment radiance_reflected 0|1'"));
+        const int K = rh.basis->coefficientCount();
+        fail(cat("vertex property ", shown(p.name), " does not belong to basis ", rh.basis->name(),
+                 " (expected rf_tx rf_ty rf_tz and rf_r_0..rf_r_", K - 1, ", rf_g_0..rf_g_", K - 1,
+                 ", rf_b_0..rf_b_", K - 1, "); the radiance_basis comment does not match the properties"));
     }
+    if (const BlockDeclaration* b = looksLikeBlockProperty(p.name, rh.blocks))
+        fail(cat("vertex property ", shown(p.name), " does not belong to block ", shown(b->prefix),
+                 " of width ", b->width, " (expected ", b->prefix, "_0..", b->prefix, "_", b->width - 1, ")"));
+    layout.unknown.push_back(p.name);  // skipped, and reported (it is data a save would not write)
+}
 
+void placeVertexProperty(const PlyProperty& p, const SlotRef& ref, VertexLayout& layout) {
+    const PlyType want = ref.slot == Slot::Color ? PlyType::UInt8 : PlyType::Float32;
+    if (p.type != want)
+        fail(cat("vertex property ", shown(p.name), " is ", plyTypeName(p.type), " but must be ", plyTypeName(want)));
+    const long offset = static_cast<long>(p.offset);
+    switch (ref.slot) {
+        case Slot::Position: layout.position[ref.index] = offset; break;
+        case Slot::Normal: layout.normal[ref.index] = offset; break;
+        case Slot::Color: layout.color[ref.index] = offset; break;
+        case Slot::Quality: layout.quality = offset; break;
+        case Slot::Tangent: layout.tangent[ref.index] = offset; break;
+        case Slot::Coefficient: layout.coefficients[static_cast<std::size_t>(ref.index)] = offset; break;
+        case Slot::Block:
+            layout.blocks[static_cast<std::size_t>(ref.block)][static_cast<std::size_t>(ref.index)] = offset;
+            break;
+    }
+}
+
+// Every property the header's data needs is there: positions always, all of a group or none of it
+// (normals, colours), and with radiance the normals, tangents and coefficients; every block complete.
+void checkVertexPropertiesComplete(const VertexLayout& layout, const RadianceHeader& rh) {
     static const char* xyz[3] = {"x", "y", "z"};
     static const char* nxyz[3] = {"nx", "ny", "nz"};
     static const char* rgba[4] = {"red", "green", "blue", "alpha"};
@@ -627,6 +456,7 @@ VertexLayout planVertices(const PlyElement& vertex, const RadianceHeader& rh) {
             if (layout.color[i] < 0)
                 fail(cat("missing vertex property '", rgba[i], "'; colors need red, green, blue (and optionally alpha)"));
     if (rh.basis) {
+        const int K = rh.basis->coefficientCount();
         if (normals == 0)
             fail("missing vertex property 'nx': radiance data needs the per-vertex normals (the frame normal nx ny nz)");
         for (int i = 0; i < 3; ++i)
@@ -642,6 +472,31 @@ VertexLayout planVertices(const PlyElement& vertex, const RadianceHeader& rh) {
             if (layout.blocks[b][static_cast<std::size_t>(i)] < 0)
                 fail(cat("missing vertex property '", rh.blocks[b].prefix, "_", i, "' of block ", shown(rh.blocks[b].prefix),
                          " (width ", rh.blocks[b].width, ")"));
+}
+
+VertexLayout planVertices(const PlyElement& vertex, const RadianceHeader& rh) {
+    VertexLayout layout;
+    layout.recordBytes = vertex.scalarBytes;
+    std::uint64_t blockTotal = 0;
+    for (const auto& b : rh.blocks) blockTotal += static_cast<std::uint64_t>(b.width);
+    if (blockTotal > vertex.properties.size())
+        fail(cat("the block comments declare ", blockTotal, " vertex properties but the vertex element has only ",
+                 vertex.properties.size(), " properties; block properties are missing"));
+
+    const std::unordered_map<std::string, SlotRef> expected = expectedVertexProperties(rh);
+    if (rh.basis) layout.coefficients.assign(static_cast<std::size_t>(kColorChannels * rh.basis->coefficientCount()), -1);
+    layout.blocks.resize(rh.blocks.size());
+    for (std::size_t b = 0; b < rh.blocks.size(); ++b) layout.blocks[b].assign(static_cast<std::size_t>(rh.blocks[b].width), -1);
+
+    for (const auto& p : vertex.properties) {
+        if (p.isList)
+            fail(cat("vertex property ", shown(p.name), " is a list: variable-size vertex records are not supported; "
+                     "remove that property (or re-save the mesh from MeshLab)"));
+        const auto it = expected.find(p.name);
+        if (it == expected.end()) noteUnknownProperty(p, rh, layout);
+        else placeVertexProperty(p, it->second, layout);
+    }
+    checkVertexPropertiesComplete(layout, rh);
     return layout;
 }
 
@@ -657,13 +512,10 @@ FaceLayout planFaces(const PlyElement& face) {
     if (!indices || !indices->isList)
         fail("the face element has no 'vertex_indices' list property");
     if (indices->type != PlyType::Int32 && indices->type != PlyType::UInt32)
-        fail(cat("face property ", shown(indices->name), " has items of type ", typeName(indices->type),
+        fail(cat("face property ", shown(indices->name), " has items of type ", plyTypeName(indices->type),
                  " but they must be int or uint"));
     layout.indexProperty = static_cast<std::size_t>(indices - face.properties.data());
-    for (const auto& p : face.properties) {
-        if (!p.isList) layout.minRecordBytes += typeSize(p.type);
-        else layout.minRecordBytes += typeSize(p.countType) + (&p == indices ? 3 * typeSize(p.type) : 0);
-    }
+    layout.minRecordBytes = minimumPlyRecordBytes(face, static_cast<int>(layout.indexProperty));
     return layout;
 }
 
@@ -687,98 +539,143 @@ bool seekTo(std::FILE* f, std::uint64_t offset) {
 #endif
 }
 
-RadianceMesh readImpl(const std::string& path) {
+// The open file and its size, read chunk by chunk through one reused buffer.
+struct ChunkedFile {
+    FilePtr file;
+    std::uint64_t size = 0;
+    std::vector<unsigned char> buffer;
+
+    // bytes bytes at offset, valid until the next call.
+    const unsigned char* readAt(std::uint64_t offset, std::size_t bytes) {
+        if (!seekTo(file.get(), offset)) fail("cannot seek in the file");
+        buffer.resize(std::max<std::size_t>(bytes, 1));
+        if (bytes && std::fread(buffer.data(), 1, bytes, file.get()) != bytes)
+            fail("read error (the file changed while it was read, or the disk failed)");
+        return buffer.data();
+    }
+    void releaseBuffer() {
+        buffer.clear();
+        buffer.shrink_to_fit();
+    }
+};
+
+ChunkedFile openForReading(const std::string& path) {
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) fail("it is a folder, not a file");
-    FilePtr file(std::fopen(path.c_str(), "rb"));
-    if (!file) fail(cat("cannot open the file: ", std::strerror(errno)));
+    ChunkedFile in;
+    in.file.reset(std::fopen(path.c_str(), "rb"));
+    if (!in.file) fail(cat("cannot open the file: ", std::strerror(errno)));
     const std::uintmax_t fileSizeRaw = std::filesystem::file_size(path, ec);
     if (ec) fail(cat("cannot get the file size: ", ec.message()));
-    const std::uint64_t fileSize = static_cast<std::uint64_t>(fileSizeRaw);
+    in.size = static_cast<std::uint64_t>(fileSizeRaw);
+    return in;
+}
 
-    // Header.
-    const std::size_t headBytes = static_cast<std::size_t>(std::min<std::uint64_t>(fileSize, kMaxHeaderBytes));
+PlyHeader readHeader(ChunkedFile& in) {
+    const std::size_t headBytes = static_cast<std::size_t>(std::min<std::uint64_t>(in.size, kMaxHeaderBytes));
     std::string head(headBytes, '\0');
-    if (headBytes && std::fread(head.data(), 1, headBytes, file.get()) != headBytes)
+    if (headBytes && std::fread(head.data(), 1, headBytes, in.file.get()) != headBytes)
         fail("read error in the header (the file changed or the disk failed)");
-    const PlyHeader header = parseHeader(head.data(), head.size(), headBytes == fileSize);
-    head.clear();
-    head.shrink_to_fit();
-    const RadianceHeader rh = parseRadianceComments(header);
+    return parseHeader(head.data(), head.size(), headBytes == in.size);
+}
 
-    // Layout of every element, checked before reading any data.
-    const PlyElement* vertexElement = header.find("vertex");
-    if (!vertexElement) fail("the PLY file has no vertex element");
-    const PlyElement* faceElement = header.find("face");
-    if (vertexElement->count > kMaxElementCount)
-        fail(cat("the header declares ", vertexElement->count, " vertices, more than this format supports (",
-                 kMaxElementCount, "); the header is probably damaged"));
-    if (faceElement && faceElement->count > kMaxElementCount)
-        fail(cat("the header declares ", faceElement->count, " faces, more than this format supports (",
-                 kMaxElementCount, "); the header is probably damaged"));
-    const VertexLayout vertexLayout = planVertices(*vertexElement, rh);
+// The elements the reader decodes and how, checked before any data is read.
+struct ReadPlan {
+    const PlyElement* vertex = nullptr;
+    const PlyElement* face = nullptr;  // none when the file has no face element
+    VertexLayout vertexLayout;
     FaceLayout faceLayout;
-    if (faceElement) faceLayout = planFaces(*faceElement);
+};
+
+ReadPlan planElements(const PlyHeader& header, const RadianceHeader& rh) {
+    ReadPlan plan;
+    plan.vertex = header.find("vertex");
+    if (!plan.vertex) fail("the PLY file has no vertex element");
+    plan.face = header.find("face");
+    if (plan.vertex->count > kMaxElementCount)
+        fail(cat("the header declares ", plan.vertex->count, " vertices, more than this format supports (",
+                 kMaxElementCount, "); the header is probably damaged"));
+    if (plan.face && plan.face->count > kMaxElementCount)
+        fail(cat("the header declares ", plan.face->count, " faces, more than this format supports (",
+                 kMaxElementCount, "); the header is probably damaged"));
+    plan.vertexLayout = planVertices(*plan.vertex, rh);
+    if (plan.face) plan.faceLayout = planFaces(*plan.face);
     // Refused even when empty: the rule is the same for every count (the specification says so), and
     // an empty one is still a declaration that a save would drop.
     for (const auto& e : header.elements)
-        if (&e != vertexElement && &e != faceElement && e.hasList)
+        if (&e != plan.vertex && &e != plan.face && e.hasList)
             fail(cat("element ", shown(e.name), " has list properties (variable-size records) and is not a face element; "
                      "this reader cannot skip such elements safely, even empty ones: remove the element and its "
                      "property lines from the header (e.g. re-save the mesh from MeshLab)"));
+    return plan;
+}
 
-    // Sizes against the file size, before allocating anything. Face records have a known size when the
-    // only list is vertex_indices (and every face is a triangle, which the decoder checks).
-    const std::uint64_t dataBytes = fileSize - header.dataOffset;
-    const bool faceSizeKnown = !faceElement || faceElement->properties.size() == 1 ||
-                               std::count_if(faceElement->properties.begin(), faceElement->properties.end(),
-                                             [](const PlyProperty& p) { return p.isList; }) == 1;
-    std::uint64_t needed = 0;
+// Where the data lies, from the sizes the header declares.
+struct DataExtent {
+    std::uint64_t dataBytes = 0;   // bytes after the header
+    std::uint64_t needed = 0;      // bytes the elements need at least
     std::uint64_t faceOffset = 0;  // file offset of the face element when faceSizeKnown
+    bool faceSizeKnown = false;
+};
+
+// Sizes against the file size, before allocating anything. Face records have a known size when the
+// only list is vertex_indices (and every face is a triangle, which the decoder checks).
+DataExtent checkSizesAgainstFile(const PlyHeader& header, const ReadPlan& plan, std::uint64_t fileSize) {
+    const PlyElement* faceElement = plan.face;
+    DataExtent extent;
+    extent.dataBytes = fileSize - header.dataOffset;
+    extent.faceSizeKnown = !faceElement || faceElement->properties.size() == 1 ||
+                           std::count_if(faceElement->properties.begin(), faceElement->properties.end(),
+                                         [](const PlyProperty& p) { return p.isList; }) == 1;
+    const std::uint64_t dataBytes = extent.dataBytes;
+    std::uint64_t& needed = extent.needed;
     for (const auto& e : header.elements) {
-        const std::uint64_t record = &e == faceElement ? faceLayout.minRecordBytes : e.scalarBytes;
+        const std::uint64_t record = &e == faceElement ? plan.faceLayout.minRecordBytes : e.scalarBytes;
         const std::uint64_t bytes = mulSat(e.count, record);
         if (addSat(needed, bytes) > dataBytes) {
             const std::uint64_t found = dataBytes - std::min(needed, dataBytes);
             // The figures, so that a user can tell a cut file from a damaged count.
             const auto refuse = [&](const char* data, const char* records, const char* countName) {
-                const bool atLeast = &e == faceElement && !faceSizeKnown;
+                const bool atLeast = &e == faceElement && !extent.faceSizeKnown;
                 fail(cat("file truncated: expected ", atLeast ? "at least " : "", bytes, " bytes of ", data, ", found ",
                          found, ": the header declares ", e.count, " ", records, " of ", atLeast ? "at least " : "",
                          record, " bytes each; the file was probably not completely written, or its header declares a "
                          "wrong ", countName));
             };
-            if (&e == vertexElement) refuse("vertex data", "vertices", "vertex count");
+            if (&e == plan.vertex) refuse("vertex data", "vertices", "vertex count");
             if (&e == faceElement) refuse("face data", "faces", "face count");
             refuse(("data for element " + shown(e.name)).c_str(), "records", "element count");
         }
-        if (&e == faceElement) faceOffset = header.dataOffset + needed;
+        if (&e == faceElement) extent.faceOffset = header.dataOffset + needed;
         needed += bytes;
     }
     // With triangles only, the data size is exact; a quad mesh is larger, so leave the trailing-data
     // verdict to the face decoder then (it says "triangulate").
-    if (faceSizeKnown && dataBytes > needed && (!faceElement || faceElement->count == 0))
+    if (extent.faceSizeKnown && dataBytes > needed && (!faceElement || faceElement->count == 0))
         fail(trailing(dataBytes - needed));
+    return extent;
+}
 
-    RadianceMesh mesh;
-    const std::size_t n = static_cast<std::size_t>(vertexElement->count);
-    if (!vertexLayout.unknown.empty() && n > 0) {
+// What the file holds that the mesh does not keep, in mesh.skippedOnRead.
+void listSkippedData(const PlyHeader& header, const ReadPlan& plan, RadianceMesh& mesh) {
+    const std::vector<std::string>& unknown = plan.vertexLayout.unknown;
+    if (!unknown.empty() && plan.vertex->count > 0) {
         std::string names;
-        for (const auto& u : vertexLayout.unknown) names += (names.empty() ? "" : ", ") + shown(u);
-        mesh.skippedOnRead.push_back(cat("vertex ", vertexLayout.unknown.size() == 1 ? "property " : "properties ", names,
-                                         " of the file ", vertexLayout.unknown.size() == 1 ? "is" : "are",
-                                         " not part of the radiance PLY format and ", vertexLayout.unknown.size() == 1 ? "was" : "were",
-                                         " not loaded (saving the mesh will not write ",
-                                         vertexLayout.unknown.size() == 1 ? "it" : "them",
+        for (const auto& u : unknown) names += (names.empty() ? "" : ", ") + shown(u);
+        const bool one = unknown.size() == 1;
+        mesh.skippedOnRead.push_back(cat("vertex ", one ? "property " : "properties ", names, " of the file ",
+                                         one ? "is" : "are", " not part of the radiance PLY format and ",
+                                         one ? "was" : "were", " not loaded (saving the mesh will not write ",
+                                         one ? "it" : "them",
                                          "; to keep such data, declare it as a block: 'comment block <prefix> width <n>' "
                                          "with properties <prefix>_0..<prefix>_<n-1>)"));
     }
     for (const auto& e : header.elements) {
-        if (&e == vertexElement || e.count == 0) continue;
-        if (&e == faceElement) {
+        if (&e == plan.vertex || e.count == 0) continue;
+        if (&e == plan.face) {
             std::string names;
             for (std::size_t i = 0; i < e.properties.size(); ++i)
-                if (i != faceLayout.indexProperty) names += (names.empty() ? "" : ", ") + shown(e.properties[i].name);
+                if (i != plan.faceLayout.indexProperty) names += (names.empty() ? "" : ", ") + shown(e.properties[i].name);
             if (!names.empty())
                 mesh.skippedOnRead.push_back(cat("face properties ", names, " were not loaded (the radiance PLY format "
                                                  "stores only the vertex indices of a face)"));
@@ -787,213 +684,253 @@ RadianceMesh readImpl(const std::string& path) {
         mesh.skippedOnRead.push_back(cat("element ", shown(e.name), " (", e.count, " records) is not part of the radiance "
                                          "PLY format and was not loaded (saving the mesh will not write it)"));
     }
+}
 
-    // Data is decoded in chunks of about this size through one reused buffer, and every chunk is checked
-    // as soon as it is decoded: a damaged or hostile file (e.g. a sparse file of zeros with a plausible
-    // header) is refused after one chunk instead of after allocating and filling the whole mesh. The
-    // output arrays are only reserved up front (address space, not memory) and grow chunk by chunk.
-    constexpr std::size_t kChunkBytes = std::size_t(8) << 20;
-    std::vector<unsigned char> buffer;
-    const auto readAt = [&](std::uint64_t offset, std::size_t bytes) -> const unsigned char* {
-        if (!seekTo(file.get(), offset)) fail("cannot seek in the file");
-        buffer.resize(std::max<std::size_t>(bytes, 1));
-        if (bytes && std::fread(buffer.data(), 1, bytes, file.get()) != bytes)
-            fail("read error (the file changed while it was read, or the disk failed)");
-        return buffer.data();
-    };
+// Decodes face records into triangles, checking each one.
+struct FaceDecoder {
+    const PlyElement& element;
+    const FaceLayout& layout;
+    std::size_t vertexCount;
+    std::vector<std::uint32_t>& faces;
+    bool signedIndex;  // int indices (uint otherwise)
 
-    // Faces: decodes records [f0, f1) from cursor; returns the end of the last one.
-    const auto decodeFaces = [&](const PlyElement& e, const unsigned char* cursor, const unsigned char* end, std::size_t f0,
-                                 std::size_t f1) {
-        const std::size_t faceCount = static_cast<std::size_t>(e.count);
-        const PlyProperty& indices = e.properties[faceLayout.indexProperty];
-        const bool signedIndex = indices.type == PlyType::Int32;
-        const auto truncatedFace = [&](std::size_t f) {
-            fail(cat("file truncated: the face data ends inside face ", f, " of ", faceCount,
-                     "; the file was probably not completely written"));
-        };
+    FaceDecoder(const ReadPlan& plan, std::vector<std::uint32_t>& faces)
+        : element(*plan.face), layout(plan.faceLayout), vertexCount(static_cast<std::size_t>(plan.vertex->count)),
+          faces(faces), signedIndex(element.properties[layout.indexProperty].type == PlyType::Int32) {}
+
+    [[noreturn]] void truncatedFace(std::size_t f) const {
+        fail(cat("file truncated: the face data ends inside face ", f, " of ", static_cast<std::size_t>(element.count),
+                 "; the file was probably not completely written"));
+    }
+
+    // The vertex_indices list of face f after its length: 3 indices of 4 bytes.
+    const unsigned char* decodeTriangle(std::size_t f, std::int64_t count, const unsigned char* cursor,
+                                        const unsigned char* end) const {
+        if (count != 3)
+            fail(cat("face ", f, " has ", count, " vertices but only triangle meshes are supported: "
+                     "triangulate the mesh first (e.g. in MeshLab: Filters > Polygonal and Quad Mesh > "
+                     "Turn into a Pure-Triangular mesh) and save it again"));
+        if (static_cast<std::size_t>(end - cursor) < 12) truncatedFace(f);
+        for (std::size_t k = 0; k < 3; ++k) {
+            std::uint32_t raw;
+            std::memcpy(&raw, cursor + 4 * k, 4);
+            if (signedIndex && raw > 0x7fffffffu)
+                fail(cat("face ", f, " has a negative vertex index ", static_cast<std::int32_t>(raw)));
+            if (raw >= vertexCount)
+                fail(cat("face ", f, " references vertex ", raw, " but the file has only ", vertexCount,
+                         " vertices: vertex index out of range"));
+            faces.push_back(raw);
+        }
+        return cursor + 12;
+    }
+
+    // Records [f0, f1) from cursor; returns the end of the last one.
+    const unsigned char* decode(const unsigned char* cursor, const unsigned char* end, std::size_t f0,
+                                std::size_t f1) const {
         for (std::size_t f = f0; f < f1; ++f) {
-            for (std::size_t pi = 0; pi < e.properties.size(); ++pi) {
-                const PlyProperty& p = e.properties[pi];
+            for (std::size_t pi = 0; pi < element.properties.size(); ++pi) {
+                const PlyProperty& p = element.properties[pi];
                 if (!p.isList) {
-                    const std::size_t s = typeSize(p.type);
+                    const std::size_t s = plyTypeSize(p.type);
                     if (static_cast<std::size_t>(end - cursor) < s) truncatedFace(f);
                     cursor += s;
                     continue;
                 }
-                const std::size_t cs = typeSize(p.countType);
+                const std::size_t cs = plyTypeSize(p.countType);
                 if (static_cast<std::size_t>(end - cursor) < cs) truncatedFace(f);
-                const std::int64_t count = readInteger(cursor, p.countType);
+                const std::int64_t count = readPlyInteger(cursor, p.countType, false);
                 cursor += cs;
-                if (pi == faceLayout.indexProperty) {
-                    if (count != 3)
-                        fail(cat("face ", f, " has ", count, " vertices but only triangle meshes are supported: "
-                                 "triangulate the mesh first (e.g. in MeshLab: Filters > Polygonal and Quad Mesh > "
-                                 "Turn into a Pure-Triangular mesh) and save it again"));
-                    if (static_cast<std::size_t>(end - cursor) < 12) truncatedFace(f);
-                    for (std::size_t k = 0; k < 3; ++k) {
-                        std::uint32_t raw;
-                        std::memcpy(&raw, cursor + 4 * k, 4);
-                        if (signedIndex && raw > 0x7fffffffu)
-                            fail(cat("face ", f, " has a negative vertex index ", static_cast<std::int32_t>(raw)));
-                        if (raw >= n)
-                            fail(cat("face ", f, " references vertex ", raw, " but the file has only ", n,
-                                     " vertices: vertex index out of range"));
-                        mesh.faces.push_back(raw);
-                    }
-                    cursor += 12;
-                } else {
-                    if (count < 0) fail(cat("face ", f, " has a negative length in list property ", shown(p.name)));
-                    const std::uint64_t listBytes = static_cast<std::uint64_t>(count) * typeSize(p.type);
-                    if (static_cast<std::uint64_t>(end - cursor) < listBytes) truncatedFace(f);
-                    cursor += listBytes;
+                if (pi == layout.indexProperty) {
+                    cursor = decodeTriangle(f, count, cursor, end);
+                    continue;
                 }
+                if (count < 0) fail(cat("face ", f, " has a negative length in list property ", shown(p.name)));
+                const std::uint64_t listBytes = static_cast<std::uint64_t>(count) * plyTypeSize(p.type);
+                if (static_cast<std::uint64_t>(end - cursor) < listBytes) truncatedFace(f);
+                cursor += listBytes;
             }
         }
         return cursor;
-    };
-
-    // Faces first when their size is known: they are small, and a damaged face block is then refused
-    // before the (usually much larger) vertex data is read and allocated.
-    bool facesDone = false;
-    if (faceElement && faceSizeKnown) {
-        const std::size_t faceCount = static_cast<std::size_t>(faceElement->count);
-        const std::size_t rec = static_cast<std::size_t>(faceLayout.minRecordBytes);
-        mesh.faces.reserve(faceCount * 3);
-        const std::size_t perChunk = std::max<std::size_t>(1, kChunkBytes / rec);
-        for (std::size_t f0 = 0; f0 < faceCount; f0 += perChunk) {
-            const std::size_t f1 = std::min(faceCount, f0 + perChunk);
-            const unsigned char* data = readAt(faceOffset + std::uint64_t(f0) * rec, (f1 - f0) * rec);
-            decodeFaces(*faceElement, data, data + (f1 - f0) * rec, f0, f1);
-        }
-        facesDone = true;
-        // Every face was a triangle of exactly `rec` bytes, so the sizes are exact now.
-        if (dataBytes > needed) fail(trailing(dataBytes - needed));
     }
+};
 
+// Data is decoded in chunks of about this size through one reused buffer, and every chunk is checked
+// as soon as it is decoded: a damaged or hostile file (e.g. a sparse file of zeros with a plausible
+// header) is refused after one chunk instead of after allocating and filling the whole mesh. The
+// output arrays are only reserved up front (address space, not memory) and grow chunk by chunk.
+constexpr std::size_t kChunkBytes = std::size_t(8) << 20;
+
+// Faces first when their size is known: they are small, and a damaged face block is then refused
+// before the (usually much larger) vertex data is read and allocated. Returns whether it read them.
+bool readTriangleFacesFirst(ChunkedFile& in, const ReadPlan& plan, const DataExtent& extent, RadianceMesh& mesh) {
+    if (!plan.face || !extent.faceSizeKnown) return false;
+    const FaceDecoder decoder(plan, mesh.faces);
+    const std::size_t faceCount = static_cast<std::size_t>(plan.face->count);
+    const std::size_t rec = static_cast<std::size_t>(plan.faceLayout.minRecordBytes);
+    mesh.faces.reserve(faceCount * 3);
+    const std::size_t perChunk = std::max<std::size_t>(1, kChunkBytes / rec);
+    for (std::size_t f0 = 0; f0 < faceCount; f0 += perChunk) {
+        const std::size_t f1 = std::min(faceCount, f0 + perChunk);
+        const unsigned char* data = in.readAt(extent.faceOffset + std::uint64_t(f0) * rec, (f1 - f0) * rec);
+        decoder.decode(data, data + (f1 - f0) * rec, f0, f1);
+    }
+    // Every face was a triangle of exactly `rec` bytes, so the sizes are exact now.
+    if (extent.dataBytes > extent.needed) fail(trailing(extent.dataBytes - extent.needed));
+    return true;
+}
+
+// Faces with lists other than vertex_indices: records of unknown size, read in one block (everything
+// left, which the file size bounds). Returns the bytes they took.
+std::uint64_t readFacesOfUnknownSize(ChunkedFile& in, std::uint64_t position, const ReadPlan& plan, RadianceMesh& mesh) {
+    const FaceDecoder decoder(plan, mesh.faces);
+    const std::size_t faceCount = static_cast<std::size_t>(plan.face->count);
+    const std::size_t bytes = static_cast<std::size_t>(position > in.size ? 0 : in.size - position);
+    const unsigned char* data = in.readAt(position, bytes);
+    mesh.faces.reserve(faceCount * 3);
+    const unsigned char* used = decoder.decode(data, data + bytes, 0, faceCount);
+    const std::uint64_t taken = static_cast<std::uint64_t>(used - data);
+    in.releaseBuffer();
+    return taken;
+}
+
+// Reserves every per-vertex array of the mesh (and creates its radiance field and blocks); returns
+// the coefficients per vertex.
+std::size_t reserveVertexArrays(const VertexLayout& layout, const RadianceHeader& rh, std::size_t n, RadianceMesh& mesh) {
+    mesh.positions.reserve(n * 3);
+    if (layout.normal[0] >= 0) mesh.normals.reserve(n * 3);
+    if (layout.color[0] >= 0) mesh.colors.reserve(n * 4);
+    if (layout.quality >= 0) mesh.quality.reserve(n);
+    std::size_t perVertex = 0;
+    if (rh.basis) {
+        mesh.radiance.emplace();
+        mesh.radiance->basis = *rh.basis;
+        mesh.radiance->reflected = rh.reflected;
+        perVertex = static_cast<std::size_t>(mesh.radiance->coefficientsPerVertex());
+        mesh.radiance->frames.reserve(n * 6);
+        mesh.radiance->coefficients.reserve(n * perVertex);
+    }
+    for (const auto& b : rh.blocks) {
+        NamedVertexBlock block;
+        block.prefix = b.prefix;
+        block.width = b.width;
+        block.metadata = b.metadata;
+        block.values.reserve(n * static_cast<std::size_t>(b.width));
+        mesh.extraBlocks.push_back(std::move(block));
+    }
+    return perVertex;
+}
+
+// Grows every per-vertex array to v1 vertices (within what was reserved).
+void growVertexArrays(const VertexLayout& layout, std::size_t v1, std::size_t perVertex, RadianceMesh& mesh) {
+    mesh.positions.resize(v1 * 3);
+    if (layout.normal[0] >= 0) mesh.normals.resize(v1 * 3);
+    if (layout.color[0] >= 0) mesh.colors.resize(v1 * 4, 255);  // alpha stays 255 when the file has none
+    if (layout.quality >= 0) mesh.quality.resize(v1);
+    if (mesh.radiance) {
+        mesh.radiance->frames.resize(v1 * 6);
+        mesh.radiance->coefficients.resize(v1 * perVertex);
+    }
+    for (auto& block : mesh.extraBlocks) block.values.resize(v1 * static_cast<std::size_t>(block.width));
+}
+
+// Record bytes to array bytes, merged into a few memcpy per vertex. The arrays must not move while
+// the plan is used.
+std::vector<CopyRun<unsigned char>> vertexCopyPlan(const VertexLayout& layout, std::size_t perVertex, RadianceMesh& mesh) {
+    using Run = CopyRun<unsigned char>;
+    std::vector<Run> runs;
+    auto add = [&](long offset, void* array, std::size_t stride, std::size_t size) {
+        runs.push_back({static_cast<std::size_t>(offset), static_cast<unsigned char*>(array), stride, size});
+    };
+    for (int i = 0; i < 3; ++i) add(layout.position[i], mesh.positions.data() + i, 12, 4);
+    if (layout.normal[0] >= 0)
+        for (int i = 0; i < 3; ++i) add(layout.normal[i], mesh.normals.data() + i, 12, 4);
+    for (int i = 0; i < 4; ++i)
+        if (layout.color[i] >= 0) add(layout.color[i], mesh.colors.data() + i, 4, 1);
+    if (layout.quality >= 0) add(layout.quality, mesh.quality.data(), 4, 4);
+    if (mesh.radiance) {
+        RadianceField& rf = *mesh.radiance;
+        for (int i = 0; i < 3; ++i) add(layout.tangent[i], rf.frames.data() + i, 24, 4);
+        for (std::size_t j = 0; j < perVertex; ++j)
+            add(layout.coefficients[j], rf.coefficients.data() + j, perVertex * 4, 4);
+    }
+    for (std::size_t b = 0; b < mesh.extraBlocks.size(); ++b) {
+        auto& block = mesh.extraBlocks[b];
+        const std::size_t w = static_cast<std::size_t>(block.width);
+        for (std::size_t i = 0; i < w; ++i) add(layout.blocks[b][i], block.values.data() + i, w * 4, 4);
+    }
+    return mergeRuns(std::move(runs));
+}
+
+// Copies the frame normals of vertices [v0, v1) from the normals and checks the chunk, in the order
+// positions, normals, tangents, coefficients, unit normals.
+void completeAndCheckVertexChunk(std::size_t v0, std::size_t v1, std::size_t perVertex, RadianceMesh& mesh) {
+    for (std::size_t i = v0 * 3; i < v1 * 3; ++i)
+        if (!std::isfinite(mesh.positions[i])) fail(nonFinite("position", i / 3));
+    if (!mesh.normals.empty())
+        for (std::size_t i = v0 * 3; i < v1 * 3; ++i)
+            if (!std::isfinite(mesh.normals[i])) fail(nonFinite("normal", i / 3));
+    if (!mesh.radiance) return;
+    RadianceField& rf = *mesh.radiance;
+    for (std::size_t v = v0; v < v1; ++v) {
+        float* frame = rf.frame(v);
+        std::memcpy(frame + 3, mesh.normals.data() + v * 3, 12);
+        for (int i = 0; i < 3; ++i)
+            if (!std::isfinite(frame[i])) fail(nonFinite("radiance frame tangent", v));
+    }
+    for (std::size_t i = v0 * perVertex; i < v1 * perVertex; ++i)
+        if (!std::isfinite(rf.coefficients[i])) fail(nonFinite("radiance coefficient", i / perVertex));
+    for (std::size_t v = v0; v < v1; ++v) {
+        const float* f = rf.frame(v);
+        const float nn = f[3] * f[3] + f[4] * f[4] + f[5] * f[5];
+        if (std::fabs(nn - 1.0f) > 1e-3f) {
+            std::ostringstream why;  // RadianceField::validate's sentence
+            why << "invalid radiance data: normal of vertex " << v << " is not unit length (|n|^2 = " << nn << ")";
+            fail(why.str());
+        }
+    }
+}
+
+// The vertex records at file offset start, chunk by chunk.
+void readVertexData(ChunkedFile& in, std::uint64_t start, const ReadPlan& plan, const RadianceHeader& rh,
+                    RadianceMesh& mesh) {
+    const std::size_t n = static_cast<std::size_t>(plan.vertex->count);
+    const VertexLayout& layout = plan.vertexLayout;
+    const std::size_t rec = layout.recordBytes;
+    const std::size_t perVertex = reserveVertexArrays(layout, rh, n, mesh);
+    if (n == 0) return;
+    const std::size_t perChunk = std::max<std::size_t>(1, kChunkBytes / std::max<std::size_t>(rec, 1));
+    for (std::size_t v0 = 0; v0 < n; v0 += perChunk) {
+        const std::size_t v1 = std::min(n, v0 + perChunk);
+        const unsigned char* records = in.readAt(start + std::uint64_t(v0) * rec, (v1 - v0) * rec);
+        growVertexArrays(layout, v1, perVertex, mesh);
+        const std::vector<CopyRun<unsigned char>> runs = vertexCopyPlan(layout, perVertex, mesh);
+        for (std::size_t v = v0; v < v1; ++v) {
+            const unsigned char* record = records + (v - v0) * rec;
+            for (const auto& r : runs) std::memcpy(r.array + v * r.arrayStride, record + r.recordOffset, r.bytes);
+        }
+        completeAndCheckVertexChunk(v0, v1, perVertex, mesh);
+    }
+}
+
+// Every element in file order: vertices decoded, faces decoded unless already read, the others
+// skipped. Returns the file offset after the last element.
+std::uint64_t readElements(ChunkedFile& in, const PlyHeader& header, const ReadPlan& plan, const RadianceHeader& rh,
+                           bool facesDone, RadianceMesh& mesh) {
     std::uint64_t position = header.dataOffset;  // file offset of the next element
     const auto needBytes = [&](std::uint64_t bytes, const std::string& what) {
-        if (position > fileSize || fileSize - position < bytes)
+        if (position > in.size || in.size - position < bytes)
             fail(cat("file truncated: expected ", bytes, " bytes of ", what, ", found ",
-                     position > fileSize ? 0 : fileSize - position, "; the file was probably not completely written "
+                     position > in.size ? 0 : in.size - position, "; the file was probably not completely written "
                      "(or the header declares a wrong count)"));
     };
     for (const auto& e : header.elements) {
-        if (&e == vertexElement) {
-            const std::size_t rec = vertexLayout.recordBytes;
-            const std::uint64_t bytes = static_cast<std::uint64_t>(n) * rec;
+        if (&e == plan.vertex) {
+            const std::uint64_t bytes = e.count * plan.vertexLayout.recordBytes;
             needBytes(bytes, "vertex data");
-            const std::uint64_t start = position;
+            readVertexData(in, position, plan, rh, mesh);
             position += bytes;
-            const bool hasNormals = vertexLayout.normal[0] >= 0;
-            const bool hasColors = vertexLayout.color[0] >= 0;
-            const bool hasQuality = vertexLayout.quality >= 0;
-            mesh.positions.reserve(n * 3);
-            if (hasNormals) mesh.normals.reserve(n * 3);
-            if (hasColors) mesh.colors.reserve(n * 4);
-            if (hasQuality) mesh.quality.reserve(n);
-            std::size_t perVertex = 0;
-            if (rh.basis) {
-                mesh.radiance.emplace();
-                mesh.radiance->basis = *rh.basis;
-                mesh.radiance->reflected = rh.reflected;
-                perVertex = static_cast<std::size_t>(mesh.radiance->coefficientsPerVertex());
-                mesh.radiance->frames.reserve(n * 6);
-                mesh.radiance->coefficients.reserve(n * perVertex);
-            }
-            for (const auto& b : rh.blocks) {
-                NamedVertexBlock block;
-                block.prefix = b.prefix;
-                block.width = b.width;
-                block.metadata = b.metadata;
-                block.values.reserve(n * static_cast<std::size_t>(b.width));
-                mesh.extraBlocks.push_back(std::move(block));
-            }
-            if (n == 0) continue;
-            const std::size_t perChunk = std::max<std::size_t>(1, kChunkBytes / std::max<std::size_t>(rec, 1));
-            for (std::size_t v0 = 0; v0 < n; v0 += perChunk) {
-                const std::size_t v1 = std::min(n, v0 + perChunk);
-                const unsigned char* records = readAt(start + std::uint64_t(v0) * rec, (v1 - v0) * rec);
-                mesh.positions.resize(v1 * 3);
-                if (hasNormals) mesh.normals.resize(v1 * 3);
-                if (hasColors) mesh.colors.resize(v1 * 4, 255);  // alpha stays 255 when the file has none
-                if (hasQuality) mesh.quality.resize(v1);
-                if (rh.basis) {
-                    mesh.radiance->frames.resize(v1 * 6);
-                    mesh.radiance->coefficients.resize(v1 * perVertex);
-                }
-                for (auto& block : mesh.extraBlocks) block.values.resize(v1 * static_cast<std::size_t>(block.width));
-                // The arrays may not move any more within this chunk: build the copy plan now.
-                using Run = CopyRun<unsigned char>;
-                std::vector<Run> runs;
-                auto add = [&](long offset, void* array, std::size_t stride, std::size_t size) {
-                    runs.push_back({static_cast<std::size_t>(offset), static_cast<unsigned char*>(array), stride, size});
-                };
-                for (int i = 0; i < 3; ++i) add(vertexLayout.position[i], mesh.positions.data() + i, 12, 4);
-                if (hasNormals)
-                    for (int i = 0; i < 3; ++i) add(vertexLayout.normal[i], mesh.normals.data() + i, 12, 4);
-                for (int i = 0; i < 4; ++i)
-                    if (vertexLayout.color[i] >= 0) add(vertexLayout.color[i], mesh.colors.data() + i, 4, 1);
-                if (hasQuality) add(vertexLayout.quality, mesh.quality.data(), 4, 4);
-                if (rh.basis) {
-                    RadianceField& rf = *mesh.radiance;
-                    for (int i = 0; i < 3; ++i) add(vertexLayout.tangent[i], rf.frames.data() + i, 24, 4);
-                    for (std::size_t j = 0; j < perVertex; ++j)
-                        add(vertexLayout.coefficients[j], rf.coefficients.data() + j, perVertex * 4, 4);
-                }
-                for (std::size_t b = 0; b < mesh.extraBlocks.size(); ++b) {
-                    auto& block = mesh.extraBlocks[b];
-                    const std::size_t w = static_cast<std::size_t>(block.width);
-                    for (std::size_t i = 0; i < w; ++i) add(vertexLayout.blocks[b][i], block.values.data() + i, w * 4, 4);
-                }
-                runs = mergeRuns(std::move(runs));
-                for (std::size_t v = v0; v < v1; ++v) {
-                    const unsigned char* record = records + (v - v0) * rec;
-                    for (const Run& r : runs) std::memcpy(r.array + v * r.arrayStride, record + r.recordOffset, r.bytes);
-                }
-                // Checks of this chunk, in the order positions, normals, tangents, coefficients, unit normals.
-                for (std::size_t i = v0 * 3; i < v1 * 3; ++i)
-                    if (!std::isfinite(mesh.positions[i])) fail(nonFinite("position", i / 3));
-                if (hasNormals)
-                    for (std::size_t i = v0 * 3; i < v1 * 3; ++i)
-                        if (!std::isfinite(mesh.normals[i])) fail(nonFinite("normal", i / 3));
-                if (rh.basis) {
-                    RadianceField& rf = *mesh.radiance;
-                    for (std::size_t v = v0; v < v1; ++v) {
-                        float* frame = rf.frame(v);
-                        std::memcpy(frame + 3, mesh.normals.data() + v * 3, 12);
-                        for (int i = 0; i < 3; ++i)
-                            if (!std::isfinite(frame[i])) fail(nonFinite("radiance frame tangent", v));
-                    }
-                    for (std::size_t i = v0 * perVertex; i < v1 * perVertex; ++i)
-                        if (!std::isfinite(rf.coefficients[i])) fail(nonFinite("radiance coefficient", i / perVertex));
-                    for (std::size_t v = v0; v < v1; ++v) {
-                        const float* f = rf.frame(v);
-                        const float nn = f[3] * f[3] + f[4] * f[4] + f[5] * f[5];
-                        if (std::fabs(nn - 1.0f) > 1e-3f) {
-                            std::ostringstream why;  // RadianceField::validate's sentence
-                            why << "invalid radiance data: normal of vertex " << v << " is not unit length (|n|^2 = "
-                                << nn << ")";
-                            fail(why.str());
-                        }
-                    }
-                }
-            }
-        } else if (&e == faceElement) {
-            if (facesDone) {
-                position += e.count * faceLayout.minRecordBytes;
-                continue;
-            }
-            // Lists other than vertex_indices: records of unknown size, read in one block (everything
-            // left, which the file size bounds).
-            const std::size_t faceCount = static_cast<std::size_t>(e.count);
-            const std::size_t bytes = static_cast<std::size_t>(position > fileSize ? 0 : fileSize - position);
-            const unsigned char* data = readAt(position, bytes);
-            mesh.faces.reserve(faceCount * 3);
-            const unsigned char* used = decodeFaces(e, data, data + bytes, 0, faceCount);
-            position += static_cast<std::uint64_t>(used - data);
-            buffer.clear();
-            buffer.shrink_to_fit();
+        } else if (&e == plan.face) {
+            position += facesDone ? e.count * plan.faceLayout.minRecordBytes : readFacesOfUnknownSize(in, position, plan, mesh);
         } else {
             // Fixed size; checked above only with the smallest face records, so check again here.
             const std::uint64_t bytes = e.count * e.scalarBytes;
@@ -1001,8 +938,21 @@ RadianceMesh readImpl(const std::string& path) {
             position += bytes;
         }
     }
-    if (position != fileSize) fail(trailing(fileSize - position));
-    file.reset();
+    return position;
+}
+
+RadianceMesh readImpl(const std::string& path) {
+    ChunkedFile in = openForReading(path);
+    const PlyHeader header = readHeader(in);
+    const RadianceHeader rh = parseRadianceComments(header);
+    const ReadPlan plan = planElements(header, rh);
+    const DataExtent extent = checkSizesAgainstFile(header, plan, in.size);
+    RadianceMesh mesh;
+    listSkippedData(header, plan, mesh);
+    const bool facesDone = readTriangleFacesFirst(in, plan, extent, mesh);
+    const std::uint64_t position = readElements(in, header, plan, rh, facesDone, mesh);
+    if (position != in.size) fail(trailing(in.size - position));
+    in.file.reset();
     if (mesh.radiance) {
         const std::string problem = mesh.radiance->validate();  // a last guard; the chunks were checked
         if (!problem.empty()) fail("invalid radiance data: " + problem);

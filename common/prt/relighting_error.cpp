@@ -231,11 +231,14 @@ struct LocateFailure {
     std::string message;
 };
 
-}  // namespace
+// Keeps the failure of the lowest sample index, so that the message does not depend on the threads.
+void recordFailure(LocateFailure& failure, std::size_t sample, const std::string& why) {
+#pragma omp critical(relighting_locate_failure)
+    if (!failure.failed || sample < failure.sample) failure = {true, sample, why};
+}
 
-std::vector<float> interpolateAtSamples(const RelightingSamples& samples, const PrtMesh& input,
-                                        const SubdivisionResult& mesh) {
-    const char* who = "interpolateAtSamples";
+void checkInterpolationInput(const char* who, const RelightingSamples& samples, const PrtMesh& input,
+                             const SubdivisionResult& mesh) {
     checkMesh(who, "input mesh", input, false);
     checkMesh(who, "subdivided mesh", mesh.mesh, true);
     const std::size_t count = samples.count();
@@ -252,150 +255,217 @@ std::vector<float> interpolateAtSamples(const RelightingSamples& samples, const 
         if (f >= inputFaces) refuse(who, "originFace " + std::to_string(f) + " >= input face count " + std::to_string(inputFaces));
     for (std::uint32_t f : samples.inputFace)
         if (f >= inputFaces) refuse(who, "a sample's input face " + std::to_string(f) + " >= input face count " + std::to_string(inputFaces));
+}
+
+// What every input face's interpolation reads, and where it writes.
+struct InterpolationJob {
+    const RelightingSamples& samples;
+    const PrtMesh& input;
+    const SubdivisionResult& mesh;
+    const Buckets& subFaces;     // per input face, its sub-faces
+    const Buckets& faceSamples;  // per input face, its samples
+    int width;
+    float* out;                  // width floats per sample
+};
+
+// One thread's buffers, reused from face to face.
+struct FaceWorkspace {
+    std::vector<ChartTriangle> triangles;
+    std::vector<std::uint32_t> triangleFace;
+    std::vector<std::size_t> cellStart;
+    std::vector<std::uint32_t> cellTriangles;
+    std::vector<double> accumulator;
+};
+
+// Tolerance in chart units: 1e-5 (relighting_error.h), widened to what float rounding of the vertex
+// and sample positions can move a point in the chart (a position error delta moves a barycentric by
+// at most delta / the face's smallest height), so that small faces far from the origin are not
+// refused for their coordinates' precision.
+double chartTolerance(const Vec3& p0, const Vec3& p1, const Vec3& p2) {
+    const double maxEdge = std::max({(p1 - p0).norm(), (p2 - p1).norm(), (p0 - p2).norm()});
+    const double smallestHeight = (p1 - p0).cross(p2 - p0).norm() / maxEdge;
+    const double magnitude = std::max({p0.cwiseAbs().maxCoeff(), p1.cwiseAbs().maxCoeff(), p2.cwiseAbs().maxCoeff()});
+    return 1e-5 + 32.0 * FLT_EPSILON * magnitude / smallestHeight;
+}
+
+struct ChartBox {
+    Eigen::Vector2d lo, hi;
+};
+
+// The non-degenerate sub-faces of input face f in its chart (ws.triangles, ws.triangleFace), and
+// their bounding box.
+ChartBox chartSubFaces(const InterpolationJob& job, std::ptrdiff_t f, const FaceChart& chart, FaceWorkspace& ws) {
+    const PrtMesh& mesh = job.mesh.mesh;
+    ws.triangles.clear();
+    ws.triangleFace.clear();
+    Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (std::size_t i = job.subFaces.start[f]; i < job.subFaces.start[f + 1]; ++i) {
+        const std::uint32_t g = job.subFaces.ids[i];
+        ChartTriangle t;
+        for (int k = 0; k < 3; ++k) t.q[k] = chart(readVec3(mesh.positions, mesh.faces[3 * g + k]));
+        const Eigen::Vector2d e1 = t.q[1] - t.q[0], e2 = t.q[2] - t.q[0];
+        t.twiceArea = e1.x() * e2.y() - e1.y() * e2.x();
+        if (t.degenerate()) continue;  // covers nothing, and has no barycentrics
+        for (int k = 0; k < 3; ++k) {
+            t.inverseEdgeLength[k] = 1.0 / (t.q[(k + 2) % 3] - t.q[(k + 1) % 3]).norm();
+            lo = lo.cwiseMin(t.q[k]);
+            hi = hi.cwiseMax(t.q[k]);
+        }
+        ws.triangles.push_back(t);
+        ws.triangleFace.push_back(g);
+    }
+    return {lo, hi};
+}
+
+// A uniform grid over the sub-faces' chart bounding box (widened by the tolerance).
+struct ChartGrid {
+    Eigen::Vector2d lo, cellScale;
+    std::size_t size = 1;  // cells per side
+
+    std::size_t cellOf(double x, int axis) const {
+        const double c = std::floor((x - lo[axis]) * cellScale[axis]);
+        return static_cast<std::size_t>(std::clamp(c, 0.0, double(size - 1)));
+    }
+};
+
+// Each sub-face is registered in every cell its box widened by the tolerance touches: a sample then
+// tests only its cell's few sub-faces, and any sub-face within the tolerance of it is among them.
+ChartGrid gridSubFaces(ChartBox box, double tolerance, FaceWorkspace& ws) {
+    box.lo.array() -= tolerance;
+    box.hi.array() += tolerance;
+    ChartGrid grid;
+    grid.lo = box.lo;
+    grid.size = std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(std::sqrt(double(ws.triangles.size())))));
+    grid.cellScale = Eigen::Vector2d::Constant(double(grid.size)).cwiseQuotient(box.hi - box.lo);
+    const std::size_t gridSize = grid.size;
+    ws.cellStart.assign(gridSize * gridSize + 1, 0);
+    for (int pass = 0; pass < 2; ++pass) {
+        if (pass == 1) {
+            for (std::size_t c = 0; c < gridSize * gridSize; ++c) ws.cellStart[c + 1] += ws.cellStart[c];
+            ws.cellTriangles.resize(ws.cellStart.back());
+        }
+        std::vector<std::size_t> next;
+        if (pass == 1) next.assign(ws.cellStart.begin(), ws.cellStart.end() - 1);
+        for (std::size_t i = 0; i < ws.triangles.size(); ++i) {
+            const ChartTriangle& t = ws.triangles[i];
+            Eigen::Vector2d tlo = t.q[0].cwiseMin(t.q[1]).cwiseMin(t.q[2]);
+            Eigen::Vector2d thi = t.q[0].cwiseMax(t.q[1]).cwiseMax(t.q[2]);
+            tlo.array() -= tolerance;
+            thi.array() += tolerance;
+            for (std::size_t y = grid.cellOf(tlo.y(), 1); y <= grid.cellOf(thi.y(), 1); ++y)
+                for (std::size_t x = grid.cellOf(tlo.x(), 0); x <= grid.cellOf(thi.x(), 0); ++x) {
+                    const std::size_t cell = y * gridSize + x;
+                    if (pass == 0) ++ws.cellStart[cell + 1];
+                    else ws.cellTriangles[next[cell]++] = static_cast<std::uint32_t>(i);
+                }
+        }
+    }
+    return grid;
+}
+
+// The sub-face of the chart point's cell that the point lies in, or else the one it is nearest outside.
+struct SubFaceHit {
+    double margin = -std::numeric_limits<double>::infinity();  // >= 0 inside
+    double barycentric[3] = {0, 0, 0};
+    std::uint32_t triangle = 0;
+};
+
+SubFaceHit locateInCell(const FaceWorkspace& ws, const ChartGrid& grid, const Eigen::Vector2d& x) {
+    const std::size_t cell = grid.cellOf(x.y(), 1) * grid.size + grid.cellOf(x.x(), 0);
+    SubFaceHit hit;
+    for (std::size_t ci = ws.cellStart[cell]; ci < ws.cellStart[cell + 1]; ++ci) {
+        double barycentric[3];
+        const double margin = ws.triangles[ws.cellTriangles[ci]].locate(x, barycentric);
+        if (margin > hit.margin) {
+            hit.margin = margin;
+            std::copy(barycentric, barycentric + 3, hit.barycentric);
+            hit.triangle = ws.cellTriangles[ci];
+            if (margin >= 0.0) break;  // inside: sub-faces do not overlap
+        }
+    }
+    return hit;
+}
+
+// Within the tolerance outside, the nearest point of the sub-face (clamped barycentrics) rather than
+// an extrapolation.
+void writeInterpolatedTransfer(const InterpolationJob& job, std::size_t s, SubFaceHit hit, FaceWorkspace& ws) {
+    const int width = job.width;
+    double sum = 0.0;
+    for (double& b : hit.barycentric) sum += (b = std::max(b, 0.0));
+    for (double& b : hit.barycentric) b /= sum;
+
+    std::fill(ws.accumulator.begin(), ws.accumulator.end(), 0.0);
+    const std::uint32_t* v = job.mesh.mesh.faces.data() + 3 * ws.triangleFace[hit.triangle];
+    for (int k = 0; k < 3; ++k) {
+        const float* t = job.mesh.mesh.transfer.data() + static_cast<std::size_t>(v[k]) * width;
+        for (int j = 0; j < width; ++j) ws.accumulator[j] += hit.barycentric[k] * t[j];
+    }
+    float* o = job.out + s * width;
+    for (int j = 0; j < width; ++j) o[j] = static_cast<float>(ws.accumulator[j]);
+}
+
+void interpolateFaceSamples(const InterpolationJob& job, std::ptrdiff_t f, FaceWorkspace& ws, LocateFailure& failure) {
+    const std::size_t s0 = job.faceSamples.start[f], s1 = job.faceSamples.start[f + 1];
+    if (s0 == s1) return;
+    const std::uint32_t* corner = job.input.faces.data() + 3 * f;
+    const Vec3 p0 = readVec3(job.input.positions, corner[0]), p1 = readVec3(job.input.positions, corner[1]),
+               p2 = readVec3(job.input.positions, corner[2]);
+    const FaceChart chart(p0, p1, p2);
+    if (!chart.valid()) {
+        recordFailure(failure, job.faceSamples.ids[s0], "input face " + std::to_string(f) + " is degenerate but holds samples");
+        return;
+    }
+    const double tolerance = chartTolerance(p0, p1, p2);
+    const ChartBox box = chartSubFaces(job, f, chart, ws);
+    if (ws.triangles.empty()) {
+        recordFailure(failure, job.faceSamples.ids[s0],
+                      "input face " + std::to_string(f) + " holds samples but no sub-face of the "
+                      "subdivided mesh has it as originFace");
+        return;
+    }
+    const ChartGrid grid = gridSubFaces(box, tolerance, ws);
+    for (std::size_t si = s0; si < s1; ++si) {
+        const std::size_t s = job.faceSamples.ids[si];
+        const SubFaceHit hit = locateInCell(ws, grid, chart(readVec3(job.samples.positions, s)));
+        const double best = hit.margin;
+        if (!(best >= -tolerance)) {
+            recordFailure(failure, s,
+                          "sample " + std::to_string(s) + " of input face " + std::to_string(f) + " lies in none of its " +
+                              std::to_string(ws.triangles.size()) + " sub-faces (" +
+                              (std::isfinite(best) ? "nearest at " + std::to_string(-best) : std::string("none near")) +
+                              " in the face's barycentric units, tolerance " + std::to_string(tolerance) +
+                              "): the mesh is not a subdivision of the sampled input, or its originFace is wrong");
+            continue;
+        }
+        writeInterpolatedTransfer(job, s, hit, ws);
+    }
+}
+
+}  // namespace
+
+std::vector<float> interpolateAtSamples(const RelightingSamples& samples, const PrtMesh& input,
+                                        const SubdivisionResult& mesh) {
+    const char* who = "interpolateAtSamples";
+    checkInterpolationInput(who, samples, input, mesh);
+    const int width = samples.width;
+    const std::size_t inputFaces = input.faceCount();
 
     // Per input face: its sub-faces and its samples, each list built once by counting sort.
     const Buckets subFaces = bucketByKey(mesh.originFace, inputFaces);
     const Buckets faceSamples = bucketByKey(samples.inputFace, inputFaces);
 
-    std::vector<float> out(count * static_cast<std::size_t>(width), 0.0f);
+    std::vector<float> out(samples.count() * static_cast<std::size_t>(width), 0.0f);
+    const InterpolationJob job{samples, input, mesh, subFaces, faceSamples, width, out.data()};
     LocateFailure failure;
     const auto faceTotal = static_cast<std::ptrdiff_t>(inputFaces);
 
 #pragma omp parallel
     {
-        std::vector<ChartTriangle> triangles;
-        std::vector<std::uint32_t> triangleFace;
-        std::vector<std::size_t> cellStart;
-        std::vector<std::uint32_t> cellTriangles;
-        std::vector<double> accumulator(static_cast<std::size_t>(width));
+        FaceWorkspace ws;
+        ws.accumulator.resize(static_cast<std::size_t>(width));
 
 #pragma omp for schedule(dynamic, 4)
-        for (std::ptrdiff_t f = 0; f < faceTotal; ++f) {
-            const std::size_t s0 = faceSamples.start[f], s1 = faceSamples.start[f + 1];
-            if (s0 == s1) continue;
-            const std::uint32_t* corner = input.faces.data() + 3 * f;
-            const Vec3 p0 = readVec3(input.positions, corner[0]), p1 = readVec3(input.positions, corner[1]),
-                       p2 = readVec3(input.positions, corner[2]);
-            const FaceChart chart(p0, p1, p2);
-
-            auto fail = [&](std::size_t sample, const std::string& why) {
-#pragma omp critical(relighting_locate_failure)
-                if (!failure.failed || sample < failure.sample) failure = {true, sample, why};
-            };
-            if (!chart.valid()) {
-                fail(faceSamples.ids[s0], "input face " + std::to_string(f) + " is degenerate but holds samples");
-                continue;
-            }
-
-            // Tolerance in chart units: 1e-5 (relighting_error.h), widened to what float rounding
-            // of the vertex and sample positions can move a point in the chart (a position error
-            // delta moves a barycentric by at most delta / the face's smallest height), so that
-            // small faces far from the origin are not refused for their coordinates' precision.
-            const double maxEdge = std::max({(p1 - p0).norm(), (p2 - p1).norm(), (p0 - p2).norm()});
-            const double smallestHeight = (p1 - p0).cross(p2 - p0).norm() / maxEdge;
-            const double magnitude = std::max({p0.cwiseAbs().maxCoeff(), p1.cwiseAbs().maxCoeff(), p2.cwiseAbs().maxCoeff()});
-            const double tolerance = 1e-5 + 32.0 * FLT_EPSILON * magnitude / smallestHeight;
-
-            triangles.clear();
-            triangleFace.clear();
-            Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-            for (std::size_t i = subFaces.start[f]; i < subFaces.start[f + 1]; ++i) {
-                const std::uint32_t g = subFaces.ids[i];
-                ChartTriangle t;
-                for (int k = 0; k < 3; ++k) t.q[k] = chart(readVec3(mesh.mesh.positions, mesh.mesh.faces[3 * g + k]));
-                const Eigen::Vector2d e1 = t.q[1] - t.q[0], e2 = t.q[2] - t.q[0];
-                t.twiceArea = e1.x() * e2.y() - e1.y() * e2.x();
-                if (t.degenerate()) continue;  // covers nothing, and has no barycentrics
-                for (int k = 0; k < 3; ++k) {
-                    t.inverseEdgeLength[k] = 1.0 / (t.q[(k + 2) % 3] - t.q[(k + 1) % 3]).norm();
-                    lo = lo.cwiseMin(t.q[k]);
-                    hi = hi.cwiseMax(t.q[k]);
-                }
-                triangles.push_back(t);
-                triangleFace.push_back(g);
-            }
-            if (triangles.empty()) {
-                fail(faceSamples.ids[s0], "input face " + std::to_string(f) + " holds samples but no sub-face of the "
-                                          "subdivided mesh has it as originFace");
-                continue;
-            }
-
-            // A uniform grid over the sub-faces' chart bounding box, each sub-face registered in
-            // every cell its box widened by the tolerance touches: a sample then tests only its
-            // cell's few sub-faces, and any sub-face within the tolerance of it is among them.
-            lo.array() -= tolerance;
-            hi.array() += tolerance;
-            const std::size_t gridSize =
-                std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(std::sqrt(double(triangles.size())))));
-            const Eigen::Vector2d cellScale = Eigen::Vector2d::Constant(double(gridSize)).cwiseQuotient(hi - lo);
-            auto cellOf = [&](double x, int axis) {
-                const double c = std::floor((x - lo[axis]) * cellScale[axis]);
-                return static_cast<std::size_t>(std::clamp(c, 0.0, double(gridSize - 1)));
-            };
-            cellStart.assign(gridSize * gridSize + 1, 0);
-            for (int pass = 0; pass < 2; ++pass) {
-                if (pass == 1) {
-                    for (std::size_t c = 0; c < gridSize * gridSize; ++c) cellStart[c + 1] += cellStart[c];
-                    cellTriangles.resize(cellStart.back());
-                }
-                std::vector<std::size_t> next;
-                if (pass == 1) next.assign(cellStart.begin(), cellStart.end() - 1);
-                for (std::size_t i = 0; i < triangles.size(); ++i) {
-                    const ChartTriangle& t = triangles[i];
-                    Eigen::Vector2d tlo = t.q[0].cwiseMin(t.q[1]).cwiseMin(t.q[2]);
-                    Eigen::Vector2d thi = t.q[0].cwiseMax(t.q[1]).cwiseMax(t.q[2]);
-                    tlo.array() -= tolerance;
-                    thi.array() += tolerance;
-                    for (std::size_t y = cellOf(tlo.y(), 1); y <= cellOf(thi.y(), 1); ++y)
-                        for (std::size_t x = cellOf(tlo.x(), 0); x <= cellOf(thi.x(), 0); ++x) {
-                            const std::size_t cell = y * gridSize + x;
-                            if (pass == 0) ++cellStart[cell + 1];
-                            else cellTriangles[next[cell]++] = static_cast<std::uint32_t>(i);
-                        }
-                }
-            }
-
-            for (std::size_t si = s0; si < s1; ++si) {
-                const std::size_t s = faceSamples.ids[si];
-                const Eigen::Vector2d x = chart(readVec3(samples.positions, s));
-                const std::size_t cell = cellOf(x.y(), 1) * gridSize + cellOf(x.x(), 0);
-                double best = -std::numeric_limits<double>::infinity();
-                double bestBarycentric[3] = {0, 0, 0};
-                std::uint32_t bestTriangle = 0;
-                for (std::size_t ci = cellStart[cell]; ci < cellStart[cell + 1]; ++ci) {
-                    double barycentric[3];
-                    const double margin = triangles[cellTriangles[ci]].locate(x, barycentric);
-                    if (margin > best) {
-                        best = margin;
-                        std::copy(barycentric, barycentric + 3, bestBarycentric);
-                        bestTriangle = cellTriangles[ci];
-                        if (margin >= 0.0) break;  // inside: sub-faces do not overlap
-                    }
-                }
-                if (!(best >= -tolerance)) {
-                    fail(s, "sample " + std::to_string(s) + " of input face " + std::to_string(f) +
-                                " lies in none of its " + std::to_string(triangles.size()) + " sub-faces (" +
-                                (std::isfinite(best) ? "nearest at " + std::to_string(-best) : std::string("none near")) +
-                                " in the face's barycentric units, tolerance " + std::to_string(tolerance) +
-                                "): the mesh is not a subdivision of the sampled input, or its originFace is wrong");
-                    continue;
-                }
-                // Within the tolerance outside: the nearest point of the sub-face (clamped
-                // barycentrics) rather than an extrapolation.
-                double sum = 0.0;
-                for (double& b : bestBarycentric) sum += (b = std::max(b, 0.0));
-                for (double& b : bestBarycentric) b /= sum;
-
-                std::fill(accumulator.begin(), accumulator.end(), 0.0);
-                const std::uint32_t* v = mesh.mesh.faces.data() + 3 * triangleFace[bestTriangle];
-                for (int k = 0; k < 3; ++k) {
-                    const float* t = mesh.mesh.transfer.data() + static_cast<std::size_t>(v[k]) * width;
-                    for (int j = 0; j < width; ++j) accumulator[j] += bestBarycentric[k] * t[j];
-                }
-                float* o = out.data() + s * width;
-                for (int j = 0; j < width; ++j) o[j] = static_cast<float>(accumulator[j]);
-            }
-        }
+        for (std::ptrdiff_t f = 0; f < faceTotal; ++f) interpolateFaceSamples(job, f, ws, failure);
     }
     if (failure.failed) refuse(who, failure.message);
     return out;
@@ -464,13 +534,19 @@ void errorsOfBlock(const ErrorProblem& p, std::size_t begin, std::size_t end, do
 
 constexpr std::size_t kBlock = 256;
 
-}  // namespace
+// Computes the errors of block b (kBlock samples) and hands visit(s, errors of s for every lighting)
+// each sample in order. Both passes go through it, so they visit the same values in the same order.
+template <typename Visit>
+void forEachSampleOfBlock(const ErrorProblem& problem, std::ptrdiff_t b, std::vector<double>& errors,
+                          std::vector<double>& luminance, Visit&& visit) {
+    const std::size_t count = problem.samples->count();
+    const std::size_t begin = b * kBlock, end = std::min(count, begin + kBlock);
+    errorsOfBlock(problem, begin, end, errors.data(), luminance.data());
+    for (std::size_t s = begin; s < end; ++s) visit(s, errors.data() + (s - begin) * problem.lightingCount);
+}
 
-RelightingErrorReport relightingErrorOverLightings(const RelightingSamples& samples,
-                                                   const std::vector<float>& interpolated, int degree, int channels,
-                                                   const std::vector<std::vector<double>>& lightings,
-                                                   int lightingDegree, RelightingErrorNormalisation normalisation) {
-    const char* who = "relightingError";
+void checkErrorInput(const char* who, const RelightingSamples& samples, const std::vector<float>& interpolated,
+                     int degree, int channels, const std::vector<std::vector<double>>& lightings, int lightingDegree) {
     if (degree < 0 || degree > kMaxHarmonicDegree || lightingDegree < 0 || lightingDegree > kMaxHarmonicDegree)
         refuse(who, "degrees must lie in [0, " + std::to_string(kMaxHarmonicDegree) + "]");
     if (lightingDegree < degree)
@@ -502,13 +578,24 @@ RelightingErrorReport relightingErrorOverLightings(const RelightingSamples& samp
         if (!std::isfinite(v)) refuse(who, "non-finite ground-truth transfer");
     for (float v : interpolated)
         if (!std::isfinite(v)) refuse(who, "non-finite interpolated transfer");
+}
+
+double checkedTotalWeight(const char* who, const RelightingSamples& samples) {
     double totalWeight = 0.0;
     for (float w : samples.weights) {
         if (!(w >= 0.0f) || !std::isfinite(w)) refuse(who, "sample weights must be finite and >= 0");
         totalWeight += w;
     }
     if (!(totalWeight > 0.0)) refuse(who, "the sample weights sum to zero");
+    return totalWeight;
+}
 
+// The problem without its floors (setWeberFloors adds them).
+ErrorProblem makeErrorProblem(const RelightingSamples& samples, const std::vector<float>& interpolated, int degree,
+                              int channels, const std::vector<std::vector<double>>& lightings, int lightingDegree,
+                              RelightingErrorNormalisation normalisation) {
+    const int K = (degree + 1) * (degree + 1), lightingK = (lightingDegree + 1) * (lightingDegree + 1);
+    const int width = channels * K;
     const int L = static_cast<int>(lightings.size());
     ErrorProblem problem;
     problem.absolute = normalisation == RelightingErrorNormalisation::MeanLuminance;
@@ -527,10 +614,14 @@ RelightingErrorReport relightingErrorOverLightings(const RelightingSamples& samp
                 problem.luminanceLighting[static_cast<std::size_t>(row) * L + l] +=
                     rec709[ch] * lightings[l][static_cast<std::size_t>(ch) * lightingK + k];
             }
+    return problem;
+}
 
-    // Floors: the area-weighted mean luminance is <mean ground-truth transfer, v_l>.
-    const auto sampleTotal = static_cast<std::ptrdiff_t>(count);
-    const int threads = omp_get_max_threads();
+// Floors: the area-weighted mean luminance is <mean ground-truth transfer, v_l>.
+void setWeberFloors(const char* who, ErrorProblem& problem, double totalWeight, int threads) {
+    const RelightingSamples& samples = *problem.samples;
+    const int width = problem.width, L = problem.lightingCount;
+    const auto sampleTotal = static_cast<std::ptrdiff_t>(samples.count());
     std::vector<std::vector<double>> partialMeans(threads, std::vector<double>(width, 0.0));
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t s = 0; s < sampleTotal; ++s) {
@@ -550,30 +641,35 @@ RelightingErrorReport relightingErrorOverLightings(const RelightingSamples& samp
             refuse(who, "lighting " + std::to_string(l) + " gives a mean luminance of " + std::to_string(meanLuminance) +
                             " over the samples: the Weber-normalised error needs a positive adaptation level");
     }
+}
 
-    // Histogram h < L is lighting h's, h == L the one over all (sample, lighting) pairs.
-    const int histograms = L + 1;
-    const std::size_t blocks = (count + kBlock - 1) / kBlock;
-    const auto blockTotal = static_cast<std::ptrdiff_t>(blocks);
+// Pass 1's results. Histogram h < L is lighting h's, h == L the one over all (sample, lighting) pairs.
+struct FirstPass {
+    std::vector<std::vector<double>> sums;  // per thread: weighted sum of e and of e^2 per lighting
+    std::vector<double> histogram;          // (L + 1) x kBins weights, merged over the threads
+};
 
-    // Pass 1: sums and histograms, per thread (static schedule, merged in thread order: the same
-    // result for the same thread count).
-    std::vector<std::vector<double>> sums(threads, std::vector<double>(2 * static_cast<std::size_t>(L), 0.0));
+// Sums and histograms, per thread (static schedule, merged in thread order: the same result for the
+// same thread count).
+FirstPass sumAndHistogramErrors(const ErrorProblem& problem, int threads) {
+    const RelightingSamples& samples = *problem.samples;
+    const int L = problem.lightingCount, histograms = L + 1;
+    const std::size_t count = samples.count();
+    const auto blockTotal = static_cast<std::ptrdiff_t>((count + kBlock - 1) / kBlock);
+    FirstPass result;
+    result.sums.assign(threads, std::vector<double>(2 * static_cast<std::size_t>(L), 0.0));
     std::vector<std::vector<double>> weightHistograms(threads);
 #pragma omp parallel
     {
         const int thread = omp_get_thread_num();
         std::vector<double>& histogram = weightHistograms[thread];
         histogram.assign(static_cast<std::size_t>(histograms) * kBins, 0.0);
-        std::vector<double>& sum = sums[thread];
+        std::vector<double>& sum = result.sums[thread];
         std::vector<double> errors(kBlock * L), luminance(L);
 #pragma omp for schedule(static)
-        for (std::ptrdiff_t b = 0; b < blockTotal; ++b) {
-            const std::size_t begin = b * kBlock, end = std::min(count, begin + kBlock);
-            errorsOfBlock(problem, begin, end, errors.data(), luminance.data());
-            for (std::size_t s = begin; s < end; ++s) {
+        for (std::ptrdiff_t b = 0; b < blockTotal; ++b)
+            forEachSampleOfBlock(problem, b, errors, luminance, [&](std::size_t s, const double* e) {
                 const double w = samples.weights[s];
-                const double* e = errors.data() + (s - begin) * L;
                 for (int l = 0; l < L; ++l) {
                     sum[2 * l] += w * e[l];
                     sum[2 * l + 1] += w * e[l] * e[l];
@@ -581,81 +677,110 @@ RelightingErrorReport relightingErrorOverLightings(const RelightingSamples& samp
                     histogram[static_cast<std::size_t>(l) * kBins + bin] += w;
                     histogram[static_cast<std::size_t>(L) * kBins + bin] += w;
                 }
-            }
-        }
+            });
     }
     for (std::size_t t = 1; t < weightHistograms.size(); ++t)
         for (std::size_t i = 0; i < weightHistograms[0].size(); ++i) weightHistograms[0][i] += weightHistograms[t][i];
-    const std::vector<double>& histogram = weightHistograms[0];
+    result.histogram = std::move(weightHistograms[0]);
+    return result;
+}
 
-    // The bin of each quantile and the weight below it.
-    std::vector<std::size_t> quantileBin(histograms);
-    std::vector<double> weightBelow(histograms), target(histograms);
+// Per histogram: the bin holding its quantile, the weight below that bin and the weight to reach.
+struct QuantileBins {
+    std::vector<std::size_t> bin;
+    std::vector<double> weightBelow, target;
+};
+
+QuantileBins findQuantileBins(const std::vector<double>& histogram, double totalWeight, int L) {
+    const int histograms = L + 1;
+    QuantileBins q;
+    q.bin.resize(histograms);
+    q.weightBelow.resize(histograms);
+    q.target.resize(histograms);
     for (int h = 0; h < histograms; ++h) {
-        target[h] = kQuantile * totalWeight * (h == L ? L : 1) * (1.0 - kQuantileSlack);
+        q.target[h] = kQuantile * totalWeight * (h == L ? L : 1) * (1.0 - kQuantileSlack);
         const double* row = histogram.data() + static_cast<std::size_t>(h) * kBins;
         double cumulative = 0.0;
         std::size_t bin = 0;
-        while (bin + 1 < kBins && cumulative + row[bin] < target[h]) cumulative += row[bin++];
-        quantileBin[h] = bin;
-        weightBelow[h] = cumulative;
+        while (bin + 1 < kBins && cumulative + row[bin] < q.target[h]) cumulative += row[bin++];
+        q.bin[h] = bin;
+        q.weightBelow[h] = cumulative;
     }
+    return q;
+}
 
-    // Pass 2: the errors of each quantile's bin, sorted. Bin 0 holds only exact zeros.
+using WeightedErrors = std::vector<std::pair<double, float>>;
+
+// Pass 2: per thread and histogram, the (error, weight) pairs falling in the histogram's quantile bin.
+std::vector<std::vector<WeightedErrors>> collectQuantileBins(const ErrorProblem& problem, const QuantileBins& q,
+                                                             int threads) {
+    const RelightingSamples& samples = *problem.samples;
+    const int L = problem.lightingCount, histograms = L + 1;
+    const std::size_t count = samples.count();
+    const auto blockTotal = static_cast<std::ptrdiff_t>((count + kBlock - 1) / kBlock);
+    const std::vector<std::size_t>& quantileBin = q.bin;
+    std::vector<std::vector<WeightedErrors>> collected(threads, std::vector<WeightedErrors>(histograms));
+#pragma omp parallel
+    {
+        auto& mine = collected[omp_get_thread_num()];
+        std::vector<double> errors(kBlock * L), luminance(L);
+#pragma omp for schedule(static)
+        for (std::ptrdiff_t b = 0; b < blockTotal; ++b)
+            forEachSampleOfBlock(problem, b, errors, luminance, [&](std::size_t s, const double* e) {
+                const float w = samples.weights[s];
+                for (int l = 0; l < L; ++l) {
+                    const std::size_t bin = binOf(e[l]);
+                    if (bin == 0) continue;
+                    if (bin == quantileBin[l]) mine[l].emplace_back(e[l], w);
+                    if (bin == quantileBin[L]) mine[L].emplace_back(e[l], w);
+                }
+            });
+    }
+    return collected;
+}
+
+// The exact quantile of histogram h from its bin's errors, sorted.
+double quantileInBin(std::vector<std::vector<WeightedErrors>>& collected, const QuantileBins& q, int h) {
+    WeightedErrors values;
+    for (auto& perThread : collected) {
+        values.insert(values.end(), perThread[h].begin(), perThread[h].end());
+        perThread[h].clear();
+        perThread[h].shrink_to_fit();
+    }
+    std::sort(values.begin(), values.end());
+    double cumulative = q.weightBelow[h];
+    double value = values.empty() ? 0.0 : values.back().first;
+    for (const auto& [e, w] : values) {
+        cumulative += w;
+        if (cumulative >= q.target[h]) {
+            value = e;
+            break;
+        }
+    }
+    return value;
+}
+
+// The quantile of every histogram. Bin 0 holds only exact zeros: a quantile there needs no second pass.
+std::vector<double> exactQuantiles(const ErrorProblem& problem, const QuantileBins& q, int threads) {
+    const int histograms = problem.lightingCount + 1;
     std::vector<double> quantiles(histograms, 0.0);
     bool anyToCollect = false;
-    for (int h = 0; h < histograms; ++h) anyToCollect = anyToCollect || quantileBin[h] != 0;
-    if (anyToCollect) {
-        std::vector<std::vector<std::vector<std::pair<double, float>>>> collected(
-            threads, std::vector<std::vector<std::pair<double, float>>>(histograms));
-#pragma omp parallel
-        {
-            auto& mine = collected[omp_get_thread_num()];
-            std::vector<double> errors(kBlock * L), luminance(L);
-#pragma omp for schedule(static)
-            for (std::ptrdiff_t b = 0; b < blockTotal; ++b) {
-                const std::size_t begin = b * kBlock, end = std::min(count, begin + kBlock);
-                errorsOfBlock(problem, begin, end, errors.data(), luminance.data());
-                for (std::size_t s = begin; s < end; ++s) {
-                    const float w = samples.weights[s];
-                    const double* e = errors.data() + (s - begin) * L;
-                    for (int l = 0; l < L; ++l) {
-                        const std::size_t bin = binOf(e[l]);
-                        if (bin == 0) continue;
-                        if (bin == quantileBin[l]) mine[l].emplace_back(e[l], w);
-                        if (bin == quantileBin[L]) mine[L].emplace_back(e[l], w);
-                    }
-                }
-            }
-        }
-        for (int h = 0; h < histograms; ++h) {
-            if (quantileBin[h] == 0) continue;
-            std::vector<std::pair<double, float>> values;
-            for (auto& perThread : collected) {
-                values.insert(values.end(), perThread[h].begin(), perThread[h].end());
-                perThread[h].clear();
-                perThread[h].shrink_to_fit();
-            }
-            std::sort(values.begin(), values.end());
-            double cumulative = weightBelow[h];
-            double value = values.empty() ? 0.0 : values.back().first;
-            for (const auto& [e, w] : values) {
-                cumulative += w;
-                if (cumulative >= target[h]) {
-                    value = e;
-                    break;
-                }
-            }
-            quantiles[h] = value;
-        }
-    }
+    for (int h = 0; h < histograms; ++h) anyToCollect = anyToCollect || q.bin[h] != 0;
+    if (!anyToCollect) return quantiles;
+    std::vector<std::vector<WeightedErrors>> collected = collectQuantileBins(problem, q, threads);
+    for (int h = 0; h < histograms; ++h)
+        if (q.bin[h] != 0) quantiles[h] = quantileInBin(collected, q, h);
+    return quantiles;
+}
 
+RelightingErrorReport assembleReport(const FirstPass& pass, const std::vector<double>& quantiles, double totalWeight,
+                                     int L) {
     RelightingErrorReport report;
     report.perLighting.resize(L);
     double meanOfMeans = 0.0, meanOfSquares = 0.0;
     for (int l = 0; l < L; ++l) {
         double sumError = 0.0, sumSquare = 0.0;
-        for (const auto& sum : sums) {
+        for (const auto& sum : pass.sums) {
             sumError += sum[2 * l];
             sumSquare += sum[2 * l + 1];
         }
@@ -672,6 +797,25 @@ RelightingErrorReport relightingErrorOverLightings(const RelightingSamples& samp
     report.overall.rmsRelativeError = std::sqrt(meanOfSquares);
     report.overall.p95RelativeError = quantiles[L];
     return report;
+}
+
+}  // namespace
+
+RelightingErrorReport relightingErrorOverLightings(const RelightingSamples& samples,
+                                                   const std::vector<float>& interpolated, int degree, int channels,
+                                                   const std::vector<std::vector<double>>& lightings,
+                                                   int lightingDegree, RelightingErrorNormalisation normalisation) {
+    const char* who = "relightingError";
+    checkErrorInput(who, samples, interpolated, degree, channels, lightings, lightingDegree);
+    const double totalWeight = checkedTotalWeight(who, samples);
+    const int threads = omp_get_max_threads();
+    ErrorProblem problem =
+        makeErrorProblem(samples, interpolated, degree, channels, lightings, lightingDegree, normalisation);
+    setWeberFloors(who, problem, totalWeight, threads);
+    const FirstPass pass = sumAndHistogramErrors(problem, threads);
+    const QuantileBins bins = findQuantileBins(pass.histogram, totalWeight, problem.lightingCount);
+    const std::vector<double> quantiles = exactQuantiles(problem, bins, threads);
+    return assembleReport(pass, quantiles, totalWeight, problem.lightingCount);
 }
 
 RelightingErrorStats relightingError(const RelightingSamples& samples, const std::vector<float>& interpolated,
