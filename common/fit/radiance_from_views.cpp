@@ -379,6 +379,54 @@ HeldOutSums heldOutSampleError(const RadianceField& field, const std::vector<flo
     return out;
 }
 
+// The per-vertex and the shared fit of the set minus every k-th view, compared view by view on the
+// views left out (see FitModel::Automatic); the comparison goes into result. Returns the choice.
+FitModel chooseModelOnLeftOutViews(const TriangleMesh& mesh, const VertexAdjacency& adj, const SampleSet& set,
+                                   std::size_t viewCount, const RobustRadianceFitter& fitter,
+                                   const RadianceFromViewsOptions& options, const ProgressCallback& progress,
+                                   RadianceFromViewsResult& result) {
+    const std::size_t n = mesh.vertexCount();
+    const std::size_t k = static_cast<std::size_t>(options.validationEvery);
+    // Every k-th view left out; both candidates fitted on the others, compared on it.
+    std::vector<std::uint8_t> train(set.samples.size()), heldOut(set.samples.size());
+    for (std::size_t i = 0; i < set.samples.size(); ++i) {
+        heldOut[i] = (set.view[i] + 1) % k == 0;
+        train[i] = !heldOut[i];
+    }
+    result.validationViews = viewCount / k;
+    std::vector<float> mean(3 * n, 0.0f), count(n, 0.0f), residual(n, 0.0f);
+    std::vector<std::uint8_t> status(n, static_cast<std::uint8_t>(FitStatus::Unseen));
+    SampleFitCounters scratchCounters;
+    RadianceField candidate = framedField(mesh, options.fit);
+    perVertexFromSet(fitter, set, train.data(), viewCount, candidate, mean, count, residual, status, scratchCounters,
+                     progress, 33, 50);
+    const HeldOutSums perVertex = heldOutSampleError(candidate, mean, set, heldOut, viewCount);
+    candidate = framedField(mesh, options.fit);
+    sharedFromSet(mesh, adj, set, train.data(), viewCount, options, candidate, mean, count, residual, status,
+                  scratchCounters, progress, 50, 65, options.sharedRejectedPerVertex ? &fitter : nullptr);
+    const HeldOutSums shared = heldOutSampleError(candidate, mean, set, heldOut, viewCount);
+    result.validationPerVertex = perVertex.rms(perVertex.fitted);
+    result.validationConstant = perVertex.rms(perVertex.constant);
+    result.validationShared = shared.rms(shared.fitted);
+    result.validationSamples = perVertex.total();
+    // View by view: wins (ties count as wins) and the worst ratio.
+    for (std::size_t view = 0; view < viewCount; ++view) {
+        if (perVertex.samples[view] == 0) continue;
+        const double a = std::sqrt(perVertex.fitted[view] / (3.0 * perVertex.samples[view]));
+        const double b = std::sqrt(shared.fitted[view] / (3.0 * shared.samples[view]));
+        ++result.validationViewsCompared;
+        if (b <= a) ++result.validationViewsSharedWins;
+        const double ratio = a > 0.0 ? b / a : (b > 0.0 ? 2.0 : 1.0);
+        result.validationWorstViewRatio = std::max(result.validationWorstViewRatio, ratio);
+    }
+    result.modelValidated = true;
+    const bool sharedBetter = result.validationShared < result.validationPerVertex &&
+                              2 * result.validationViewsSharedWins >= result.validationViewsCompared &&
+                              result.validationWorstViewRatio <= 1.0 + options.maxViewLoss;
+    return sharedBetter ? FitModel::Shared : FitModel::PerVertex;
+}
+
+// FitModel Shared and Automatic: every sample stored once, then the chosen fit of the whole set.
 void fitFromSampleSet(const TriangleMesh& mesh, const ViewSampler& sampler, const RobustRadianceFitter& fitter,
                       const std::vector<double>& gains, const RadianceFromViewsOptions& options,
                       const ProgressCallback& progress, RadianceFromViewsResult& result, SampleFitCounters& counters) {
@@ -396,45 +444,8 @@ void fitFromSampleSet(const TriangleMesh& mesh, const ViewSampler& sampler, cons
                                   "and the per-vertex fit on left-out rasters (" + std::to_string(2 * k) +
                                   " needed); the per-vertex fit was used.");
     }
-    if (model == FitModel::Automatic) {
-        // Every k-th view left out; both candidates fitted on the others, compared on it.
-        std::vector<std::uint8_t> train(set.samples.size()), heldOut(set.samples.size());
-        for (std::size_t i = 0; i < set.samples.size(); ++i) {
-            heldOut[i] = (set.view[i] + 1) % k == 0;
-            train[i] = !heldOut[i];
-        }
-        result.validationViews = viewCount / k;
-        std::vector<float> mean(3 * n, 0.0f), count(n, 0.0f), residual(n, 0.0f);
-        std::vector<std::uint8_t> status(n, static_cast<std::uint8_t>(FitStatus::Unseen));
-        SampleFitCounters scratchCounters;
-        RadianceField candidate = framedField(mesh, options.fit);
-        perVertexFromSet(fitter, set, train.data(), viewCount, candidate, mean, count, residual, status, scratchCounters,
-                         progress, 33, 50);
-        const HeldOutSums perVertex = heldOutSampleError(candidate, mean, set, heldOut, viewCount);
-        candidate = framedField(mesh, options.fit);
-        sharedFromSet(mesh, adj, set, train.data(), viewCount, options, candidate, mean, count, residual, status,
-                      scratchCounters, progress, 50, 65, options.sharedRejectedPerVertex ? &fitter : nullptr);
-        const HeldOutSums shared = heldOutSampleError(candidate, mean, set, heldOut, viewCount);
-        result.validationPerVertex = perVertex.rms(perVertex.fitted);
-        result.validationConstant = perVertex.rms(perVertex.constant);
-        result.validationShared = shared.rms(shared.fitted);
-        result.validationSamples = perVertex.total();
-        // View by view: wins (ties count as wins) and the worst ratio.
-        for (std::size_t view = 0; view < viewCount; ++view) {
-            if (perVertex.samples[view] == 0) continue;
-            const double a = std::sqrt(perVertex.fitted[view] / (3.0 * perVertex.samples[view]));
-            const double b = std::sqrt(shared.fitted[view] / (3.0 * shared.samples[view]));
-            ++result.validationViewsCompared;
-            if (b <= a) ++result.validationViewsSharedWins;
-            const double ratio = a > 0.0 ? b / a : (b > 0.0 ? 2.0 : 1.0);
-            result.validationWorstViewRatio = std::max(result.validationWorstViewRatio, ratio);
-        }
-        result.modelValidated = true;
-        const bool sharedBetter = result.validationShared < result.validationPerVertex &&
-                                  2 * result.validationViewsSharedWins >= result.validationViewsCompared &&
-                                  result.validationWorstViewRatio <= 1.0 + options.maxViewLoss;
-        model = sharedBetter ? FitModel::Shared : FitModel::PerVertex;
-    }
+    if (model == FitModel::Automatic)
+        model = chooseModelOnLeftOutViews(mesh, adj, set, viewCount, fitter, options, progress, result);
     result.modelUsed = model;
     result.field = framedField(mesh, options.fit);
     if (model == FitModel::Shared) {
