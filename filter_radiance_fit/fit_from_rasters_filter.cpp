@@ -24,6 +24,199 @@ namespace {
 
 enum QualityChoice { kQualitySampleCount = 0, kQualityResidual = 1 };
 
+rad::RadianceFromViewsOptions fitOptionsFromParameters(const RichParameterList& par) {
+    rad::RadianceFromViewsOptions options;
+    options.fit.basis = basisParameters(par);
+    options.fit.storeReflected = par.getBool("reflected");
+    options.fit.lambda = par.getFloat("regularization");
+    options.fit.minSamples = par.getInt("minSamples");
+    options.sampling.depthTolerance = absoluteOrPercentParameter(par, "depthTolerance");
+    options.sampling.grazingAngleDegrees = par.getFloat("grazingAngle");
+    options.sampling.borderMarginPixels = par.getInt("borderMargin");
+    if (!par.getBool("validation")) options.fit.validationLambdas = 0;
+    if (!par.getBool("robust")) options.fit.robustIterations = 0;
+    options.compensateExposure = par.getBool("exposureCompensation");
+    const int model = par.getEnum("fitModel");
+    options.model = model == 1 ? rad::FitModel::PerVertex
+                  : model == 2 ? rad::FitModel::Shared
+                               : rad::FitModel::Automatic;
+    return options;
+}
+
+int heldOutEveryFromParameters(const RichParameterList& par) {
+    const int heldOutEvery = par.getInt("heldOutEvery");
+    if (heldOutEvery < 0 || heldOutEvery == 1)
+        throw Refusal(formatLine("Hold out every k-th raster: %d is not usable; use 0 to fit on every raster, or k >= 2 "
+                                 "to leave rasters k, 2k, ... out of the fit and test the fit on them.", heldOutEvery));
+    return heldOutEvery;
+}
+
+void refuseInvalidOptions(const rad::RadianceFromViewsOptions& options) {
+    for (const std::string& problem : {options.fit.validate(), options.sampling.validate(), options.validate()}) {
+        if (!problem.empty()) throw Refusal(problem);
+    }
+}
+
+// The document's raster layers (or only the visible ones) that can be used, the others warned about.
+RasterViews usableRasters(FilterContext& ctx, bool visibleOnly) {
+    RasterViews rasters = collectRasterViews(ctx.document, visibleOnly);
+    if (rasters.rasterCount == 0) {
+        throw Refusal(visibleOnly ? "No visible raster layer: show some rasters (eye icon) or fit on all rasters."
+                                   : "The document has no raster layers: open the photographs with their cameras "
+                                     "first (File > Open Project: .mlp, Bundler .out; or File > Import Raster and "
+                                     "align them); from pymeshlab, MeshSet.load_project('photos.mlp') or load_new_raster.");
+    }
+    for (const std::string& warning : rasters.warnings) ctx.warning(warning);
+    if (rasters.views.empty())
+        throw Refusal(formatLine("None of the %zu raster layers is usable (see the warnings above).",
+                                 rasters.rasterCount));
+    return rasters;
+}
+
+// The usable rasters split into those the fit uses and those held out to test it.
+struct RasterSplit {
+    std::vector<rad::CalibratedView> training, heldOut;
+    std::vector<QString> trainingLabels, heldOutLabels;
+};
+
+// Held-out rasters: every k-th usable one, in the order of the raster list.
+RasterSplit splitHeldOutRasters(const RasterViews& rasters, int heldOutEvery) {
+    RasterSplit split;
+    for (std::size_t i = 0; i < rasters.views.size(); ++i) {
+        const bool out = heldOutEvery >= 2 && (i + 1) % static_cast<std::size_t>(heldOutEvery) == 0;
+        (out ? split.heldOut : split.training).push_back(rasters.views[i]);
+        (out ? split.heldOutLabels : split.trainingLabels).push_back(rasters.labels[i]);
+    }
+    if (heldOutEvery >= 2 && split.heldOut.empty())
+        throw Refusal(formatLine("Hold out every %d-th raster: only %zu usable rasters, so none would be held out; "
+                                 "use a k of at most %zu, or 0.", heldOutEvery, rasters.views.size(),
+                                 rasters.views.size()));
+    return split;
+}
+
+// The layer's positions, faces and (usable) normals for the core.
+rad::TriangleMesh meshForFit(FilterContext& ctx, MeshModel& m) {
+    rad::RadianceMesh plain;
+    std::string why;
+    ExportChoice choice;
+    choice.transfer = false;  // not used here (and not required to cover every vertex)
+    choice.colors = choice.quality = choice.radiance = false;
+    if (!exportPlainMesh(m.cm, choice, plain, why)) throw Refusal(why);
+    rad::TriangleMesh mesh;
+    mesh.positions = std::move(plain.positions);
+    mesh.normals = std::move(plain.normals);
+    mesh.faces = std::move(plain.faces);
+    makeNormalsUsable(ctx, mesh.positions, mesh.faces, mesh.normals);
+    if (mesh.faceCount() == 0)
+        ctx.warning("The mesh has no faces: occlusion cannot be tested, every facing photograph is used.");
+    return mesh;
+}
+
+// The radiance attribute (moved out of the result), the vertex quality and, if asked, the colour.
+void storeFitInLayer(MeshModel& m, rad::RadianceFromViewsResult& result, bool setColor, bool residualQuality) {
+    attachRadiance(m.cm, std::move(result.field));
+    std::size_t i = 0;
+    for (CVertexO& v : m.cm.vert) {
+        if (v.IsD()) continue;
+        v.Q() = residualQuality ? result.residual[i] : result.sampleCount[i];
+        if (setColor)
+            v.C() = vcg::Color4b(rad::encodeSrgb8(result.meanColor[3 * i]), rad::encodeSrgb8(result.meanColor[3 * i + 1]),
+                                 rad::encodeSrgb8(result.meanColor[3 * i + 2]), 255);
+        ++i;
+    }
+    m.updateDataMask(MeshModel::MM_VERTQUALITY);
+    if (setColor) m.updateDataMask(MeshModel::MM_VERTCOLOR);
+}
+
+// The log of a normal acquisition must read as what it is: most vertices of a few dozen photographs
+// have fewer samples than a free fit of the basis would need, and the validation, not a
+// sample-count threshold, decides whether their view dependence is kept.
+void logFitSummary(FilterContext& ctx, const rad::RadianceFromViewsOptions& options,
+                   const rad::RadianceFromViewsResult& result, std::size_t n, const RasterSplit& split,
+                   std::size_t rasterCount, double seconds) {
+    const std::size_t seen = n - result.unseenFilled - result.unseenLeft;
+    ctx.log(formatLine("Fitted %s radiance functions%s on %zu vertices from %zu of %zu rasters%s in %.2f s: "
+                       "%zu samples, median %.0f per seen vertex.",
+                       options.fit.basis.name().c_str(), options.fit.storeReflected ? " (reflected)" : "", n,
+                       split.training.size(), rasterCount,
+                       split.heldOut.empty() ? "" : formatLine(" (%zu held out)", split.heldOut.size()).c_str(),
+                       seconds, result.totalSamples, result.medianSamples));
+    ctx.log(formatLine("Of the %zu seen vertices: %zu view-dependent functions (%zu of them with a stronger "
+                       "regularisation or a lower degree chosen by validation), %zu constant mean colours because "
+                       "validation found them better at predicting the vertex's left-out views, %zu constant because "
+                       "of fewer than %d samples, %zu constant after the range guard. %zu unseen vertices filled "
+                       "from their neighbours, %zu unseen left black.",
+                       seen, result.viewDependent, result.regularised, result.validatedConstant,
+                       result.tooFewSamples, options.fit.minSamples, result.guardConstant, result.unseenFilled,
+                       result.unseenLeft));
+}
+
+// The automatic choice between the shared and the per-vertex fit, and the robust weights.
+void logModelChoice(FilterContext& ctx, const rad::RadianceFromViewsOptions& options,
+                    const rad::RadianceFromViewsResult& result) {
+    if (result.modelValidated)
+        ctx.log(formatLine("Fit model chosen on every %d-th raster left out (%zu rasters, %zu samples): %s; RMS "
+                           "error in sRGB levels on them: per-vertex %.2f, shared diffuse + reflected lobe %.2f, "
+                           "constant mean colour %.2f; shared better or equal in %zu of %zu left-out rasters, "
+                           "worst raster shared / per-vertex %.3f (shared needs: better overall, at least half "
+                           "the rasters, none worse than %.3f).",
+                           options.validationEvery, result.validationViews, result.validationSamples,
+                           result.modelUsed == rad::FitModel::Shared ? "shared" : "per vertex",
+                           result.validationPerVertex, result.validationShared, result.validationConstant,
+                           result.validationViewsSharedWins, result.validationViewsCompared,
+                           result.validationWorstViewRatio, 1.0 + options.maxViewLoss));
+    if (result.modelUsed == rad::FitModel::Shared)
+        ctx.log(formatLine("Shared fit (SH%d lobe of the reflected direction): %zu vertices diffuse + scaled "
+                           "lobe; the others (where it did not predict their own left-out photographs better than "
+                           "the constant) the per-vertex fit.", result.lobeDegree, result.sharedVertices));
+    if (options.fit.robustIterations > 0 || result.saturatedSamples > 0)
+        ctx.log(formatLine("Robust weights: %zu samples down-weighted as outliers, %zu samples at saturation "
+                           "given 1 %% weight.", result.robustDownweighted, result.saturatedSamples));
+}
+
+void logExposureGains(FilterContext& ctx, const rad::RadianceFromViewsResult& result, const RasterSplit& split) {
+    std::string gains;
+    double lo = 1e300, hi = 0.0;
+    for (std::size_t i = 0; i < split.training.size(); ++i) {
+        const double* g = result.viewGains.data() + 3 * i;
+        gains += formatLine("%s%s %.3f %.3f %.3f", i ? "; " : "", split.trainingLabels[i].toStdString().c_str(), g[0],
+                            g[1], g[2]);
+        for (int c = 0; c < 3; ++c) {
+            lo = std::min(lo, g[c]);
+            hi = std::max(hi, g[c]);
+        }
+    }
+    ctx.log(formatLine("Exposure compensation (%zu rasters estimated from %zu samples): gains between %.3f and "
+                       "%.3f, per raster (R G B): %s.", result.exposureViews, result.exposureSamples, lo, hi,
+                       gains.c_str()));
+}
+
+void logHeldOutEvaluation(FilterContext& ctx, const rad::HeldOutEvaluation& evaluation, const RasterSplit& split) {
+    for (std::size_t i = 0; i < split.heldOut.size(); ++i) {
+        const rad::HeldOutViewError& e = evaluation.views[i];
+        if (e.vertices == 0)
+            ctx.log(formatLine("Held-out raster %s: no vertex seen by it and by a fitted raster.",
+                               split.heldOutLabels[i].toStdString().c_str()));
+        else
+            ctx.log(formatLine("Held-out raster %s: %zu vertices, RMS error in sRGB levels: fitted %.2f, "
+                               "constant mean colour %.2f, colour projection %.2f; exposure-matched: %.2f, "
+                               "%.2f, %.2f.",
+                               split.heldOutLabels[i].toStdString().c_str(), e.vertices, e.fitted, e.constant,
+                               e.projection, e.fittedMatched, e.constantMatched, e.projectionMatched));
+    }
+    ctx.log(formatLine("Held-out summary: %zu views compared, fitted <= constant in %zu; mean RMS fitted %.2f, "
+                       "constant %.2f, colour projection %.2f; mean ratio fitted / projection %.3f.",
+                       evaluation.viewsCompared, evaluation.fittedNotWorseThanConstant, evaluation.meanFitted,
+                       evaluation.meanConstant, evaluation.meanProjection, evaluation.meanRatioToProjection));
+    ctx.log(formatLine("Held-out summary, exposure-matched (each prediction scaled by its best gain per channel "
+                       "on the held-out photograph, whose exposure no prediction can know): fitted <= constant "
+                       "in %zu; mean RMS fitted %.2f, constant %.2f, colour projection %.2f; mean ratio fitted / "
+                       "projection %.3f.",
+                       evaluation.fittedNotWorseThanConstantMatched, evaluation.meanFittedMatched,
+                       evaluation.meanConstantMatched, evaluation.meanProjectionMatched,
+                       evaluation.meanRatioToProjectionMatched));
+}
+
 class FitFromRastersFilter : public Filter {
 public:
     QString name() const override { return "Radiance: Fit Radiance Functions from Rasters"; }
@@ -109,178 +302,32 @@ public:
 
     void apply(FilterContext& ctx) const override {
         const RichParameterList& par = ctx.parameters;
-        MeshDocument& md = ctx.document;
         MeshModel& m = ctx.mesh();
         QElapsedTimer timer;
         timer.start();
-
-        rad::RadianceFromViewsOptions options;
-        options.fit.basis = basisParameters(par);
-        options.fit.storeReflected = par.getBool("reflected");
-        options.fit.lambda = par.getFloat("regularization");
-        options.fit.minSamples = par.getInt("minSamples");
-        options.sampling.depthTolerance = absoluteOrPercentParameter(par, "depthTolerance");
-        options.sampling.grazingAngleDegrees = par.getFloat("grazingAngle");
-        options.sampling.borderMarginPixels = par.getInt("borderMargin");
-        if (!par.getBool("validation")) options.fit.validationLambdas = 0;
-        if (!par.getBool("robust")) options.fit.robustIterations = 0;
-        options.compensateExposure = par.getBool("exposureCompensation");
-        {
-            const int model = par.getEnum("fitModel");
-            options.model = model == 1 ? rad::FitModel::PerVertex
-                          : model == 2 ? rad::FitModel::Shared
-                                       : rad::FitModel::Automatic;
-        }
-        const int heldOutEvery = par.getInt("heldOutEvery");
-        if (heldOutEvery < 0 || heldOutEvery == 1)
-            throw Refusal(formatLine("Hold out every k-th raster: %d is not usable; use 0 to fit on every raster, or k >= 2 "
-                                     "to leave rasters k, 2k, ... out of the fit and test the fit on them.", heldOutEvery));
-        for (const std::string& problem : {options.fit.validate(), options.sampling.validate(), options.validate()}) {
-            if (!problem.empty()) throw Refusal(problem);
-        }
-
-        const bool visibleOnly = par.getBool("visibleOnly");
-        RasterViews rasters = collectRasterViews(md, visibleOnly);
-        if (rasters.rasterCount == 0) {
-            throw Refusal(visibleOnly ? "No visible raster layer: show some rasters (eye icon) or fit on all rasters."
-                                       : "The document has no raster layers: open the photographs with their cameras "
-                                         "first (File > Open Project: .mlp, Bundler .out; or File > Import Raster and "
-                                         "align them); from pymeshlab, MeshSet.load_project('photos.mlp') or load_new_raster.");
-        }
-        for (const std::string& warning : rasters.warnings) ctx.warning(warning);
-        if (rasters.views.empty())
-            throw Refusal(formatLine("None of the %zu raster layers is usable (see the warnings above).",
-                                     rasters.rasterCount));
-
-        // Held-out rasters: every k-th usable one, in the order of the raster list.
-        std::vector<rad::CalibratedView> training, heldOut;
-        std::vector<QString> trainingLabels, heldOutLabels;
-        for (std::size_t i = 0; i < rasters.views.size(); ++i) {
-            const bool out = heldOutEvery >= 2 && (i + 1) % static_cast<std::size_t>(heldOutEvery) == 0;
-            (out ? heldOut : training).push_back(rasters.views[i]);
-            (out ? heldOutLabels : trainingLabels).push_back(rasters.labels[i]);
-        }
-        if (heldOutEvery >= 2 && heldOut.empty())
-            throw Refusal(formatLine("Hold out every %d-th raster: only %zu usable rasters, so none would be held out; "
-                                     "use a k of at most %zu, or 0.", heldOutEvery, rasters.views.size(),
-                                     rasters.views.size()));
-
-        rad::RadianceMesh plain;
-        std::string why;
-        ExportChoice choice;
-        choice.transfer = false;  // not used here (and not required to cover every vertex)
-        choice.colors = choice.quality = choice.radiance = false;
-        if (!exportPlainMesh(m.cm, choice, plain, why)) throw Refusal(why);
-        rad::TriangleMesh mesh;
-        mesh.positions = std::move(plain.positions);
-        mesh.normals = std::move(plain.normals);
-        mesh.faces = std::move(plain.faces);
-        makeNormalsUsable(ctx, mesh.positions, mesh.faces, mesh.normals);
-        if (mesh.faceCount() == 0)
-            ctx.warning("The mesh has no faces: occlusion cannot be tested, every facing photograph is used.");
+        const rad::RadianceFromViewsOptions options = fitOptionsFromParameters(par);
+        const int heldOutEvery = heldOutEveryFromParameters(par);
+        refuseInvalidOptions(options);
+        const RasterViews rasters = usableRasters(ctx, par.getBool("visibleOnly"));
+        const RasterSplit split = splitHeldOutRasters(rasters, heldOutEvery);
+        const rad::TriangleMesh mesh = meshForFit(ctx, m);
 
         // Everything is computed aside; the layer changes only once the fit succeeded.
         const rad::RadianceFromViewsResult result =
-            rad::fitRadianceFromViews(mesh, training, options, ctx.progress.forCore());
+            rad::fitRadianceFromViews(mesh, split.training, options, ctx.progress.forCore());
         for (const std::string& warning : result.warnings) ctx.warning(warning);
         rad::HeldOutEvaluation evaluation;
-        if (!heldOut.empty()) evaluation = rad::evaluateHeldOutViews(mesh, result.field, result.meanColor, training,
-                                                                     heldOut, options.sampling);
+        if (!split.heldOut.empty())
+            evaluation = rad::evaluateHeldOutViews(mesh, result.field, result.meanColor, split.training, split.heldOut,
+                                                   options.sampling);
 
-        const std::size_t n = mesh.vertexCount();
-        const bool setColor = par.getBool("setColor");
-        const bool residualQuality = par.getEnum("quality") == kQualityResidual;
-        attachRadiance(m.cm, std::move(result.field));
-        std::size_t i = 0;
-        for (CVertexO& v : m.cm.vert) {
-            if (v.IsD()) continue;
-            v.Q() = residualQuality ? result.residual[i] : result.sampleCount[i];
-            if (setColor)
-                v.C() = vcg::Color4b(rad::encodeSrgb8(result.meanColor[3 * i]), rad::encodeSrgb8(result.meanColor[3 * i + 1]),
-                                     rad::encodeSrgb8(result.meanColor[3 * i + 2]), 255);
-            ++i;
-        }
-        m.updateDataMask(MeshModel::MM_VERTQUALITY);
-        if (setColor) m.updateDataMask(MeshModel::MM_VERTCOLOR);
+        storeFitInLayer(m, result, par.getBool("setColor"), par.getEnum("quality") == kQualityResidual);
         ctx.progress(100, "Done");
-        // The log of a normal acquisition must read as what it is: most vertices of a few dozen
-        // photographs have fewer samples than a free fit of the basis would need, and the validation,
-        // not a sample-count threshold, decides whether their view dependence is kept.
-        const std::size_t seen = n - result.unseenFilled - result.unseenLeft;
-        ctx.log(formatLine("Fitted %s radiance functions%s on %zu vertices from %zu of %zu rasters%s in %.2f s: "
-                           "%zu samples, median %.0f per seen vertex.",
-                           options.fit.basis.name().c_str(), options.fit.storeReflected ? " (reflected)" : "", n,
-                           training.size(), rasters.rasterCount,
-                           heldOut.empty() ? "" : formatLine(" (%zu held out)", heldOut.size()).c_str(),
-                           timer.elapsed() / 1000.0, result.totalSamples, result.medianSamples));
-        ctx.log(formatLine("Of the %zu seen vertices: %zu view-dependent functions (%zu of them with a stronger "
-                           "regularisation or a lower degree chosen by validation), %zu constant mean colours because "
-                           "validation found them better at predicting the vertex's left-out views, %zu constant because "
-                           "of fewer than %d samples, %zu constant after the range guard. %zu unseen vertices filled "
-                           "from their neighbours, %zu unseen left black.",
-                           seen, result.viewDependent, result.regularised, result.validatedConstant,
-                           result.tooFewSamples, options.fit.minSamples, result.guardConstant, result.unseenFilled,
-                           result.unseenLeft));
-        if (result.modelValidated)
-            ctx.log(formatLine("Fit model chosen on every %d-th raster left out (%zu rasters, %zu samples): %s; RMS "
-                               "error in sRGB levels on them: per-vertex %.2f, shared diffuse + reflected lobe %.2f, "
-                               "constant mean colour %.2f; shared better or equal in %zu of %zu left-out rasters, "
-                               "worst raster shared / per-vertex %.3f (shared needs: better overall, at least half "
-                               "the rasters, none worse than %.3f).",
-                               options.validationEvery, result.validationViews, result.validationSamples,
-                               result.modelUsed == rad::FitModel::Shared ? "shared" : "per vertex",
-                               result.validationPerVertex, result.validationShared, result.validationConstant,
-                               result.validationViewsSharedWins, result.validationViewsCompared,
-                               result.validationWorstViewRatio, 1.0 + options.maxViewLoss));
-        if (result.modelUsed == rad::FitModel::Shared)
-            ctx.log(formatLine("Shared fit (SH%d lobe of the reflected direction): %zu vertices diffuse + scaled "
-                               "lobe; the others (where it did not predict their own left-out photographs better than "
-                               "the constant) the per-vertex fit.", result.lobeDegree, result.sharedVertices));
-        if (options.fit.robustIterations > 0 || result.saturatedSamples > 0)
-            ctx.log(formatLine("Robust weights: %zu samples down-weighted as outliers, %zu samples at saturation "
-                               "given 1 %% weight.", result.robustDownweighted, result.saturatedSamples));
-        if (result.exposureCompensated) {
-            std::string gains;
-            double lo = 1e300, hi = 0.0;
-            for (std::size_t i = 0; i < training.size(); ++i) {
-                const double* g = result.viewGains.data() + 3 * i;
-                gains += formatLine("%s%s %.3f %.3f %.3f", i ? "; " : "", trainingLabels[i].toStdString().c_str(), g[0],
-                                    g[1], g[2]);
-                for (int c = 0; c < 3; ++c) {
-                    lo = std::min(lo, g[c]);
-                    hi = std::max(hi, g[c]);
-                }
-            }
-            ctx.log(formatLine("Exposure compensation (%zu rasters estimated from %zu samples): gains between %.3f and "
-                               "%.3f, per raster (R G B): %s.", result.exposureViews, result.exposureSamples, lo, hi,
-                               gains.c_str()));
-        }
-        if (!heldOut.empty()) {
-            for (std::size_t i = 0; i < heldOut.size(); ++i) {
-                const rad::HeldOutViewError& e = evaluation.views[i];
-                if (e.vertices == 0)
-                    ctx.log(formatLine("Held-out raster %s: no vertex seen by it and by a fitted raster.",
-                                       heldOutLabels[i].toStdString().c_str()));
-                else
-                    ctx.log(formatLine("Held-out raster %s: %zu vertices, RMS error in sRGB levels: fitted %.2f, "
-                                       "constant mean colour %.2f, colour projection %.2f; exposure-matched: %.2f, "
-                                       "%.2f, %.2f.",
-                                       heldOutLabels[i].toStdString().c_str(), e.vertices, e.fitted, e.constant,
-                                       e.projection, e.fittedMatched, e.constantMatched, e.projectionMatched));
-            }
-            ctx.log(formatLine("Held-out summary: %zu views compared, fitted <= constant in %zu; mean RMS fitted %.2f, "
-                               "constant %.2f, colour projection %.2f; mean ratio fitted / projection %.3f.",
-                               evaluation.viewsCompared, evaluation.fittedNotWorseThanConstant, evaluation.meanFitted,
-                               evaluation.meanConstant, evaluation.meanProjection, evaluation.meanRatioToProjection));
-            ctx.log(formatLine("Held-out summary, exposure-matched (each prediction scaled by its best gain per channel "
-                               "on the held-out photograph, whose exposure no prediction can know): fitted <= constant "
-                               "in %zu; mean RMS fitted %.2f, constant %.2f, colour projection %.2f; mean ratio fitted / "
-                               "projection %.3f.",
-                               evaluation.fittedNotWorseThanConstantMatched, evaluation.meanFittedMatched,
-                               evaluation.meanConstantMatched, evaluation.meanProjectionMatched,
-                               evaluation.meanRatioToProjectionMatched));
-        }
-}
+        logFitSummary(ctx, options, result, mesh.vertexCount(), split, rasters.rasterCount, timer.elapsed() / 1000.0);
+        logModelChoice(ctx, options, result);
+        if (result.exposureCompensated) logExposureGains(ctx, result, split);
+        if (!split.heldOut.empty()) logHeldOutEvaluation(ctx, evaluation, split);
+    }
 };
 
 QString FitFromRastersFilter::description() const {

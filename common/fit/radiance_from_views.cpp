@@ -8,7 +8,6 @@
 #include "raycast/ray_scene.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -74,32 +73,6 @@ void validateInput(const TriangleMesh& mesh, const std::vector<CalibratedView>& 
                        "open a MeshLab project .mlp / Bundler .out with cameras), aligned with this mesh.");
 }
 
-// Reports percent changes only, from the calling thread (thread 0 of the OpenMP team). A stop
-// request is remembered: the parallel loop skips its remaining vertices and the call then throws
-// OperationCancelled (an exception cannot leave an OpenMP region).
-class Progress {
-public:
-    explicit Progress(const ProgressCallback& cb) : cb_(cb) {}
-    void report(int percent, const char* stage) {
-        if (!cb_ || cancelled_.load(std::memory_order_relaxed)) return;
-        percent = std::max(0, std::min(100, percent));
-        if (percent == last_ && stage == lastStage_) return;
-        last_ = percent;
-        lastStage_ = stage;
-        if (!cb_(percent / 100.0, stage)) cancelled_.store(true, std::memory_order_relaxed);
-    }
-    bool cancelled() const { return cancelled_.load(std::memory_order_relaxed); }
-    void throwIfCancelled() const {
-        if (cancelled()) throw OperationCancelled();
-    }
-
-private:
-    const ProgressCallback& cb_;
-    int last_ = -1;
-    const char* lastStage_ = nullptr;
-    std::atomic<bool> cancelled_{false};
-};
-
 constexpr const char* kStageChecking = "checking the rasters";
 constexpr const char* kStageScene = "building the ray-casting scene";
 constexpr const char* kStageExposure = "estimating the rasters' exposures";
@@ -110,6 +83,14 @@ constexpr const char* kStageDone = "done";
 constexpr int kFitStart = 3, kFitEnd = 95;
 constexpr const char* kStageSampling = "sampling the rasters";
 
+// The stages are laid out in percent of the whole call.
+void reportPercent(const ProgressCallback& progress, int percent, const char* stage) {
+    reportProgress(progress, percent / 100.0, stage);
+}
+ProgressCallback percentRange(const ProgressCallback& progress, int from, int to) {
+    return progressRange(progress, from / 100.0, to / 100.0);
+}
+
 // ---- Fits from a stored sample set (FitModel Shared and Automatic) ----
 
 struct SampleFitCounters {
@@ -117,46 +98,95 @@ struct SampleFitCounters {
     std::size_t guardRetried = 0, fallbacks = 0, totalSamples = 0, viewDependent = 0, regularised = 0;
     std::size_t validatedConstant = 0, tooFew = 0, guardConstant = 0, downweighted = 0, saturated = 0;
     std::size_t sharedKept = 0;  // Shared: vertices given d + s * lobe
+
+    void reset(std::size_t viewCount) {
+        perView.assign(viewCount, 0);
+        histogram.assign(viewCount + 1, 0);
+    }
+    // One vertex's fit (its samples were counted per view by the caller).
+    void count(const VertexFitResult& r, int minSamples) {
+        if (r.sampleCount > 0) {
+            ++histogram[static_cast<std::size_t>(r.sampleCount)];
+            if (!r.constantFallback) ++viewDependent;
+            if (!r.constantFallback && r.regularised) ++regularised;
+            if (r.validatedConstant) ++validatedConstant;
+            else if (r.constantFallback && r.sampleCount < minSamples) ++tooFew;
+            else if (r.constantFallback) ++guardConstant;
+            downweighted += static_cast<std::size_t>(r.downweighted);
+        }
+        guardRetried += r.guardRetries > 0 ? 1 : 0;
+        fallbacks += r.constantFallback ? 1 : 0;
+        totalSamples += static_cast<std::size_t>(r.sampleCount);
+    }
+    // Adds a thread's counters (integer sums: the merge order does not matter).
+    void merge(const SampleFitCounters& o) {
+        for (std::size_t i = 0; i < perView.size(); ++i) perView[i] += o.perView[i];
+        for (std::size_t i = 0; i < histogram.size(); ++i) histogram[i] += o.histogram[i];
+        guardRetried += o.guardRetried;
+        fallbacks += o.fallbacks;
+        totalSamples += o.totalSamples;
+        viewDependent += o.viewDependent;
+        regularised += o.regularised;
+        validatedConstant += o.validatedConstant;
+        tooFew += o.tooFew;
+        guardConstant += o.guardConstant;
+        downweighted += o.downweighted;
+        saturated += o.saturated;
+        sharedKept += o.sharedKept;
+    }
 };
+
+// The saturation weight and the view's gains applied to one sample; returns whether it is saturated.
+inline bool correctSample(DirectionalSample& s, const double* gain, const RadianceFromViewsOptions& options) {
+    const bool saturated = std::max({s.rgb[0], s.rgb[1], s.rgb[2]}) >= options.saturationLevel;
+    if (saturated) s.weight *= static_cast<float>(options.saturatedWeight);
+    for (int c = 0; c < 3; ++c) s.rgb[c] = static_cast<float>(s.rgb[c] / gain[c]);
+    return saturated;
+}
+
+// One vertex's fit written into the per-vertex outputs.
+inline void storeVertexFit(const VertexFitResult& r, std::size_t v, std::vector<float>& meanColor,
+                           std::vector<float>& sampleCount, std::vector<float>& residual,
+                           std::vector<std::uint8_t>& status) {
+    for (int c = 0; c < 3; ++c) meanColor[3 * v + c] = static_cast<float>(r.meanColor[c]);
+    sampleCount[v] = static_cast<float>(r.sampleCount);
+    residual[v] = static_cast<float>(r.residual);
+    status[v] = static_cast<std::uint8_t>(r.status);
+}
 
 // Every sample of every vertex, saturation-weighted and divided by the view gains, in vertex order
 // (each thread gathers a contiguous block of vertices; the blocks are concatenated in order, so the
 // set does not depend on the thread count).
 SampleSet gatherSamples(std::size_t n, const ViewSampler& sampler, const std::vector<double>& gains,
-                        const RadianceFromViewsOptions& options, Progress& progress, std::size_t& saturatedOut) {
+                        const RadianceFromViewsOptions& options, const ProgressCallback& progress,
+                        std::size_t& saturatedOut) {
     SampleSet set;
     set.offsets.assign(n + 1, 0);
     const int threads = std::max(1, omp_get_max_threads());
     std::vector<std::vector<DirectionalSample>> parts(threads);
     std::vector<std::vector<std::uint32_t>> partViews(threads);
     std::size_t saturated = 0;
+    const ProgressCallback range = percentRange(progress, kFitStart, kFitStart + 30);
+    LoopProgress loop(range, kStageSampling, n);
 #pragma omp parallel num_threads(threads) reduction(+ : saturated)
     {
         const int t = omp_get_thread_num(), nt = omp_get_num_threads();
         const std::size_t begin = n * t / nt, end = n * (t + 1) / nt;
         std::vector<DirectionalSample> buffer(sampler.viewCount());
         std::vector<int> viewOf(sampler.viewCount());
-        for (std::size_t v = begin; v < end; ++v) {
-            if (progress.cancelled()) break;
-            const std::size_t m = sampler.sampleVertex(v, buffer.data(), nullptr, viewOf.data());
-            for (std::size_t j = 0; j < m; ++j) {
-                DirectionalSample s = buffer[j];
-                if (std::max({s.rgb[0], s.rgb[1], s.rgb[2]}) >= options.saturationLevel) {
-                    s.weight *= static_cast<float>(options.saturatedWeight);
-                    ++saturated;
+        for (std::size_t v = begin; v < end && !loop.stopRequested(); ++v)
+            loop.runItem(t == 0, [&] {
+                const std::size_t m = sampler.sampleVertex(v, buffer.data(), nullptr, viewOf.data());
+                for (std::size_t j = 0; j < m; ++j) {
+                    DirectionalSample s = buffer[j];
+                    saturated += correctSample(s, gains.data() + 3 * viewOf[j], options) ? 1 : 0;
+                    parts[t].push_back(s);
+                    partViews[t].push_back(static_cast<std::uint32_t>(viewOf[j]));
                 }
-                const double* g = gains.data() + 3 * viewOf[j];
-                for (int c = 0; c < 3; ++c) s.rgb[c] = static_cast<float>(s.rgb[c] / g[c]);
-                parts[t].push_back(s);
-                partViews[t].push_back(static_cast<std::uint32_t>(viewOf[j]));
-            }
-            set.offsets[v + 1] = m;
-            if (t == 0 && (v & 1023) == 0)
-                progress.report(kFitStart + static_cast<int>(30.0 * double(v - begin + 1) / double(end - begin)),
-                                kStageSampling);
-        }
+                set.offsets[v + 1] = m;
+            });
     }
-    progress.throwIfCancelled();
+    loop.finish();
     for (std::size_t v = 0; v < n; ++v) set.offsets[v + 1] += set.offsets[v];
     set.samples.reserve(set.offsets[n]);
     set.view.reserve(set.offsets[n]);
@@ -186,79 +216,49 @@ RadianceField framedField(const TriangleMesh& mesh, const RobustFitOptions& fit)
 void perVertexFromSet(const RobustRadianceFitter& fitter, const SampleSet& set, const std::uint8_t* use,
                       std::size_t viewCount, RadianceField& field, std::vector<float>& meanColor,
                       std::vector<float>& sampleCount, std::vector<float>& residual, std::vector<std::uint8_t>& status,
-                      SampleFitCounters& counters, Progress& progress, int percentFrom, int percentTo,
+                      SampleFitCounters& counters, const ProgressCallback& progress, int percentFrom, int percentTo,
                       const std::uint8_t* skipVertex = nullptr) {
     const std::size_t n = set.vertexCount();
-    counters.perView.assign(viewCount, 0);
-    counters.histogram.assign(viewCount + 1, 0);
+    counters.reset(viewCount);
     const int minSamples = fitter.options().minSamples;
-    std::atomic<std::size_t> done{0};
+    const ProgressCallback range = percentRange(progress, percentFrom, percentTo);
+    LoopProgress loop(range, kStageFitting, n);
     const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(n);
 #pragma omp parallel
     {
         std::vector<DirectionalSample> samples(viewCount);
         FitScratch scratch = fitter.makeScratch();
         SampleFitCounters local;
-        local.perView.assign(viewCount, 0);
-        local.histogram.assign(viewCount + 1, 0);
+        local.reset(viewCount);
         const bool reporter = omp_get_thread_num() == 0;
 #pragma omp for schedule(dynamic, 256) nowait
-        for (std::ptrdiff_t iv = 0; iv < count; ++iv) {
-            if (progress.cancelled()) continue;
-            const std::size_t v = static_cast<std::size_t>(iv);
-            if (skipVertex && skipVertex[v]) continue;
-            std::size_t m = 0;
-            for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
-                if (use && !use[i]) continue;
-                samples[m++] = set.samples[i];
-                ++local.perView[set.view[i]];
-            }
-            const Frame frame = frameFromStored(field.frame(v));
-            const VertexFitResult r = fitter.fit(frame, samples.data(), m, scratch, field.vertexCoefficients(v));
-            if (r.sampleCount > 0) {
-                ++local.histogram[static_cast<std::size_t>(r.sampleCount)];
-                if (!r.constantFallback) ++local.viewDependent;
-                if (!r.constantFallback && r.regularised) ++local.regularised;
-                if (r.validatedConstant) ++local.validatedConstant;
-                else if (r.constantFallback && r.sampleCount < minSamples) ++local.tooFew;
-                else if (r.constantFallback) ++local.guardConstant;
-                local.downweighted += static_cast<std::size_t>(r.downweighted);
-            }
-            for (int c = 0; c < 3; ++c) meanColor[3 * v + c] = static_cast<float>(r.meanColor[c]);
-            sampleCount[v] = static_cast<float>(r.sampleCount);
-            residual[v] = static_cast<float>(r.residual);
-            status[v] = static_cast<std::uint8_t>(r.status);
-            local.guardRetried += r.guardRetries > 0 ? 1 : 0;
-            local.fallbacks += r.constantFallback ? 1 : 0;
-            local.totalSamples += static_cast<std::size_t>(r.sampleCount);
-            const std::size_t finished = done.fetch_add(1, std::memory_order_relaxed) + 1;
-            if (reporter && (finished & 1023) == 0)
-                progress.report(percentFrom + static_cast<int>((percentTo - percentFrom) * double(finished) / double(n)),
-                                kStageFitting);
-        }
+        for (std::ptrdiff_t iv = 0; iv < count; ++iv)
+            loop.runItem(reporter, [&] {
+                const std::size_t v = static_cast<std::size_t>(iv);
+                if (skipVertex && skipVertex[v]) return;
+                std::size_t m = 0;
+                for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
+                    if (use && !use[i]) continue;
+                    samples[m++] = set.samples[i];
+                    ++local.perView[set.view[i]];
+                }
+                const Frame frame = frameFromStored(field.frame(v));
+                const VertexFitResult r =
+                    fitter.fit(frame, samples.data(), m, scratch, field.vertexCoefficients(v));
+                local.count(r, minSamples);
+                storeVertexFit(r, v, meanColor, sampleCount, residual, status);
+            });
 #pragma omp critical(radiance_from_views_set_merge)
-        {
-            for (std::size_t i = 0; i < viewCount; ++i) counters.perView[i] += local.perView[i];
-            for (std::size_t i = 0; i <= viewCount; ++i) counters.histogram[i] += local.histogram[i];
-            counters.guardRetried += local.guardRetried;
-            counters.fallbacks += local.fallbacks;
-            counters.totalSamples += local.totalSamples;
-            counters.viewDependent += local.viewDependent;
-            counters.regularised += local.regularised;
-            counters.validatedConstant += local.validatedConstant;
-            counters.tooFew += local.tooFew;
-            counters.guardConstant += local.guardConstant;
-            counters.downweighted += local.downweighted;
-        }
+        counters.merge(local);
     }
-    progress.throwIfCancelled();
+    loop.finish();
 }
 
 // The shared fit of fit/shared_radiance_fit.h, written into field / meanColor / ... (samples with use[i]).
 void sharedFromSet(const TriangleMesh& mesh, const VertexAdjacency& adj, const SampleSet& set, const std::uint8_t* use,
                    std::size_t viewCount, const RadianceFromViewsOptions& options, RadianceField& field,
                    std::vector<float>& meanColor, std::vector<float>& sampleCount, std::vector<float>& residual,
-                   std::vector<std::uint8_t>& status, SampleFitCounters& counters, Progress& progress,
+                   std::vector<std::uint8_t>& status, SampleFitCounters& counters, const ProgressCallback& progress,
                    int percentFrom, int percentTo, const RobustRadianceFitter* rejectedFitter) {
     const std::size_t n = set.vertexCount();
     std::vector<float> normals(3 * n);
@@ -267,27 +267,20 @@ void sharedFromSet(const TriangleMesh& mesh, const VertexAdjacency& adj, const S
         for (int c = 0; c < 3; ++c) normals[3 * v + c] = static_cast<float>(f.n[c]);
     }
     const int mid = (percentFrom + percentTo) / 2;
-    auto stage = [&](int from, int to) {
-        return ProgressCallback([&progress, from, to](double f, const char* what) {
-            progress.report(from + static_cast<int>((to - from) * f), what);
-            return !progress.cancelled();
-        });
-    };
     SharedFitOptions shared = options.shared;
     if (options.fit.robustIterations == 0) shared.robustIterations = 0;  // "robust" off: no Huber weights anywhere
     const SharedModel model =
-        fitSharedModel(normals, adj.offsets, adj.neighbours, set, use, shared, stage(percentFrom, mid));
+        fitSharedModel(normals, adj.offsets, adj.neighbours, set, use, shared, percentRange(progress, percentFrom, mid));
     std::vector<std::uint8_t> kept;
     const int convertTo = rejectedFitter ? (mid + percentTo) / 2 : percentTo;
     const SharedConversionStats stats = writeSharedRadiance(model, set, use, adj.offsets, adj.neighbours, options.fit,
                                                             shared, field, meanColor, residual, status,
-                                                            stage(mid, convertTo), &kept);
+                                                            percentRange(progress, mid, convertTo), &kept);
     SampleFitCounters rejected;
     if (rejectedFitter)  // the vertices the shared function did not win: the per-vertex fit
         perVertexFromSet(*rejectedFitter, set, use, viewCount, field, meanColor, sampleCount, residual, status,
                          rejected, progress, convertTo, percentTo, kept.data());
-    counters.perView.assign(viewCount, 0);
-    counters.histogram.assign(viewCount + 1, 0);
+    counters.reset(viewCount);
     for (std::size_t v = 0; v < n; ++v) {
         std::size_t m = 0;
         for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
@@ -386,12 +379,60 @@ HeldOutSums heldOutSampleError(const RadianceField& field, const std::vector<flo
     return out;
 }
 
+// The per-vertex and the shared fit of the set minus every k-th view, compared view by view on the
+// views left out (see FitModel::Automatic); the comparison goes into result. Returns the choice.
+FitModel chooseModelOnLeftOutViews(const TriangleMesh& mesh, const VertexAdjacency& adj, const SampleSet& set,
+                                   std::size_t viewCount, const RobustRadianceFitter& fitter,
+                                   const RadianceFromViewsOptions& options, const ProgressCallback& progress,
+                                   RadianceFromViewsResult& result) {
+    const std::size_t n = mesh.vertexCount();
+    const std::size_t k = static_cast<std::size_t>(options.validationEvery);
+    // Every k-th view left out; both candidates fitted on the others, compared on it.
+    std::vector<std::uint8_t> train(set.samples.size()), heldOut(set.samples.size());
+    for (std::size_t i = 0; i < set.samples.size(); ++i) {
+        heldOut[i] = (set.view[i] + 1) % k == 0;
+        train[i] = !heldOut[i];
+    }
+    result.validationViews = viewCount / k;
+    std::vector<float> mean(3 * n, 0.0f), count(n, 0.0f), residual(n, 0.0f);
+    std::vector<std::uint8_t> status(n, static_cast<std::uint8_t>(FitStatus::Unseen));
+    SampleFitCounters scratchCounters;
+    RadianceField candidate = framedField(mesh, options.fit);
+    perVertexFromSet(fitter, set, train.data(), viewCount, candidate, mean, count, residual, status, scratchCounters,
+                     progress, 33, 50);
+    const HeldOutSums perVertex = heldOutSampleError(candidate, mean, set, heldOut, viewCount);
+    candidate = framedField(mesh, options.fit);
+    sharedFromSet(mesh, adj, set, train.data(), viewCount, options, candidate, mean, count, residual, status,
+                  scratchCounters, progress, 50, 65, options.sharedRejectedPerVertex ? &fitter : nullptr);
+    const HeldOutSums shared = heldOutSampleError(candidate, mean, set, heldOut, viewCount);
+    result.validationPerVertex = perVertex.rms(perVertex.fitted);
+    result.validationConstant = perVertex.rms(perVertex.constant);
+    result.validationShared = shared.rms(shared.fitted);
+    result.validationSamples = perVertex.total();
+    // View by view: wins (ties count as wins) and the worst ratio.
+    for (std::size_t view = 0; view < viewCount; ++view) {
+        if (perVertex.samples[view] == 0) continue;
+        const double a = std::sqrt(perVertex.fitted[view] / (3.0 * perVertex.samples[view]));
+        const double b = std::sqrt(shared.fitted[view] / (3.0 * shared.samples[view]));
+        ++result.validationViewsCompared;
+        if (b <= a) ++result.validationViewsSharedWins;
+        const double ratio = a > 0.0 ? b / a : (b > 0.0 ? 2.0 : 1.0);
+        result.validationWorstViewRatio = std::max(result.validationWorstViewRatio, ratio);
+    }
+    result.modelValidated = true;
+    const bool sharedBetter = result.validationShared < result.validationPerVertex &&
+                              2 * result.validationViewsSharedWins >= result.validationViewsCompared &&
+                              result.validationWorstViewRatio <= 1.0 + options.maxViewLoss;
+    return sharedBetter ? FitModel::Shared : FitModel::PerVertex;
+}
+
+// FitModel Shared and Automatic: every sample stored once, then the chosen fit of the whole set.
 void fitFromSampleSet(const TriangleMesh& mesh, const ViewSampler& sampler, const RobustRadianceFitter& fitter,
-                      const std::vector<double>& gains, const RadianceFromViewsOptions& options, Progress& progress,
-                      RadianceFromViewsResult& result, SampleFitCounters& counters) {
+                      const std::vector<double>& gains, const RadianceFromViewsOptions& options,
+                      const ProgressCallback& progress, RadianceFromViewsResult& result, SampleFitCounters& counters) {
     const std::size_t n = mesh.vertexCount(), viewCount = sampler.viewCount();
     std::size_t saturated = 0;
-    progress.report(kFitStart, kStageSampling);
+    reportPercent(progress, kFitStart, kStageSampling);
     const SampleSet set = gatherSamples(n, sampler, gains, options, progress, saturated);
     const VertexAdjacency adj = mesh.faceCount() > 0 ? buildVertexAdjacency(mesh) : VertexAdjacency{};
     FitModel model = options.model;
@@ -403,45 +444,8 @@ void fitFromSampleSet(const TriangleMesh& mesh, const ViewSampler& sampler, cons
                                   "and the per-vertex fit on left-out rasters (" + std::to_string(2 * k) +
                                   " needed); the per-vertex fit was used.");
     }
-    if (model == FitModel::Automatic) {
-        // Every k-th view left out; both candidates fitted on the others, compared on it.
-        std::vector<std::uint8_t> train(set.samples.size()), heldOut(set.samples.size());
-        for (std::size_t i = 0; i < set.samples.size(); ++i) {
-            heldOut[i] = (set.view[i] + 1) % k == 0;
-            train[i] = !heldOut[i];
-        }
-        result.validationViews = viewCount / k;
-        std::vector<float> mean(3 * n, 0.0f), count(n, 0.0f), residual(n, 0.0f);
-        std::vector<std::uint8_t> status(n, static_cast<std::uint8_t>(FitStatus::Unseen));
-        SampleFitCounters scratchCounters;
-        RadianceField candidate = framedField(mesh, options.fit);
-        perVertexFromSet(fitter, set, train.data(), viewCount, candidate, mean, count, residual, status, scratchCounters,
-                         progress, 33, 50);
-        const HeldOutSums perVertex = heldOutSampleError(candidate, mean, set, heldOut, viewCount);
-        candidate = framedField(mesh, options.fit);
-        sharedFromSet(mesh, adj, set, train.data(), viewCount, options, candidate, mean, count, residual, status,
-                      scratchCounters, progress, 50, 65, options.sharedRejectedPerVertex ? &fitter : nullptr);
-        const HeldOutSums shared = heldOutSampleError(candidate, mean, set, heldOut, viewCount);
-        result.validationPerVertex = perVertex.rms(perVertex.fitted);
-        result.validationConstant = perVertex.rms(perVertex.constant);
-        result.validationShared = shared.rms(shared.fitted);
-        result.validationSamples = perVertex.total();
-        // View by view: wins (ties count as wins) and the worst ratio.
-        for (std::size_t view = 0; view < viewCount; ++view) {
-            if (perVertex.samples[view] == 0) continue;
-            const double a = std::sqrt(perVertex.fitted[view] / (3.0 * perVertex.samples[view]));
-            const double b = std::sqrt(shared.fitted[view] / (3.0 * shared.samples[view]));
-            ++result.validationViewsCompared;
-            if (b <= a) ++result.validationViewsSharedWins;
-            const double ratio = a > 0.0 ? b / a : (b > 0.0 ? 2.0 : 1.0);
-            result.validationWorstViewRatio = std::max(result.validationWorstViewRatio, ratio);
-        }
-        result.modelValidated = true;
-        const bool sharedBetter = result.validationShared < result.validationPerVertex &&
-                                  2 * result.validationViewsSharedWins >= result.validationViewsCompared &&
-                                  result.validationWorstViewRatio <= 1.0 + options.maxViewLoss;
-        model = sharedBetter ? FitModel::Shared : FitModel::PerVertex;
-    }
+    if (model == FitModel::Automatic)
+        model = chooseModelOnLeftOutViews(mesh, adj, set, viewCount, fitter, options, progress, result);
     result.modelUsed = model;
     result.field = framedField(mesh, options.fit);
     if (model == FitModel::Shared) {
@@ -507,40 +511,38 @@ VertexAdjacency buildVertexAdjacency(const TriangleMesh& mesh) {
     return adj;
 }
 
-RadianceFromViewsResult fitRadianceFromViews(const TriangleMesh& mesh, const std::vector<CalibratedView>& views,
-                                             const RadianceFromViewsOptions& options,
-                                             const ProgressCallback& progressCallback) {
-    const auto t0 = std::chrono::steady_clock::now();
-    Progress progress(progressCallback);
-    progress.report(0, kStageChecking);
-    progress.throwIfCancelled();
-    validateInput(mesh, views, options);
+namespace {
 
-    RadianceFromViewsResult result;
-    std::vector<CalibratedView> usable;
-    std::vector<std::size_t> usableIndex;  // input index of each usable view
+// The views that pass checkView, with their input indices; the others are warned about.
+struct UsableViews {
+    std::vector<CalibratedView> views;
+    std::vector<std::size_t> index;  // input index of each usable view
+};
+
+UsableViews selectUsableViews(const std::vector<CalibratedView>& views, RadianceFromViewsResult& result) {
+    UsableViews usable;
     for (std::size_t i = 0; i < views.size(); ++i) {
         const std::string problem = checkView(views[i]);
         if (problem.empty()) {
-            usable.push_back(views[i]);
-            usableIndex.push_back(i);
+            usable.views.push_back(views[i]);
+            usable.index.push_back(i);
         } else {
             result.warnings.push_back("Raster " + std::to_string(i) + " was skipped: " + problem + ".");
         }
     }
-    if (usable.empty()) {
+    if (usable.views.empty()) {
         // The warnings are lost with the exception: the message carries the reasons (the first few).
         std::string why = "None of the " + std::to_string(views.size()) + " rasters can be used.";
         for (std::size_t i = 0; i < result.warnings.size() && i < 3; ++i) why += " " + result.warnings[i];
         if (result.warnings.size() > 3) why += " (and " + std::to_string(result.warnings.size() - 3) + " more)";
         throw FitError(why);
     }
-    result.viewsUsed = usable.size();
+    result.viewsUsed = usable.views.size();
+    return usable;
+}
 
-    const std::size_t n = mesh.vertexCount();
-    const RobustRadianceFitter fitter(options.fit);  // options validated above: does not throw
-    progress.report(1, kStageScene);
-    progress.throwIfCancelled();
+std::unique_ptr<ViewSampler> buildSampler(const TriangleMesh& mesh, const std::vector<CalibratedView>& usable,
+                                          const RadianceFromViewsOptions& options, RadianceFromViewsResult& result) {
     std::unique_ptr<ViewSampler> sampler;
     try {
         sampler = std::make_unique<ViewSampler>(mesh, usable, options.sampling);
@@ -552,193 +554,161 @@ RadianceFromViewsResult fitRadianceFromViews(const TriangleMesh& mesh, const std
         result.warnings.push_back(
             "The mesh has no faces (a point cloud): occlusion by other parts of the object cannot be tested, so every "
             "point facing a camera counts as seen, and unseen points cannot be filled from neighbours.");
+    return sampler;
+}
 
-    // Exposure / white-balance gains of the usable views, from the samples of up to
-    // options.exposurePoints vertices spread evenly over the vertex order.
-    std::vector<double> gains(3 * usable.size(), 1.0);
-    if (options.compensateExposure && usable.size() >= 2) {
-        progress.report(2, kStageExposure);
-        const std::size_t stride = std::max<std::size_t>(1, (n + options.exposurePoints - 1) / options.exposurePoints);
-        const std::ptrdiff_t points = static_cast<std::ptrdiff_t>((n + stride - 1) / stride);
-        std::vector<ExposureSample> all;
+// The samples of every stride-th vertex that at least two views see, sorted by point and view: the
+// merge order of the threads depends on the schedule, the solution must not.
+std::vector<ExposureSample> gatherExposureSamples(const ViewSampler& sampler, std::size_t n, std::size_t stride) {
+    const std::size_t viewCount = sampler.viewCount();
+    const std::ptrdiff_t points = static_cast<std::ptrdiff_t>((n + stride - 1) / stride);
+    std::vector<ExposureSample> all;
 #pragma omp parallel
-        {
-            std::vector<DirectionalSample> samples(usable.size());
-            std::vector<int> viewOf(usable.size());
-            std::vector<ExposureSample> mine;
+    {
+        std::vector<DirectionalSample> samples(viewCount);
+        std::vector<int> viewOf(viewCount);
+        std::vector<ExposureSample> mine;
 #pragma omp for schedule(dynamic, 256) nowait
-            for (std::ptrdiff_t p = 0; p < points; ++p) {
-                const std::size_t m = sampler->sampleVertex(static_cast<std::size_t>(p) * stride, samples.data(), nullptr,
-                                                            viewOf.data());
-                if (m < 2) continue;
-                for (std::size_t j = 0; j < m; ++j)
-                    mine.push_back(ExposureSample{static_cast<std::uint32_t>(p), static_cast<std::uint32_t>(viewOf[j]),
-                                                  {samples[j].rgb[0], samples[j].rgb[1], samples[j].rgb[2]},
-                                                  samples[j].weight});
-            }
-#pragma omp critical(radiance_from_views_exposure)
-            all.insert(all.end(), mine.begin(), mine.end());
+        for (std::ptrdiff_t p = 0; p < points; ++p) {
+            const std::size_t m =
+                sampler.sampleVertex(static_cast<std::size_t>(p) * stride, samples.data(), nullptr, viewOf.data());
+            if (m < 2) continue;
+            for (std::size_t j = 0; j < m; ++j)
+                mine.push_back(ExposureSample{static_cast<std::uint32_t>(p), static_cast<std::uint32_t>(viewOf[j]),
+                                              {samples[j].rgb[0], samples[j].rgb[1], samples[j].rgb[2]},
+                                              samples[j].weight});
         }
-        // The merge order depends on the schedule; the solution must not.
-        std::sort(all.begin(), all.end(), [](const ExposureSample& a, const ExposureSample& b) {
-            return a.point != b.point ? a.point < b.point : a.view < b.view;
-        });
-        ExposureOptions exposure;
-        exposure.saturationLevel = options.saturationLevel;
-        const ExposureGains solved = solveExposureGains(all, usable.size(), exposure);
-        gains = solved.gains;
-        result.exposureCompensated = true;
-        result.exposureSamples = solved.samplesUsed;
-        for (std::uint8_t c : solved.constrained) result.exposureViews += c;
-        if (result.exposureViews < usable.size())
-            result.warnings.push_back(std::to_string(usable.size() - result.exposureViews) + " of " +
-                                      std::to_string(usable.size()) +
-                                      " rasters share no vertex with another raster: their exposure was left as it is.");
+#pragma omp critical(radiance_from_views_exposure)
+        all.insert(all.end(), mine.begin(), mine.end());
     }
-    result.viewGains.assign(3 * views.size(), 1.0);
-    for (std::size_t i = 0; i < usable.size(); ++i)
-        for (int c = 0; c < 3; ++c) result.viewGains[3 * usableIndex[i] + c] = gains[3 * i + c];
+    std::sort(all.begin(), all.end(), [](const ExposureSample& a, const ExposureSample& b) {
+        return a.point != b.point ? a.point < b.point : a.view < b.view;
+    });
+    return all;
+}
 
+// Exposure / white-balance gains of the usable views (1 when not compensated), from the samples of
+// up to options.exposurePoints vertices spread evenly over the vertex order.
+std::vector<double> estimateViewGains(const ViewSampler& sampler, std::size_t n, const RadianceFromViewsOptions& options,
+                                      const ProgressCallback& progress, RadianceFromViewsResult& result) {
+    const std::size_t viewCount = sampler.viewCount();
+    if (!options.compensateExposure || viewCount < 2) return std::vector<double>(3 * viewCount, 1.0);
+    reportPercent(progress, 2, kStageExposure);
+    const std::size_t stride = std::max<std::size_t>(1, (n + options.exposurePoints - 1) / options.exposurePoints);
+    ExposureOptions exposure;
+    exposure.saturationLevel = options.saturationLevel;
+    const ExposureGains solved = solveExposureGains(gatherExposureSamples(sampler, n, stride), viewCount, exposure);
+    result.exposureCompensated = true;
+    result.exposureSamples = solved.samplesUsed;
+    for (std::uint8_t c : solved.constrained) result.exposureViews += c;
+    if (result.exposureViews < viewCount)
+        result.warnings.push_back(std::to_string(viewCount - result.exposureViews) + " of " +
+                                  std::to_string(viewCount) +
+                                  " rasters share no vertex with another raster: their exposure was left as it is.");
+    return solved.gains;
+}
+
+void recordViewGains(const std::vector<double>& gains, const UsableViews& usable, std::size_t inputViews,
+                     RadianceFromViewsResult& result) {
+    result.viewGains.assign(3 * inputViews, 1.0);
+    for (std::size_t i = 0; i < usable.index.size(); ++i)
+        for (int c = 0; c < 3; ++c) result.viewGains[3 * usable.index[i] + c] = gains[3 * i + c];
+}
+
+void allocateOutputs(std::size_t n, const RadianceFromViewsOptions& options, RadianceFromViewsResult& result) {
     result.field = RadianceField(options.fit.basis, n, options.fit.storeReflected);
     result.meanColor.assign(3 * n, 0.0f);
     result.sampleCount.assign(n, 0.0f);
     result.residual.assign(n, 0.0f);
     result.status.assign(n, static_cast<std::uint8_t>(FitStatus::Unseen));
-    std::vector<std::size_t> perView(usable.size(), 0);
-    std::size_t guardRetried = 0, fallbacks = 0, totalSamples = 0, viewDependent = 0, regularised = 0;
-    std::size_t validatedConstant = 0, tooFew = 0, guardConstant = 0, downweighted = 0, saturated = 0;
-    std::vector<std::size_t> samplesHistogram(usable.size() + 1, 0);  // vertices by sample count
-    progress.report(kFitStart, kStageFitting);
+}
 
+// FitModel PerVertex: each vertex sampled and fitted at once, its samples in a per-thread buffer
+// (memory does not grow with the number of samples of the mesh).
+void streamPerVertexFit(const TriangleMesh& mesh, const ViewSampler& sampler, const RobustRadianceFitter& fitter,
+                        const std::vector<double>& gains, const RadianceFromViewsOptions& options,
+                        const ProgressCallback& progress, RadianceFromViewsResult& result,
+                        SampleFitCounters& counters) {
+    const std::size_t n = mesh.vertexCount(), viewCount = sampler.viewCount();
+    counters.reset(viewCount);
     RadianceField& field = result.field;
-    std::atomic<std::size_t> done{0};
+    const ProgressCallback range = percentRange(progress, kFitStart, kFitEnd);
+    LoopProgress loop(range, kStageFitting, n);
     const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(n);
-    const bool streaming = options.model == FitModel::PerVertex;
-    if (!streaming) {
-        SampleFitCounters counters;
-        fitFromSampleSet(mesh, *sampler, fitter, gains, options, progress, result, counters);
-        perView = counters.perView;
-        guardRetried = counters.guardRetried;
-        fallbacks = counters.fallbacks;
-        totalSamples = counters.totalSamples;
-        viewDependent = counters.viewDependent;
-        regularised = counters.regularised;
-        validatedConstant = counters.validatedConstant;
-        tooFew = counters.tooFew;
-        guardConstant = counters.guardConstant;
-        downweighted = counters.downweighted;
-        saturated = counters.saturated;
-        samplesHistogram = counters.histogram;
-    }
-    if (streaming)
 #pragma omp parallel
     {
         // Per-thread buffers, allocated once: the samples of one vertex, and the fit's scratch.
-        std::vector<DirectionalSample> samples(usable.size());
-        std::vector<int> viewOf(usable.size());
-        std::vector<std::size_t> localPerView(usable.size(), 0);
+        std::vector<DirectionalSample> samples(viewCount);
+        std::vector<int> viewOf(viewCount);
         FitScratch scratch = fitter.makeScratch();
-        std::size_t localRetried = 0, localFallbacks = 0, localSamples = 0, localViewDependent = 0, localRegularised = 0;
-        std::size_t localValidated = 0, localTooFew = 0, localGuard = 0, localDownweighted = 0, localSaturated = 0;
-        std::vector<std::size_t> localHistogram(usable.size() + 1, 0);
+        SampleFitCounters local;
+        local.reset(viewCount);
         const bool reporter = omp_get_thread_num() == 0;
 #pragma omp for schedule(dynamic, 256) nowait
-        for (std::ptrdiff_t iv = 0; iv < count; ++iv) {
-            if (progress.cancelled()) continue;
-            const std::size_t v = static_cast<std::size_t>(iv);
-            const float* nv = mesh.normals.data() + 3 * v;
-            storeFrame(frameFromNormal(Eigen::Vector3d(nv[0], nv[1], nv[2])), field.frame(v));
-            // The frame as evaluation will read it back (float storage, re-orthonormalised).
-            const Frame frame = frameFromStored(field.frame(v));
-            const std::size_t m = sampler->sampleVertex(v, samples.data(), nullptr, viewOf.data());
-            for (std::size_t j = 0; j < m; ++j) {
-                DirectionalSample& s = samples[j];
-                ++localPerView[viewOf[j]];
-                if (std::max({s.rgb[0], s.rgb[1], s.rgb[2]}) >= options.saturationLevel) {
-                    s.weight *= static_cast<float>(options.saturatedWeight);
-                    ++localSaturated;
+        for (std::ptrdiff_t iv = 0; iv < count; ++iv)
+            loop.runItem(reporter, [&] {
+                const std::size_t v = static_cast<std::size_t>(iv);
+                const float* nv = mesh.normals.data() + 3 * v;
+                storeFrame(frameFromNormal(Eigen::Vector3d(nv[0], nv[1], nv[2])), field.frame(v));
+                // The frame as evaluation will read it back (float storage, re-orthonormalised).
+                const Frame frame = frameFromStored(field.frame(v));
+                const std::size_t m = sampler.sampleVertex(v, samples.data(), nullptr, viewOf.data());
+                for (std::size_t j = 0; j < m; ++j) {
+                    ++local.perView[viewOf[j]];
+                    local.saturated += correctSample(samples[j], gains.data() + 3 * viewOf[j], options) ? 1 : 0;
                 }
-                const double* g = gains.data() + 3 * viewOf[j];
-                for (int c = 0; c < 3; ++c) s.rgb[c] = static_cast<float>(s.rgb[c] / g[c]);
-            }
-            const VertexFitResult r = fitter.fit(frame, samples.data(), m, scratch, field.vertexCoefficients(v));
-            if (r.sampleCount > 0) {
-                ++localHistogram[static_cast<std::size_t>(r.sampleCount)];
-                if (!r.constantFallback) ++localViewDependent;
-                if (!r.constantFallback && r.regularised) ++localRegularised;
-                if (r.validatedConstant)
-                    ++localValidated;
-                else if (r.constantFallback && r.sampleCount < options.fit.minSamples)
-                    ++localTooFew;
-                else if (r.constantFallback)
-                    ++localGuard;
-                localDownweighted += static_cast<std::size_t>(r.downweighted);
-            }
-            for (int c = 0; c < 3; ++c) result.meanColor[3 * v + c] = static_cast<float>(r.meanColor[c]);
-            result.sampleCount[v] = static_cast<float>(r.sampleCount);
-            result.residual[v] = static_cast<float>(r.residual);
-            result.status[v] = static_cast<std::uint8_t>(r.status);
-            localRetried += r.guardRetries > 0 ? 1 : 0;
-            localFallbacks += r.constantFallback ? 1 : 0;
-            localSamples += static_cast<std::size_t>(r.sampleCount);
-            const std::size_t finished = done.fetch_add(1, std::memory_order_relaxed) + 1;
-            if (reporter && (finished & 1023) == 0)
-                progress.report(kFitStart + static_cast<int>((kFitEnd - kFitStart) * double(finished) / double(n)),
-                                kStageFitting);
-        }
+                const VertexFitResult r = fitter.fit(frame, samples.data(), m, scratch, field.vertexCoefficients(v));
+                local.count(r, options.fit.minSamples);
+                storeVertexFit(r, v, result.meanColor, result.sampleCount, result.residual, result.status);
+            });
 #pragma omp critical(radiance_from_views_merge)
-        {
-            for (std::size_t i = 0; i < usable.size(); ++i) perView[i] += localPerView[i];
-            guardRetried += localRetried;
-            fallbacks += localFallbacks;
-            totalSamples += localSamples;
-            viewDependent += localViewDependent;
-            regularised += localRegularised;
-            validatedConstant += localValidated;
-            tooFew += localTooFew;
-            guardConstant += localGuard;
-            downweighted += localDownweighted;
-            saturated += localSaturated;
-            for (std::size_t i = 0; i < samplesHistogram.size(); ++i) samplesHistogram[i] += localHistogram[i];
-        }
+        counters.merge(local);
     }
-    result.viewDependent = viewDependent;
-    result.regularised = regularised;
-    result.validatedConstant = validatedConstant;
-    result.tooFewSamples = tooFew;
-    result.guardConstant = guardConstant;
-    result.robustDownweighted = downweighted;
-    result.saturatedSamples = saturated;
-    {
-        // Median of the seen vertices' sample counts (the mean of the two middle ones for an even count).
-        std::size_t seen = 0;
-        for (std::size_t i = 1; i < samplesHistogram.size(); ++i) seen += samplesHistogram[i];
-        if (seen > 0) {
-            auto kth = [&](std::size_t k) {  // 0-based k-th smallest count among the seen vertices
-                std::size_t below = 0;
-                for (std::size_t i = 1; i < samplesHistogram.size(); ++i) {
-                    below += samplesHistogram[i];
-                    if (below > k) return static_cast<double>(i);
-                }
-                return static_cast<double>(samplesHistogram.size() - 1);
-            };
-            result.medianSamples = 0.5 * (kth((seen - 1) / 2) + kth(seen / 2));
+    loop.finish();
+}
+
+// Median of the seen vertices' sample counts (the mean of the two middle ones for an even count),
+// from the histogram of vertices by sample count.
+double medianSampleCount(const std::vector<std::size_t>& histogram) {
+    std::size_t seen = 0;
+    for (std::size_t i = 1; i < histogram.size(); ++i) seen += histogram[i];
+    if (seen == 0) return 0.0;
+    auto kth = [&](std::size_t k) {  // 0-based k-th smallest count among the seen vertices
+        std::size_t below = 0;
+        for (std::size_t i = 1; i < histogram.size(); ++i) {
+            below += histogram[i];
+            if (below > k) return static_cast<double>(i);
         }
-    }
-    progress.throwIfCancelled();
-    progress.report(kFitEnd, kStageFitting);
-    result.guardRetried = guardRetried;
-    result.constantFallbacks = fallbacks;
-    result.totalSamples = totalSamples;
-    result.samplesPerView.assign(views.size(), 0);
-    for (std::size_t i = 0; i < usable.size(); ++i) {
-        result.samplesPerView[usableIndex[i]] = perView[i];
-        if (perView[i] == 0)
-            result.warnings.push_back("Raster " + std::to_string(usableIndex[i]) +
+        return static_cast<double>(histogram.size() - 1);
+    };
+    return 0.5 * (kth((seen - 1) / 2) + kth(seen / 2));
+}
+
+void recordCounters(const SampleFitCounters& counters, const UsableViews& usable, std::size_t inputViews,
+                    RadianceFromViewsResult& result) {
+    result.viewDependent = counters.viewDependent;
+    result.regularised = counters.regularised;
+    result.validatedConstant = counters.validatedConstant;
+    result.tooFewSamples = counters.tooFew;
+    result.guardConstant = counters.guardConstant;
+    result.robustDownweighted = counters.downweighted;
+    result.saturatedSamples = counters.saturated;
+    result.medianSamples = medianSampleCount(counters.histogram);
+    result.guardRetried = counters.guardRetried;
+    result.constantFallbacks = counters.fallbacks;
+    result.totalSamples = counters.totalSamples;
+    result.samplesPerView.assign(inputViews, 0);
+    for (std::size_t i = 0; i < usable.index.size(); ++i) {
+        result.samplesPerView[usable.index[i]] = counters.perView[i];
+        if (counters.perView[i] == 0)
+            result.warnings.push_back("Raster " + std::to_string(usable.index[i]) +
                                       " contributed no sample: no vertex is inside its image, facing its camera and "
                                       "unoccluded (check that its camera is aligned with the mesh).");
     }
+}
 
+std::size_t countUnseenOrRefuse(const RadianceFromViewsResult& result) {
+    const std::size_t n = result.status.size();
     std::size_t unseen = 0;
     for (std::size_t v = 0; v < n; ++v) unseen += result.status[v] == static_cast<std::uint8_t>(FitStatus::Unseen);
     if (unseen == n)
@@ -747,67 +717,95 @@ RadianceFromViewsResult fitRadianceFromViews(const TriangleMesh& mesh, const std
             "with this mesh, in the same coordinate frame and scale, e.g. with the Raster Alignment tool or by "
             "importing the project the cameras were computed with), that the vertex normals point outwards toward "
             "the cameras, and that the mesh is not hidden by another surface.");
+    return unseen;
+}
 
-    // Unseen vertices: ring-by-ring averaging of known neighbours (see the header).
-    if (unseen > 0 && options.fillUnseen && mesh.faceCount() > 0) {
-        progress.report(kFitEnd, kStageFilling);
-        const VertexAdjacency adj = buildVertexAdjacency(mesh);
-        const int per = field.coefficientsPerVertex();
-        std::vector<std::uint8_t> known(n), queued(n, 0);
-        for (std::size_t v = 0; v < n; ++v) known[v] = result.status[v] != static_cast<std::uint8_t>(FitStatus::Unseen);
-        std::vector<std::uint32_t> frontier, next;
-        for (std::size_t v = 0; v < n; ++v) {
-            if (known[v]) continue;
-            for (std::size_t e = adj.offsets[v]; e < adj.offsets[v + 1]; ++e)
-                if (known[adj.neighbours[e]]) {
-                    frontier.push_back(static_cast<std::uint32_t>(v));
-                    queued[v] = 1;
-                    break;
-                }
-        }
-        std::size_t filled = 0;
-        while (!frontier.empty()) {
-            // Every vertex of the frontier reads only vertices known before this round and writes only
-            // itself: no race, and the result is independent of the schedule.
-            const std::ptrdiff_t fsize = static_cast<std::ptrdiff_t>(frontier.size());
-#pragma omp parallel for schedule(dynamic, 256)
-            for (std::ptrdiff_t i = 0; i < fsize; ++i) {
-                const std::uint32_t v = frontier[i];
-                float* dst = field.vertexCoefficients(v);
-                std::fill(dst, dst + per, 0.0f);
-                double colour[3] = {0.0, 0.0, 0.0};
-                double sum[kColorChannels * kMaxCoefficientsPerChannel];
-                std::fill(sum, sum + per, 0.0);
-                int k = 0;
-                for (std::size_t e = adj.offsets[v]; e < adj.offsets[v + 1]; ++e) {
-                    const std::uint32_t u = adj.neighbours[e];
-                    if (!known[u]) continue;
-                    const float* src = field.vertexCoefficients(u);
-                    for (int j = 0; j < per; ++j) sum[j] += src[j];
-                    for (int c = 0; c < 3; ++c) colour[c] += result.meanColor[3 * u + c];
-                    ++k;
-                }
-                for (int j = 0; j < per; ++j) dst[j] = static_cast<float>(sum[j] / k);
-                for (int c = 0; c < 3; ++c) result.meanColor[3 * v + c] = static_cast<float>(colour[c] / k);
-                result.status[v] = static_cast<std::uint8_t>(FitStatus::FilledFromNeighbours);
-            }
-            for (std::uint32_t v : frontier) known[v] = 1;
-            filled += frontier.size();
-            next.clear();
-            for (std::uint32_t v : frontier)
-                for (std::size_t e = adj.offsets[v]; e < adj.offsets[v + 1]; ++e) {
-                    const std::uint32_t u = adj.neighbours[e];
-                    if (!known[u] && !queued[u]) {
-                        queued[u] = 1;
-                        next.push_back(u);
-                    }
-                }
-            frontier.swap(next);
-            progress.report(kFitEnd + static_cast<int>((99 - kFitEnd) * double(filled) / double(unseen)), kStageFilling);
-            progress.throwIfCancelled();
-        }
-        result.unseenFilled = filled;
+// Unseen vertex v gets the plain average of its known neighbours' coefficients and mean colours.
+// Reads only vertices known before this round and writes only v: no race, and the result is
+// independent of the schedule.
+void averageKnownNeighbours(std::uint32_t v, const VertexAdjacency& adj, const std::vector<std::uint8_t>& known,
+                            RadianceFromViewsResult& result) {
+    RadianceField& field = result.field;
+    const int per = field.coefficientsPerVertex();
+    float* dst = field.vertexCoefficients(v);
+    std::fill(dst, dst + per, 0.0f);
+    double colour[3] = {0.0, 0.0, 0.0};
+    double sum[kColorChannels * kMaxCoefficientsPerChannel];
+    std::fill(sum, sum + per, 0.0);
+    int k = 0;
+    for (std::size_t e = adj.offsets[v]; e < adj.offsets[v + 1]; ++e) {
+        const std::uint32_t u = adj.neighbours[e];
+        if (!known[u]) continue;
+        const float* src = field.vertexCoefficients(u);
+        for (int j = 0; j < per; ++j) sum[j] += src[j];
+        for (int c = 0; c < 3; ++c) colour[c] += result.meanColor[3 * u + c];
+        ++k;
     }
+    for (int j = 0; j < per; ++j) dst[j] = static_cast<float>(sum[j] / k);
+    for (int c = 0; c < 3; ++c) result.meanColor[3 * v + c] = static_cast<float>(colour[c] / k);
+    result.status[v] = static_cast<std::uint8_t>(FitStatus::FilledFromNeighbours);
+}
+
+// The unseen vertices with at least one known neighbour, marked queued.
+std::vector<std::uint32_t> firstFillingRing(const VertexAdjacency& adj, const std::vector<std::uint8_t>& known,
+                                            std::vector<std::uint8_t>& queued) {
+    std::vector<std::uint32_t> frontier;
+    for (std::size_t v = 0; v < known.size(); ++v) {
+        if (known[v]) continue;
+        for (std::size_t e = adj.offsets[v]; e < adj.offsets[v + 1]; ++e)
+            if (known[adj.neighbours[e]]) {
+                frontier.push_back(static_cast<std::uint32_t>(v));
+                queued[v] = 1;
+                break;
+            }
+    }
+    return frontier;
+}
+
+// The unqueued unknown neighbours of the frontier, marked queued.
+void nextFillingRing(const VertexAdjacency& adj, const std::vector<std::uint32_t>& frontier,
+                     const std::vector<std::uint8_t>& known, std::vector<std::uint8_t>& queued,
+                     std::vector<std::uint32_t>& next) {
+    next.clear();
+    for (std::uint32_t v : frontier)
+        for (std::size_t e = adj.offsets[v]; e < adj.offsets[v + 1]; ++e) {
+            const std::uint32_t u = adj.neighbours[e];
+            if (!known[u] && !queued[u]) {
+                queued[u] = 1;
+                next.push_back(u);
+            }
+        }
+}
+
+// Unseen vertices: ring-by-ring averaging of known neighbours (see the header). Returns how many
+// were filled.
+std::size_t fillUnseenFromNeighbours(const TriangleMesh& mesh, std::size_t unseen, const ProgressCallback& progress,
+                                     RadianceFromViewsResult& result) {
+    reportPercent(progress, kFitEnd, kStageFilling);
+    const std::size_t n = mesh.vertexCount();
+    const VertexAdjacency adj = buildVertexAdjacency(mesh);
+    std::vector<std::uint8_t> known(n), queued(n, 0);
+    for (std::size_t v = 0; v < n; ++v) known[v] = result.status[v] != static_cast<std::uint8_t>(FitStatus::Unseen);
+    std::vector<std::uint32_t> frontier = firstFillingRing(adj, known, queued), next;
+    std::size_t filled = 0;
+    while (!frontier.empty()) {
+        const std::ptrdiff_t fsize = static_cast<std::ptrdiff_t>(frontier.size());
+#pragma omp parallel for schedule(dynamic, 256)
+        for (std::ptrdiff_t i = 0; i < fsize; ++i) averageKnownNeighbours(frontier[i], adj, known, result);
+        for (std::uint32_t v : frontier) known[v] = 1;
+        filled += frontier.size();
+        nextFillingRing(adj, frontier, known, queued, next);
+        frontier.swap(next);
+        reportPercent(progress, kFitEnd + static_cast<int>((99 - kFitEnd) * double(filled) / double(unseen)),
+                      kStageFilling);
+    }
+    return filled;
+}
+
+// The status counts, and the warning about vertices left black.
+void summariseStatuses(const TriangleMesh& mesh, const RadianceFromViewsOptions& options, std::size_t unseen,
+                       RadianceFromViewsResult& result) {
+    const std::size_t n = mesh.vertexCount();
     result.unseenLeft = unseen - result.unseenFilled;
     for (std::size_t v = 0; v < n; ++v) {
         const auto s = static_cast<FitStatus>(result.status[v]);
@@ -822,7 +820,40 @@ RadianceFromViewsResult fitRadianceFromViews(const TriangleMesh& mesh, const std
         why << ": they keep zero radiance (black). Add photographs of those parts, or remove them.";
         result.warnings.push_back(why.str());
     }
-    progress.report(100, kStageDone);
+}
+
+}  // namespace
+
+RadianceFromViewsResult fitRadianceFromViews(const TriangleMesh& mesh, const std::vector<CalibratedView>& views,
+                                             const RadianceFromViewsOptions& options,
+                                             const ProgressCallback& progress) {
+    const auto t0 = std::chrono::steady_clock::now();
+    reportPercent(progress, 0, kStageChecking);
+    validateInput(mesh, views, options);
+    RadianceFromViewsResult result;
+    const UsableViews usable = selectUsableViews(views, result);
+    const RobustRadianceFitter fitter(options.fit);  // options validated above: does not throw
+    reportPercent(progress, 1, kStageScene);
+    const std::unique_ptr<ViewSampler> sampler = buildSampler(mesh, usable.views, options, result);
+    const std::vector<double> gains = estimateViewGains(*sampler, mesh.vertexCount(), options, progress, result);
+    recordViewGains(gains, usable, views.size(), result);
+
+    allocateOutputs(mesh.vertexCount(), options, result);
+    reportPercent(progress, kFitStart, kStageFitting);
+    SampleFitCounters counters;
+    if (options.model == FitModel::PerVertex)
+        streamPerVertexFit(mesh, *sampler, fitter, gains, options, progress, result, counters);
+    else
+        fitFromSampleSet(mesh, *sampler, fitter, gains, options, progress, result, counters);
+    reportPercent(progress, kFitEnd, kStageFitting);
+    recordCounters(counters, usable, views.size(), result);
+
+    const std::size_t unseen = countUnseenOrRefuse(result);
+    if (unseen > 0 && options.fillUnseen && mesh.faceCount() > 0)
+        result.unseenFilled = fillUnseenFromNeighbours(mesh, unseen, progress, result);
+    summariseStatuses(mesh, options, unseen, result);
+    // The last report cannot stop the call any more: the result is complete.
+    if (progress) progress(1.0, kStageDone);
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return result;
 }

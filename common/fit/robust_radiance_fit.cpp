@@ -574,15 +574,26 @@ RobustRadianceFitter::Choice RobustRadianceFitter::choose(FitScratch& scratch, s
     return best;
 }
 
-VertexFitResult RobustRadianceFitter::fit(const Frame& frame, const DirectionalSample* samples, std::size_t count,
-                                          FitScratch& scratch, float* out) const {
-    VertexFitResult result;
-    const int K = K_;
-    scratch.reserveSamples(K, count);
-    const std::size_t cap = scratch.capacity;
-
-    // 1-2. Local directions (border-extended), values, weights, observed range.
+// The observed range of each channel of the vertex's samples (the range guard's band).
+struct RobustRadianceFitter::ObservedRange {
     double lo[3] = {0.0, 0.0, 0.0}, hi[3] = {0.0, 0.0, 0.0};
+};
+
+// What fit() knows of the vertex at hand, passed to its steps.
+struct RobustRadianceFitter::VertexProblem {
+    const Frame& frame;
+    FitScratch& scratch;
+    float* out;
+    std::size_t n = 0;    // usable real samples
+    double sumA = 0.0;    // sum of their own weights a_j
+    ObservedRange range;
+};
+
+std::size_t RobustRadianceFitter::loadSamples(const Frame& frame, const DirectionalSample* samples, std::size_t count,
+                                              FitScratch& scratch, ObservedRange& range) const {
+    const std::size_t cap = scratch.capacity;
+    double* lo = range.lo;
+    double* hi = range.hi;
     std::size_t n = 0;
     double* local = scratch.local.data();
     for (std::size_t j = 0; j < count; ++j) {
@@ -606,144 +617,312 @@ VertexFitResult RobustRadianceFitter::fit(const Frame& frame, const DirectionalS
         scratch.robustWeight[n] = 1.0;
         ++n;
     }
+    return n;
+}
+
+void RobustRadianceFitter::setValidationErrorScales(FitScratch& scratch, std::size_t n) const {
     // Validation errors are measured in sRGB-encoded units, to first order: the squared residual of
     // channel c of sample j is scaled by (d sRGB / d linear)^2 at the sample's value. Photographs
     // are compared (and seen) in those units, where an error of 0.002 in a dark channel weighs as
     // much as one of 0.03 in a bright one; in linear units the model choice of dark vertices would
     // hinge on differences nobody sees while their visible errors went unnoticed.
+    const std::size_t cap = scratch.capacity;
     for (std::size_t j = 0; j < n; ++j)
         for (int c = 0; c < 3; ++c) {
             const double y = scratch.values[c * cap + j];
             const double slope = y <= 0.0031308 ? 12.92 : (1.055 / 2.4) * std::pow(std::min(y, 1.0), 1.0 / 2.4 - 1.0);
             scratch.errorScale[c * cap + j] = slope * slope;
         }
-    result.sampleCount = static_cast<int>(n);
-    if (n == 0) {
-        result.status = FitStatus::Unseen;
-        std::fill(out, out + 3 * K, 0.0f);
-        return result;
+}
+
+// Weighted mean of the current effective weights.
+void RobustRadianceFitter::weightedMean(const FitScratch& scratch, std::size_t n, double mean[3], double& sumW) const {
+    const std::size_t cap = scratch.capacity;
+    double sumWY[3] = {0.0, 0.0, 0.0};
+    sumW = 0.0;
+    for (std::size_t j = 0; j < n; ++j) {
+        const double w = scratch.baseWeight[j] * scratch.robustWeight[j];
+        sumW += w;
+        for (int c = 0; c < 3; ++c) sumWY[c] += w * scratch.values[c * cap + j];
     }
+    for (int c = 0; c < 3; ++c) mean[c] = sumWY[c] / sumW;
+}
 
-    // Weighted mean of the current effective weights.
-    auto weightedMean = [&](double mean[3], double& sumW) {
-        double sumWY[3] = {0.0, 0.0, 0.0};
-        sumW = 0.0;
-        for (std::size_t j = 0; j < n; ++j) {
-            const double w = scratch.baseWeight[j] * scratch.robustWeight[j];
-            sumW += w;
-            for (int c = 0; c < 3; ++c) sumWY[c] += w * scratch.values[c * cap + j];
+// The residual reported for the vertex weighs the samples by their own weights a_j, whatever the
+// IRLS did: it says how far the function is from what the photographs show.
+double RobustRadianceFitter::constantResidual(const VertexProblem& p, const double mean[3]) const {
+    const FitScratch& scratch = p.scratch;
+    const std::size_t cap = scratch.capacity;
+    double e = 0.0;
+    for (std::size_t j = 0; j < p.n; ++j) {
+        for (int c = 0; c < 3; ++c) {
+            const double d = scratch.values[c * cap + j] - mean[c];
+            e += scratch.baseWeight[j] * d * d;
         }
-        for (int c = 0; c < 3; ++c) mean[c] = sumWY[c] / sumW;
-    };
-    // The residual reported for the vertex weighs the samples by their own weights a_j, whatever
-    // the IRLS did: it says how far the function is from what the photographs show.
-    double sumA = 0.0;
-    for (std::size_t j = 0; j < n; ++j) sumA += scratch.baseWeight[j];
-    auto constantResidual = [&](const double mean[3]) {
-        double e = 0.0;
-        for (std::size_t j = 0; j < n; ++j) {
-            for (int c = 0; c < 3; ++c) {
-                const double d = scratch.values[c * cap + j] - mean[c];
-                e += scratch.baseWeight[j] * d * d;
-            }
-        }
-        return std::sqrt(e / (3.0 * sumA));
-    };
-    auto finishConstant = [&](const double mean[3], double) {
-        for (int c = 0; c < 3; ++c) result.meanColor[c] = mean[c];
-        result.constantFallback = true;
-        result.residual = constantResidual(mean);
-        writeConstant(frame, mean, out);
-        return result;
-    };
-
-    if (static_cast<int>(n) < options_.minSamples) {
-        double mean[3], sumW;
-        weightedMean(mean, sumW);
-        result.status = FitStatus::PoorlySampled;
-        return finishConstant(mean, sumW);
     }
+    return std::sqrt(e / (3.0 * p.sumA));
+}
 
-    // 3. Coverage of D.
+// The same for the accepted coefficients (K x 3, column-major) of the real samples.
+double RobustRadianceFitter::fittedResidual(const VertexProblem& p, const double* coefficients) const {
+    const FitScratch& scratch = p.scratch;
+    const std::size_t cap = scratch.capacity;
+    const int K = K_;
+    double e = 0.0;
+    for (std::size_t j = 0; j < p.n; ++j) {
+        const double* b = scratch.basisValues.data() + j * K;
+        for (int c = 0; c < 3; ++c) {
+            const double d = dot(b, coefficients + c * K, K) - scratch.values[c * cap + j];
+            e += scratch.baseWeight[j] * d * d;
+        }
+    }
+    return std::sqrt(e / (3.0 * p.sumA));
+}
+
+VertexFitResult RobustRadianceFitter::finishConstant(const VertexProblem& p, const double mean[3],
+                                                     VertexFitResult result) const {
+    for (int c = 0; c < 3; ++c) result.meanColor[c] = mean[c];
+    result.constantFallback = true;
+    result.residual = constantResidual(p, mean);
+    writeConstant(p.frame, mean, p.out);
+    return result;
+}
+
+// How many directions of D the samples cover; returns whether the vertex is poorly sampled.
+bool RobustRadianceFitter::measureCoverage(const VertexProblem& p, VertexFitResult& result) const {
     const int D = kCoverageDirections;
+    const double* local = p.scratch.local.data();
     int coveredCount = 0;
     for (int i = 0; i < D; ++i) {
         const double dx = coverage_[3 * i], dy = coverage_[3 * i + 1], dz = coverage_[3 * i + 2];
         unsigned char hit = 0;
-        for (std::size_t j = 0; j < n; ++j)
+        for (std::size_t j = 0; j < p.n; ++j)
             if (dx * local[3 * j] + dy * local[3 * j + 1] + dz * local[3 * j + 2] >= cosCoverage_) {
                 hit = 1;
                 break;
             }
-        scratch.covered[i] = hit;
+        p.scratch.covered[i] = hit;
         coveredCount += hit;
     }
     result.coveredDirections = coveredCount;
-    const bool poorly = static_cast<double>(n) < options_.poorSamplingFactor * K || 2 * coveredCount < D;
-    result.status = poorly ? FitStatus::PoorlySampled : FitStatus::Fitted;
+    return static_cast<double>(p.n) < options_.poorSamplingFactor * K_ || 2 * coveredCount < D;
+}
 
-    // 4. Basis values of the real samples (once), then the weighted system.
+// Basis values of the real samples (once for every candidate).
+void RobustRadianceFitter::evaluateSampleBasis(FitScratch& scratch, std::size_t n) const {
+    const double* local = scratch.local.data();
     for (std::size_t j = 0; j < n; ++j)
         evaluateBasis(options_.basis, local[3 * j], local[3 * j + 1], local[3 * j + 2],
-                      scratch.basisValues.data() + j * K);
-    Assembly assembly;
-    assemble(scratch, n, assembly);
+                      scratch.basisValues.data() + j * K_);
+}
 
-    // 5. Model choice by validation, and Huber IRLS on the chosen model's leave-one-out residuals
-    // (plain residuals of a sparse fit are near zero even at an outlier, which the fit interpolates;
-    // the leave-one-out residual is what the other views say about it). The weights are then fixed
-    // and the model chosen again with them.
-    Choice choice = choose(scratch, n, assembly);
-    if (options_.robustIterations > 0 && n >= 3) {
+// The Huber threshold: the median absolute leave-one-out residual / 0.6745 (the MAD of a normal
+// distribution), floored so that exact data (residuals at rounding level) keeps weight 1, times the
+// option's threshold.
+double RobustRadianceFitter::huberThreshold(FitScratch& scratch, std::size_t n, const Assembly& a) const {
+    double* sorted = scratch.sortBuffer.data();
+    std::copy(scratch.looNorm.begin(), scratch.looNorm.begin() + static_cast<std::ptrdiff_t>(n), sorted);
+    std::nth_element(sorted, sorted + n / 2, sorted + n);
+    const double floor = 1e-4 + 1e-3 * std::max({std::abs(a.mean[0]), std::abs(a.mean[1]), std::abs(a.mean[2])});
+    const double sigma = std::max(sorted[n / 2] / 0.6745, floor);
+    return options_.huberThreshold * sigma;
+}
+
+// The leave-one-out residuals of the reference model in looNorm: the best view-dependent candidate
+// even when the constant won (outliers push the choice toward the constant, whose residuals are
+// large everywhere and would inflate the scale; the final choice is made after the reweighting).
+// Returns false when the reference cannot be scored.
+bool RobustRadianceFitter::referenceResiduals(FitScratch& scratch, std::size_t n, const Assembly& a,
+                                              const Choice& choice, int iteration) const {
+    if (!std::isfinite(choice.error)) {
+        scoreConstant(scratch, n, a, true);
+    } else if (iteration > 0 || lambdaGrid_.empty()) {  // at iteration 0, choose() left them in looNorm
         double errors[kMaxPolynomialDegree + kMaxHarmonicDegree + 2];
-        bool changed = false;
-        for (int it = 0; it < options_.robustIterations; ++it) {
-            // The reference model is the best view-dependent candidate even when the constant won:
-            // outliers push the choice toward the constant, whose residuals are large everywhere
-            // and would inflate the scale (the final choice is made after the reweighting).
-            if (!std::isfinite(choice.error)) {
-                scoreConstant(scratch, n, assembly, true);
-            } else if (it > 0 || lambdaGrid_.empty()) {  // at it = 0, choose() left them in looNorm
-                if (!scoreModels(scratch, n, assembly, choice.lambda, choice.degree, choice.degree, errors, nullptr, true))
-                    break;
-                const std::size_t row = static_cast<std::size_t>(choice.degree) * cap;
-                std::copy(scratch.looByDegree.begin() + static_cast<std::ptrdiff_t>(row),
-                          scratch.looByDegree.begin() + static_cast<std::ptrdiff_t>(row + n), scratch.looNorm.begin());
-            }
-            // Scale: the median absolute leave-one-out residual / 0.6745 (the MAD of a normal
-            // distribution), floored so that exact data (residuals at rounding level) keeps weight 1.
-            double* sorted = scratch.sortBuffer.data();
-            std::copy(scratch.looNorm.begin(), scratch.looNorm.begin() + static_cast<std::ptrdiff_t>(n), sorted);
-            std::nth_element(sorted, sorted + n / 2, sorted + n);
-            const double floor = 1e-4 + 1e-3 * std::max({std::abs(assembly.mean[0]), std::abs(assembly.mean[1]),
-                                                         std::abs(assembly.mean[2])});
-            const double sigma = std::max(sorted[n / 2] / 0.6745, floor);
-            const double threshold = options_.huberThreshold * sigma;
-            // Only vertices with an outlier are reweighted: at least one sample beyond twice the
-            // threshold (Huber weight below 1/2). Milder residuals are the noise the validation
-            // already weighs, and sparing the others the reweighting and second choice halves the
-            // cost of the IRLS on real data.
-            if (it == 0) {
-                bool outlier = false;
-                for (std::size_t j = 0; j < n && !outlier; ++j) outlier = scratch.looNorm[j] > 2.0 * threshold;
-                if (!outlier) break;
-            }
-            double maxChange = 0.0;
-            for (std::size_t j = 0; j < n; ++j) {
-                const double r = scratch.looNorm[j];
-                const double w = r > threshold ? threshold / r : 1.0;  // Huber: 0 for an infinite residual
-                maxChange = std::max(maxChange, std::abs(w - scratch.robustWeight[j]));
-                scratch.robustWeight[j] = w;
-            }
-            if (maxChange < 0.02) break;  // the weights need not be exact
-            changed = true;
-            assemble(scratch, n, assembly);
-        }
-        // The choice is made again with the final weights: the first one was made with the outliers
-        // at full weight, which favours strong regularisation.
-        if (changed) choice = choose(scratch, n, assembly);
-        for (std::size_t j = 0; j < n; ++j) result.downweighted += scratch.robustWeight[j] < 1.0;
+        if (!scoreModels(scratch, n, a, choice.lambda, choice.degree, choice.degree, errors, nullptr, true))
+            return false;
+        const std::size_t row = static_cast<std::size_t>(choice.degree) * scratch.capacity;
+        std::copy(scratch.looByDegree.begin() + static_cast<std::ptrdiff_t>(row),
+                  scratch.looByDegree.begin() + static_cast<std::ptrdiff_t>(row + n), scratch.looNorm.begin());
     }
+    return true;
+}
+
+// Huber weights of the leave-one-out residuals; returns the largest change of a weight.
+double RobustRadianceFitter::reweight(FitScratch& scratch, std::size_t n, double threshold) const {
+    double maxChange = 0.0;
+    for (std::size_t j = 0; j < n; ++j) {
+        const double r = scratch.looNorm[j];
+        const double w = r > threshold ? threshold / r : 1.0;  // Huber: 0 for an infinite residual
+        maxChange = std::max(maxChange, std::abs(w - scratch.robustWeight[j]));
+        scratch.robustWeight[j] = w;
+    }
+    return maxChange;
+}
+
+// Model choice by validation, and Huber IRLS on the chosen model's leave-one-out residuals (plain
+// residuals of a sparse fit are near zero even at an outlier, which the fit interpolates; the
+// leave-one-out residual is what the other views say about it). The weights are then fixed and the
+// model chosen again with them.
+RobustRadianceFitter::Choice RobustRadianceFitter::chooseRobustly(const VertexProblem& p, Assembly& assembly,
+                                                                  VertexFitResult& result) const {
+    FitScratch& scratch = p.scratch;
+    const std::size_t n = p.n;
+    Choice choice = choose(scratch, n, assembly);
+    if (options_.robustIterations <= 0 || n < 3) return choice;
+    bool changed = false;
+    for (int it = 0; it < options_.robustIterations; ++it) {
+        if (!referenceResiduals(scratch, n, assembly, choice, it)) break;
+        const double threshold = huberThreshold(scratch, n, assembly);
+        // Only vertices with an outlier are reweighted: at least one sample beyond twice the
+        // threshold (Huber weight below 1/2). Milder residuals are the noise the validation
+        // already weighs, and sparing the others the reweighting and second choice halves the
+        // cost of the IRLS on real data.
+        if (it == 0) {
+            bool outlier = false;
+            for (std::size_t j = 0; j < n && !outlier; ++j) outlier = scratch.looNorm[j] > 2.0 * threshold;
+            if (!outlier) break;
+        }
+        if (reweight(scratch, n, threshold) < 0.02) break;  // the weights need not be exact
+        changed = true;
+        assemble(scratch, n, assembly);
+    }
+    // The choice is made again with the final weights: the first one was made with the outliers at
+    // full weight, which favours strong regularisation.
+    if (changed) choice = choose(scratch, n, assembly);
+    for (std::size_t j = 0; j < n; ++j) result.downweighted += scratch.robustWeight[j] < 1.0;
+    return choice;
+}
+
+// The channels the range guard still has to accept, and their bands.
+struct RobustRadianceFitter::GuardState {
+    bool guard = false;
+    bool pending[3] = {false, false, false};
+    double bandLo[3] = {0.0, 0.0, 0.0}, bandHi[3] = {0.0, 0.0, 0.0};
+    int pendingCount = 0;
+};
+
+// The channels share the matrix but not the right-hand side, so the guard accepts or escalates each
+// channel on its own (our refinement of "retry with 10 lambda": a channel that stays in its range
+// keeps the least regularised fit, whatever the others do). A channel whose observed values are all
+// equal is the constant m_c outright: any fit in its zero-width band would only differ from it by
+// rounding. Clears the accepted coefficients (scratch.solution) and writes those constants.
+RobustRadianceFitter::GuardState RobustRadianceFitter::startGuard(const VertexProblem& p, bool poorly,
+                                                                  const double mean[3]) const {
+    GuardState g;
+    g.guard = options_.rangeGuard == RangeGuardScope::AllVertices ||
+              (options_.rangeGuard == RangeGuardScope::PoorlySampledOnly && poorly);
+    double* final = p.scratch.solution.data();  // K x 3, column-major: the accepted coefficients
+    std::fill(final, final + 3 * K_, 0.0);
+    const double* lo = p.range.lo;
+    const double* hi = p.range.hi;
+    for (int c = 0; c < 3; ++c) {
+        const double margin = kGuardMarginFraction * options_.rangeTolerance * (hi[c] - lo[c]);
+        g.bandLo[c] = lo[c] - margin;
+        g.bandHi[c] = hi[c] + margin;
+        g.pending[c] = !(g.guard && hi[c] == lo[c]);
+        if (g.pending[c])
+            ++g.pendingCount;
+        else
+            final[c * K_] = mean[c] / constantValue_;
+    }
+    return g;
+}
+
+// One attempt at `lambda` with the chosen degree's Ka coefficients: the channels whose solution is
+// finite and (under the guard) inside their band are accepted. Returns false when the attempt
+// must be counted as a retry (singular system, or a channel to escalate).
+bool RobustRadianceFitter::guardAttempt(FitScratch& scratch, const Assembly& a, double lambda, int Ka,
+                                        GuardState& g) const {
+    const int K = K_;
+    double* X = scratch.trial.data();  // K x 3 column-major; the first Ka rows of each column are used
+    double* A = scratch.system.data();
+    std::copy(scratch.gram.begin(), scratch.gram.begin() + static_cast<std::ptrdiff_t>(K) * K, A);
+    if (lambda > 0.0)
+        for (int k = 1; k < K; ++k) A[k * K + k] += lambda * a.scale;  // the constant function is not penalised
+    std::copy(scratch.rhs.begin(), scratch.rhs.begin() + 3 * K, X);
+    // Singular systems: with lambda > 0 the matrix is positive definite by construction
+    // (G_00 = sum a_j B_0^2 > 0 and lambda s on the other diagonal entries) and its pivots are at
+    // least of the order of lambda s; with lambda = 0 a pivot below 1e-12 trace(G) (about 1e-12 of
+    // the largest eigenvalue) means degenerate samples.
+    const double minPivot = (lambda > 0.0 ? kMinReciprocalCondition : 1e-12) * a.trace;
+    if (!choleskyInPlace(A, K, minPivot, scratch.invDiag.data())) return false;
+    forward3InPlace(A, scratch.invDiag.data(), K, Ka, X);
+    backward3InPlace(A, scratch.invDiag.data(), K, Ka, X);
+    for (int c = 0; c < 3; ++c) std::fill(X + c * K + Ka, X + (c + 1) * K, 0.0);
+    bool escalate = false;
+    double* final = scratch.solution.data();
+    for (int c = 0; c < 3; ++c) {
+        if (!g.pending[c]) continue;
+        const double* xc = X + c * K;
+        bool finite = true;
+        for (int k = 0; k < K; ++k) finite = finite && std::isfinite(xc[k]);
+        if (finite && (!g.guard || insideBand(xc, g.bandLo[c], g.bandHi[c]))) {
+            std::copy(xc, xc + K, final + c * K);
+            g.pending[c] = false;
+            --g.pendingCount;
+        } else {
+            escalate = true;
+        }
+    }
+    return !escalate;
+}
+
+// The chosen model (lambda, degree), under the range guard: lambda is escalated tenfold per attempt
+// for the channels still pending (without the guard, further attempts only happen when the system
+// is singular); channels that never pass get the constant m_c (always inside the observed range).
+VertexFitResult RobustRadianceFitter::solveUnderGuard(const VertexProblem& p, const Assembly& assembly,
+                                                      const Choice& choice, bool poorly, const double mean[3],
+                                                      VertexFitResult result) const {
+    const int K = K_;
+    const int Ka = degreeK_[choice.degree];
+    GuardState g = startGuard(p, poorly, mean);
+    const int attempts = options_.maxGuardRetries + 1;
+    for (int attempt = 0; attempt < attempts && g.pendingCount > 0; ++attempt) {
+        const double lambda = attempt == 0 ? choice.lambda
+                                           : std::max(choice.lambda, kEscalationBaseLambda) * std::pow(10.0, attempt);
+        if (!guardAttempt(p.scratch, assembly, lambda, Ka, g)) result.guardRetries = attempt + 1;
+    }
+    double* final = p.scratch.solution.data();
+    int constantChannels = 0;
+    for (int c = 0; c < 3; ++c) {
+        if (!g.pending[c]) continue;
+        std::fill(final + c * K, final + (c + 1) * K, 0.0);
+        final[c * K] = mean[c] / constantValue_;
+        ++constantChannels;
+    }
+    result.fallbackChannels = constantChannels;
+    if (constantChannels == 3) return finishConstant(p, mean, result);
+    result.residual = fittedResidual(p, final);
+    writeSolution(p.frame, final, p.scratch, p.out);
+    return result;
+}
+
+VertexFitResult RobustRadianceFitter::fit(const Frame& frame, const DirectionalSample* samples, std::size_t count,
+                                          FitScratch& scratch, float* out) const {
+    VertexFitResult result;
+    scratch.reserveSamples(K_, count);
+    VertexProblem p{frame, scratch, out, 0, 0.0, {}};
+    p.n = loadSamples(frame, samples, count, scratch, p.range);  // local directions (border-extended), values
+    setValidationErrorScales(scratch, p.n);
+    result.sampleCount = static_cast<int>(p.n);
+    if (p.n == 0) {
+        result.status = FitStatus::Unseen;
+        std::fill(out, out + 3 * K_, 0.0f);
+        return result;
+    }
+    for (std::size_t j = 0; j < p.n; ++j) p.sumA += scratch.baseWeight[j];
+    if (static_cast<int>(p.n) < options_.minSamples) {
+        double mean[3], sumW;
+        weightedMean(scratch, p.n, mean, sumW);
+        result.status = FitStatus::PoorlySampled;
+        return finishConstant(p, mean, result);
+    }
+    const bool poorly = measureCoverage(p, result);
+    result.status = poorly ? FitStatus::PoorlySampled : FitStatus::Fitted;
+    evaluateSampleBasis(scratch, p.n);
+    Assembly assembly;
+    assemble(scratch, p.n, assembly);
+    const Choice choice = chooseRobustly(p, assembly, result);
     double mean[3];
     for (int c = 0; c < 3; ++c) mean[c] = result.meanColor[c] = assembly.mean[c];
     result.lambda = choice.lambda;
@@ -754,98 +933,10 @@ VertexFitResult RobustRadianceFitter::fit(const Frame& frame, const DirectionalS
         result.validatedConstant = true;
         result.lambda = 0.0;
         result.degree = 0;
-        return finishConstant(mean, assembly.sumW);
+        return finishConstant(p, mean, result);
     }
     result.regularised = choice.lambda > options_.lambda || choice.degree < options_.basis.degree;
-
-    // 6. The chosen model (lambda, degree), under the range guard.
-    const int Ka = degreeK_[choice.degree];
-    const double trace = assembly.trace;
-    const double scale = assembly.scale;
-    const bool guard = options_.rangeGuard == RangeGuardScope::AllVertices ||
-                       (options_.rangeGuard == RangeGuardScope::PoorlySampledOnly && poorly);
-    // The channels share the matrix but not the right-hand side, so the guard accepts or escalates
-    // each channel on its own (our refinement of "retry with 10 lambda": a channel that stays in its
-    // range keeps the least regularised fit, whatever the others do). A channel whose observed values
-    // are all equal is the constant m_c outright: any fit in its zero-width band would only differ
-    // from it by rounding.
-    double* final = scratch.solution.data();  // K x 3, column-major: the accepted coefficients
-    std::fill(final, final + 3 * K, 0.0);
-    bool pending[3];
-    double bandLo[3], bandHi[3];
-    int pendingCount = 0;
-    for (int c = 0; c < 3; ++c) {
-        const double margin = kGuardMarginFraction * options_.rangeTolerance * (hi[c] - lo[c]);
-        bandLo[c] = lo[c] - margin;
-        bandHi[c] = hi[c] + margin;
-        pending[c] = !(guard && hi[c] == lo[c]);
-        if (pending[c])
-            ++pendingCount;
-        else
-            final[c * K] = mean[c] / constantValue_;
-    }
-    // Without the guard, further attempts only happen when the system is singular.
-    double* X = scratch.trial.data();  // K x 3 column-major; the first Ka rows of each column are used
-    const int attempts = options_.maxGuardRetries + 1;
-    for (int attempt = 0; attempt < attempts && pendingCount > 0; ++attempt) {
-        const double lambda = attempt == 0 ? choice.lambda
-                                           : std::max(choice.lambda, kEscalationBaseLambda) * std::pow(10.0, attempt);
-        double* A = scratch.system.data();
-        std::copy(scratch.gram.begin(), scratch.gram.begin() + static_cast<std::ptrdiff_t>(K) * K, A);
-        if (lambda > 0.0)
-            for (int k = 1; k < K; ++k) A[k * K + k] += lambda * scale;  // the constant function is not penalised
-        std::copy(scratch.rhs.begin(), scratch.rhs.begin() + 3 * K, X);
-        // Singular systems: with lambda > 0 the matrix is positive definite by construction
-        // (G_00 = sum a_j B_0^2 > 0 and lambda s on the other diagonal entries) and its pivots are at
-        // least of the order of lambda s; with lambda = 0 a pivot below 1e-12 trace(G) (about
-        // 1e-12 of the largest eigenvalue) means degenerate samples.
-        const double minPivot = (lambda > 0.0 ? kMinReciprocalCondition : 1e-12) * trace;
-        if (!choleskyInPlace(A, K, minPivot, scratch.invDiag.data())) {
-            result.guardRetries = attempt + 1;
-            continue;  // singular (lambda = 0 with degenerate samples): escalate lambda
-        }
-        forward3InPlace(A, scratch.invDiag.data(), K, Ka, X);
-        backward3InPlace(A, scratch.invDiag.data(), K, Ka, X);
-        for (int c = 0; c < 3; ++c)
-            std::fill(X + c * K + Ka, X + (c + 1) * K, 0.0);
-        bool escalate = false;
-        for (int c = 0; c < 3; ++c) {
-            if (!pending[c]) continue;
-            const double* xc = X + c * K;
-            bool finite = true;
-            for (int k = 0; k < K; ++k) finite = finite && std::isfinite(xc[k]);
-            if (finite && (!guard || insideBand(xc, bandLo[c], bandHi[c]))) {
-                std::copy(xc, xc + K, final + c * K);
-                pending[c] = false;
-                --pendingCount;
-            } else {
-                escalate = true;
-            }
-        }
-        if (escalate) result.guardRetries = attempt + 1;
-    }
-    // Channels that never passed: the constant m_c (always inside the observed range).
-    int constantChannels = 0;
-    for (int c = 0; c < 3; ++c) {
-        if (!pending[c]) continue;
-        std::fill(final + c * K, final + (c + 1) * K, 0.0);
-        final[c * K] = mean[c] / constantValue_;
-        ++constantChannels;
-    }
-    result.fallbackChannels = constantChannels;
-    if (constantChannels == 3) return finishConstant(mean, assembly.sumW);
-    // Residual of the real samples, weights a_j.
-    double e = 0.0;
-    for (std::size_t j = 0; j < n; ++j) {
-        const double* b = scratch.basisValues.data() + j * K;
-        for (int c = 0; c < 3; ++c) {
-            const double d = dot(b, final + c * K, K) - scratch.values[c * cap + j];
-            e += scratch.baseWeight[j] * d * d;
-        }
-    }
-    result.residual = std::sqrt(e / (3.0 * sumA));
-    writeSolution(frame, scratch.solution.data(), scratch, out);
-    return result;
+    return solveUnderGuard(p, assembly, choice, poorly, mean, result);
 }
 
 }  // namespace rad

@@ -299,6 +299,28 @@ private:
                      int degreeHigh, double* errors, double* standardErrors, bool storeLooNorms) const;
     double scoreConstant(FitScratch& scratch, std::size_t n, const Assembly& a, bool storeLooNorms) const;
     Choice choose(FitScratch& scratch, std::size_t n, const Assembly& a, const double* onlyLambda = nullptr) const;
+    // The steps of fit().
+    struct ObservedRange;
+    struct VertexProblem;
+    struct GuardState;
+    std::size_t loadSamples(const Frame& frame, const DirectionalSample* samples, std::size_t count,
+                            FitScratch& scratch, ObservedRange& range) const;
+    void setValidationErrorScales(FitScratch& scratch, std::size_t n) const;
+    void weightedMean(const FitScratch& scratch, std::size_t n, double mean[3], double& sumW) const;
+    double constantResidual(const VertexProblem& p, const double mean[3]) const;
+    double fittedResidual(const VertexProblem& p, const double* coefficients) const;
+    VertexFitResult finishConstant(const VertexProblem& p, const double mean[3], VertexFitResult result) const;
+    bool measureCoverage(const VertexProblem& p, VertexFitResult& result) const;
+    void evaluateSampleBasis(FitScratch& scratch, std::size_t n) const;
+    double huberThreshold(FitScratch& scratch, std::size_t n, const Assembly& a) const;
+    bool referenceResiduals(FitScratch& scratch, std::size_t n, const Assembly& a, const Choice& choice,
+                            int iteration) const;
+    double reweight(FitScratch& scratch, std::size_t n, double threshold) const;
+    Choice chooseRobustly(const VertexProblem& p, Assembly& assembly, VertexFitResult& result) const;
+    GuardState startGuard(const VertexProblem& p, bool poorly, const double mean[3]) const;
+    bool guardAttempt(FitScratch& scratch, const Assembly& a, double lambda, int Ka, GuardState& g) const;
+    VertexFitResult solveUnderGuard(const VertexProblem& p, const Assembly& assembly, const Choice& choice,
+                                    bool poorly, const double mean[3], VertexFitResult result) const;
 
     RobustFitOptions options_;
     int K_ = 0;

@@ -10,7 +10,6 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <omp.h>
 #include <sstream>
@@ -207,34 +206,64 @@ void SharedModel::evaluate(std::size_t v, const float* n, const double* w, doubl
     }
 }
 
-SharedModel fitSharedModel(const std::vector<float>& normals, const std::vector<std::size_t>& off,
-                           const std::vector<std::uint32_t>& adj, const SampleSet& set, const std::uint8_t* use,
-                           const SharedFitOptions& options, const ProgressCallback& progress) {
+namespace {
+
+constexpr const char* kStageLobe = "fitting the shared reflected lobe";
+// A fixed number of chunks, each with its own sums, merged in chunk order: the results do not
+// depend on the thread count or the schedule.
+constexpr std::ptrdiff_t kChunks = 16;
+
+// What every step of the alternation reads: the vertices' normals and adjacency, the samples (those
+// with use[i], when use is given) and the options.
+struct SharedFitInput {
+    const std::vector<float>& normals;
+    const std::vector<std::size_t>& off;
+    const std::vector<std::uint32_t>& adj;
+    const SampleSet& set;
+    const std::uint8_t* use;
+    const SharedFitOptions& options;
+    int degree = 0, M = 0;  // lobe degree, its SH coefficient count
+    bool usable(std::size_t i) const { return !use || use[i]; }
+};
+
+// The vertices of the G step and of the factor curve: every stride-th (of all vertices, so the
+// subset is spread over the mesh), cut into kChunks chunks.
+struct LobeSubset {
+    std::size_t stride = 1;
+    std::ptrdiff_t count = 0;
+    std::ptrdiff_t begin(std::ptrdiff_t chunk) const { return count * chunk / kChunks; }
+    std::ptrdiff_t end(std::ptrdiff_t chunk) const { return count * (chunk + 1) / kChunks; }
+};
+
+void validateSharedFitInput(const std::vector<float>& normals, const std::vector<std::size_t>& off,
+                            const SampleSet& set, const SharedFitOptions& options) {
     const std::string problem = options.validate();
     if (!problem.empty()) throw std::invalid_argument(problem);
     const std::size_t n = set.vertexCount();
     if (normals.size() != 3 * n || set.samples.size() != set.offsets.back() || set.view.size() != set.samples.size() ||
         (!off.empty() && off.size() != n + 1))
         throw std::invalid_argument("fitSharedModel: inconsistent sizes");
-    const std::size_t total = set.samples.size();
-    const int degree = options.lobeDegree, M = (degree + 1) * (degree + 1);
-    auto usable = [&](std::size_t i) { return !use || use[i]; };
+}
 
-    SharedModel model;
-    model.lobeDegree = degree;
-    model.cosineFactor = options.cosineFactor;
+// The starting model: lobe 0, specular scales 1, the cosine curve, diffuse = the weighted mean colour
+// of each vertex with samples (marked seen). Returns the number of usable samples.
+std::size_t initialModel(const SharedFitInput& in, SharedModel& model, std::vector<std::uint8_t>& seen) {
+    const SampleSet& set = in.set;
+    const std::size_t n = set.vertexCount();
+    model.lobeDegree = in.degree;
+    model.cosineFactor = in.options.cosineFactor;
     model.curve.resize(SharedModel::kCurveKnots);
     for (int k = 0; k < SharedModel::kCurveKnots; ++k) model.curve[k] = double(k) / (SharedModel::kCurveKnots - 1);
-    model.lobe.assign(3 * M, 0.0);
+    model.lobe.assign(3 * in.M, 0.0);
     model.diffuse.assign(3 * n, 0.0f);
     model.specular.assign(3 * n, 1.0f);
-    model.robustWeight.assign(total, 1.0f);
-    std::vector<std::uint8_t> seen(n, 0);
+    model.robustWeight.assign(set.samples.size(), 1.0f);
+    seen.assign(n, 0);
     std::size_t usedSamples = 0;
     for (std::size_t v = 0; v < n; ++v) {
         double acc[3] = {0, 0, 0}, W = 0;
         for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
-            if (!usable(i)) continue;
+            if (!in.usable(i)) continue;
             const DirectionalSample& s = set.samples[i];
             for (int c = 0; c < 3; ++c) acc[c] += s.weight * double(s.rgb[c]);
             W += s.weight;
@@ -245,262 +274,567 @@ SharedModel fitSharedModel(const std::vector<float>& normals, const std::vector<
             for (int c = 0; c < 3; ++c) model.diffuse[3 * v + c] = static_cast<float>(acc[c] / W);
         }
     }
+    return usedSamples;
+}
+
+// Calls visit(v, nv, s, w) for every usable sample of the chunk's G-step vertices whose effective
+// weight w (the sample's own times the robust one) is positive.
+template <class Visit>
+void forEachWeightedLobeSample(const SharedFitInput& in, const LobeSubset& subset, const SharedModel& model,
+                               std::ptrdiff_t chunk, Visit&& visit) {
+    for (std::ptrdiff_t p = subset.begin(chunk); p < subset.end(chunk); ++p) {
+        const std::size_t v = static_cast<std::size_t>(p) * subset.stride;
+        const float* nv = in.normals.data() + 3 * v;
+        for (std::size_t i = in.set.offsets[v]; i < in.set.offsets[v + 1]; ++i) {
+            if (!in.usable(i)) continue;
+            const DirectionalSample& s = in.set.samples[i];
+            const double w = double(s.weight) * model.robustWeight[i];
+            if (!(w > 0.0)) continue;
+            visit(v, nv, s, w);
+        }
+    }
+}
+
+// The normal equations of the G step of one chunk: rows sqrt(w) s_c f(n.w) Y(r) against the
+// residual y - d, accumulated by blocks of kBlock rows (rank updates).
+void accumulateLobeChunk(const SharedFitInput& in, const LobeSubset& subset, const SharedModel& model,
+                         std::ptrdiff_t chunk, std::array<Eigen::MatrixXd, 3>& A, std::array<Eigen::VectorXd, 3>& b) {
+    constexpr int kBlock = 64;
+    const int M = in.M;
+    Eigen::MatrixXd D[3];
+    for (int c = 0; c < 3; ++c) {
+        A[c] = Eigen::MatrixXd::Zero(M, M);
+        b[c] = Eigen::VectorXd::Zero(M);
+        D[c].resize(M, kBlock);
+    }
+    int filled = 0;
+    std::vector<double> Y(M);
+    auto flush = [&]() {
+        if (filled == 0) return;
+        for (int c = 0; c < 3; ++c) A[c].selfadjointView<Eigen::Lower>().rankUpdate(D[c].leftCols(filled));
+        filled = 0;
+    };
+    forEachWeightedLobeSample(in, subset, model, chunk,
+                              [&](std::size_t v, const float* nv, const DirectionalSample& s, double w) {
+        double r[3];
+        const double cf = reflected(nv, s.direction, r, model);
+        evaluateSphericalHarmonics(in.degree, r[0], r[1], r[2], Y.data());
+        const double sw = std::sqrt(w);
+        for (int c = 0; c < 3; ++c) {
+            const double sc = model.specular[3 * v + c] * cf;
+            const double t = s.rgb[c] - model.diffuse[3 * v + c];
+            double* col = D[c].col(filled).data();
+            for (int k = 0; k < M; ++k) col[k] = sw * sc * Y[k];
+            const double f = w * sc * t;
+            for (int k = 0; k < M; ++k) b[c][k] += f * Y[k];
+        }
+        if (++filled == kBlock) flush();
+    });
+    flush();
+}
+
+// G step: the lobe's SH coefficients by ridge regression (weight lobeRidge (1 + l(l+1)) of the
+// trace / M), with d and s fixed.
+void fitLobe(const SharedFitInput& in, const LobeSubset& subset, SharedModel& model) {
+    const int M = in.M, degree = in.degree;
+    std::vector<std::array<Eigen::MatrixXd, 3>> partA(kChunks);
+    std::vector<std::array<Eigen::VectorXd, 3>> partB(kChunks);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (std::ptrdiff_t chunk = 0; chunk < kChunks; ++chunk)
+        accumulateLobeChunk(in, subset, model, chunk, partA[chunk], partB[chunk]);
+    Eigen::MatrixXd Atotal[3];
+    Eigen::VectorXd btotal[3];
+    for (int c = 0; c < 3; ++c) {
+        Atotal[c] = Eigen::MatrixXd::Zero(M, M);
+        btotal[c] = Eigen::VectorXd::Zero(M);
+    }
+    for (std::ptrdiff_t chunk = 0; chunk < kChunks; ++chunk)
+        for (int c = 0; c < 3; ++c) {
+            Atotal[c].triangularView<Eigen::Lower>() += partA[chunk][c];
+            btotal[c] += partB[chunk][c];
+        }
+    for (int c = 0; c < 3; ++c) {
+        Eigen::MatrixXd& Ac = Atotal[c];
+        const double scale = std::max(Ac.trace() / M, 1e-300);
+        for (int l = 0, k = 0; l <= degree; ++l)
+            for (int m = -l; m <= l; ++m, ++k) Ac(k, k) += (in.options.lobeRidge * (1.0 + l * (l + 1.0)) + 1e-9) * scale;
+        Eigen::LDLT<Eigen::MatrixXd> ldlt(Ac.selfadjointView<Eigen::Lower>());
+        Eigen::VectorXd x = ldlt.solve(btotal[c]);
+        if (ldlt.info() != Eigen::Success || !x.allFinite()) x.setZero();
+        for (int k = 0; k < M; ++k) model.lobe[c * M + k] = x[k];
+    }
+}
+
+// q_c: the mean of G_c^2 over the G step's samples (sets the strength of the neighbour prior).
+void measureLobeEnergy(const SharedFitInput& in, const LobeSubset& subset, SharedModel& model) {
+    const int M = in.M;
+    double q[3] = {0, 0, 0}, W = 0;
+    std::vector<std::array<double, 4>> partQ(kChunks);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (std::ptrdiff_t chunk = 0; chunk < kChunks; ++chunk) {
+        std::vector<double> Y(M);
+        double ql[3] = {0, 0, 0}, Wl = 0;
+        for (std::ptrdiff_t p = subset.begin(chunk); p < subset.end(chunk); ++p) {
+            const std::size_t v = static_cast<std::size_t>(p) * subset.stride;
+            const float* nv = in.normals.data() + 3 * v;
+            for (std::size_t i = in.set.offsets[v]; i < in.set.offsets[v + 1]; ++i) {
+                if (!in.usable(i)) continue;
+                const DirectionalSample& s = in.set.samples[i];
+                double r[3];
+                const double cf = reflected(nv, s.direction, r, model);
+                evaluateSphericalHarmonics(in.degree, r[0], r[1], r[2], Y.data());
+                for (int c = 0; c < 3; ++c) {
+                    double g = 0;
+                    for (int k = 0; k < M; ++k) g += model.lobe[c * M + k] * Y[k];
+                    g *= cf;
+                    ql[c] += s.weight * g * g;
+                }
+                Wl += s.weight;
+            }
+        }
+        partQ[chunk] = {ql[0], ql[1], ql[2], Wl};
+    }
+    for (const auto& p : partQ) {
+        for (int c = 0; c < 3; ++c) q[c] += p[c];
+        W += p[3];
+    }
+    for (int c = 0; c < 3; ++c) model.lobeEnergy[c] = W > 0 ? q[c] / W : 0.0;
+}
+
+// The lobe at the reflected direction of sample s, times the factor: g (3 channels).
+inline void lobeAtSample(const LobeTable& table, const SharedModel& model, const float* nv,
+                         const DirectionalSample& s, double g[3]) {
+    double r[3];
+    const double cf = reflected(nv, s.direction, r, model);
+    table.lookup(r[0], r[1], r[2], g);
+    for (int c = 0; c < 3; ++c) g[c] *= cf;
+}
+
+// One seen vertex's (d, s) per channel, pulled toward its neighbours' s (prior), and the norms of
+// its samples' residuals (for the robust weights).
+void fitVertexPair(const SharedFitInput& in, const LobeTable& table, const std::vector<double>& prior, std::size_t v,
+                   SharedModel& model, std::vector<float>& residualNorm) {
+    const SampleSet& set = in.set;
+    const float* nv = in.normals.data() + 3 * v;
+    PairSums sums[3];
+    for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
+        if (!in.usable(i)) continue;
+        const DirectionalSample& s = set.samples[i];
+        const double w = double(s.weight) * model.robustWeight[i];
+        double g[3];
+        lobeAtSample(table, model, nv, s, g);
+        for (int c = 0; c < 3; ++c) {
+            PairSums& p = sums[c];
+            p.W += w;
+            p.Sg += w * g[c];
+            p.Sgg += w * g[c] * g[c];
+            p.Sy += w * s.rgb[c];
+            p.Sgy += w * g[c] * s.rgb[c];
+        }
+    }
+    double d[3], sc[3];
+    for (int c = 0; c < 3; ++c) {
+        const double lambda = in.options.specularPrior * sums[c].W * model.lobeEnergy[c];
+        solvePair(sums[c], lambda, prior[3 * v + c], d[c], sc[c], nullptr);
+        model.diffuse[3 * v + c] = static_cast<float>(d[c]);
+        model.specular[3 * v + c] = static_cast<float>(sc[c]);
+    }
+    for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
+        if (!in.usable(i)) continue;
+        const DirectionalSample& s = set.samples[i];
+        double g[3];
+        lobeAtSample(table, model, nv, s, g);
+        double e2 = 0.0;
+        for (int c = 0; c < 3; ++c) {
+            const double e = s.rgb[c] - d[c] - sc[c] * g[c];
+            e2 += e * e;
+        }
+        residualNorm[i] = static_cast<float>(std::sqrt(e2));
+    }
+}
+
+// Per-vertex step, Jacobi in the neighbour prior: every prior is taken from the previous iteration's
+// s before any vertex is updated.
+void fitVertexPairs(const SharedFitInput& in, const LobeTable& table, const std::vector<std::uint8_t>& seen,
+                    std::vector<double>& prior, SharedModel& model, std::vector<float>& residualNorm) {
+    const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(in.set.vertexCount());
+#pragma omp parallel for schedule(dynamic, 256)
+    for (std::ptrdiff_t iv = 0; iv < count; ++iv) {
+        const std::size_t v = static_cast<std::size_t>(iv);
+        if (seen[v]) neighbourPrior(in.off, in.adj, model.specular, seen, v, prior.data() + 3 * v);
+    }
+#pragma omp parallel for schedule(dynamic, 256)
+    for (std::ptrdiff_t iv = 0; iv < count; ++iv) {
+        const std::size_t v = static_cast<std::size_t>(iv);
+        if (seen[v]) fitVertexPair(in, table, prior, v, model, residualNorm);
+    }
+}
+
+constexpr int kKnots = SharedModel::kCurveKnots;
+using CurveMatrix = Eigen::Matrix<double, kKnots, kKnots>;
+using CurveVector = Eigen::Matrix<double, kKnots, 1>;
+
+// The factor curve's normal equations of one chunk of the G step's vertices.
+void accumulateCurveChunk(const SharedFitInput& in, const LobeSubset& subset, const LobeTable& table,
+                          const SharedModel& model, std::ptrdiff_t chunk, CurveMatrix& A, CurveVector& b) {
+    constexpr int K = kKnots;
+    A = CurveMatrix::Zero();
+    b = CurveVector::Zero();
+    forEachWeightedLobeSample(in, subset, model, chunk,
+                              [&](std::size_t v, const float* nv, const DirectionalSample& s, double w) {
+        double r[3], g[3];
+        reflected(nv, s.direction, r, model);
+        const double nw = std::min(std::max(double(nv[0]) * s.direction[0] + double(nv[1]) * s.direction[1] +
+                                                double(nv[2]) * s.direction[2], 0.0), 1.0);
+        table.lookup(r[0], r[1], r[2], g);
+        CurveVector phi;
+        for (int k = 0; k < K; ++k) phi[k] = hat(k, nw);
+        for (int c = 0; c < 3; ++c) {
+            const double a = model.specular[3 * v + c] * g[c];
+            A.noalias() += (w * a * a) * phi * phi.transpose();
+            b.noalias() += (w * a * (s.rgb[c] - model.diffuse[3 * v + c])) * phi;
+        }
+    });
+}
+
+// Factor curve step: h(n.w) = sum_k beta_k hat_k(n.w), shared by every vertex and channel, least
+// squares with d, s, G fixed over the G step's vertices, pulled toward the cosine (weight 1e-3 of
+// the trace), clamped >= 0, normalised to h(1) = 1 (G takes the scale).
+void fitFactorCurve(const SharedFitInput& in, const LobeSubset& subset, const LobeTable& table, SharedModel& model) {
+    constexpr int K = kKnots;
+    std::vector<CurveMatrix> partA(kChunks);
+    std::vector<CurveVector> partB(kChunks);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (std::ptrdiff_t chunk = 0; chunk < kChunks; ++chunk)
+        accumulateCurveChunk(in, subset, table, model, chunk, partA[chunk], partB[chunk]);
+    CurveMatrix A = CurveMatrix::Zero();
+    CurveVector b = CurveVector::Zero(), prior;
+    for (std::ptrdiff_t chunk = 0; chunk < kChunks; ++chunk) {
+        A += partA[chunk];
+        b += partB[chunk];
+    }
+    const double mu = 1e-3 * std::max(A.trace() / K, 1e-300);
+    for (int k = 0; k < K; ++k) prior[k] = double(k) / (K - 1);
+    A.diagonal().array() += mu;
+    b += mu * prior;
+    CurveVector beta = A.ldlt().solve(b);
+    if (!beta.allFinite()) return;
+    for (int k = 0; k < K; ++k) beta[k] = std::max(beta[k], 0.0);
+    const double top = beta[K - 1];
+    if (!(top > 1e-6)) return;
+    for (int k = 0; k < K; ++k) model.curve[k] = beta[k] / top;
+    for (double& x : model.lobe) x *= top;
+    for (double& q : model.lobeEnergy) q *= top * top;
+}
+
+// Huber weights for the next iteration, the scale from the median residual norm of at most
+// lobeSampleBudget usable samples taken evenly.
+void updateRobustWeights(const SharedFitInput& in, std::size_t usedSamples, const std::vector<float>& residualNorm,
+                         SharedModel& model) {
+    const std::size_t total = in.set.samples.size();
+    std::vector<float> pool;
+    pool.reserve(std::min<std::size_t>(usedSamples, in.options.lobeSampleBudget) + 16);
+    const std::size_t poolStride = std::max<std::size_t>(1, usedSamples / in.options.lobeSampleBudget);
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < total; ++i)
+        if (in.usable(i) && (k++ % poolStride) == 0) pool.push_back(residualNorm[i]);
+    if (pool.empty()) return;
+    std::nth_element(pool.begin(), pool.begin() + pool.size() / 2, pool.end());
+    const double sigma = kHuberScale * pool[pool.size() / 2];
+    const double limit = in.options.huberThreshold * sigma;
+    for (std::size_t i = 0; i < total; ++i) {
+        const double e = residualNorm[i];
+        model.robustWeight[i] = (limit > 0.0 && e > limit) ? static_cast<float>(limit / e) : 1.0f;
+    }
+}
+
+}  // namespace
+
+SharedModel fitSharedModel(const std::vector<float>& normals, const std::vector<std::size_t>& off,
+                           const std::vector<std::uint32_t>& adj, const SampleSet& set, const std::uint8_t* use,
+                           const SharedFitOptions& options, const ProgressCallback& progress) {
+    validateSharedFitInput(normals, off, set, options);
+    const int degree = options.lobeDegree;
+    const SharedFitInput in{normals, off, adj, set, use, options, degree, (degree + 1) * (degree + 1)};
+    const std::size_t n = set.vertexCount();
+    SharedModel model;
+    std::vector<std::uint8_t> seen;
+    const std::size_t usedSamples = initialModel(in, model, seen);
     if (usedSamples == 0) return model;
-    // Vertices of the G step: every stride-th (of all vertices, so the subset is spread over the mesh).
-    const std::size_t stride = std::max<std::size_t>(1, (usedSamples + options.lobeSampleBudget - 1) / options.lobeSampleBudget);
-    const std::ptrdiff_t lobeVertices = static_cast<std::ptrdiff_t>((n + stride - 1) / stride);
-    std::vector<float> residualNorm(total, 0.0f);
+    LobeSubset subset;
+    subset.stride = std::max<std::size_t>(1, (usedSamples + options.lobeSampleBudget - 1) / options.lobeSampleBudget);
+    subset.count = static_cast<std::ptrdiff_t>((n + subset.stride - 1) / subset.stride);
+    std::vector<float> residualNorm(set.samples.size(), 0.0f);
     const int robustStart = std::max(1, options.iterations - options.robustIterations);
-    const double lPenalty = options.lobeRidge;
     std::vector<double> prior(3 * n, 1.0);
 
     for (int it = 0; it < options.iterations; ++it) {
-        if (progress && !progress(double(it) / options.iterations, "fitting the shared reflected lobe"))
-            throw OperationCancelled();
-        // ---- G step ----
-        Eigen::MatrixXd Atotal[3];
-        Eigen::VectorXd btotal[3];
-        std::vector<std::array<Eigen::MatrixXd, 3>> partA(16);
-        std::vector<std::array<Eigen::VectorXd, 3>> partB(16);
-        for (int c = 0; c < 3; ++c) {
-            Atotal[c] = Eigen::MatrixXd::Zero(M, M);
-            btotal[c] = Eigen::VectorXd::Zero(M);
-        }
-        // A fixed number of chunks, each with its own sums, merged in chunk order: the result does
-        // not depend on the thread count or the schedule.
-        constexpr std::ptrdiff_t kChunks = 16;
-#pragma omp parallel for schedule(dynamic, 1)
-        for (std::ptrdiff_t chunk = 0; chunk < kChunks; ++chunk)
-        {
-            constexpr int kBlock = 64;
-            Eigen::MatrixXd A[3], D[3];
-            Eigen::VectorXd b[3];
-            for (int c = 0; c < 3; ++c) {
-                A[c] = Eigen::MatrixXd::Zero(M, M);
-                b[c] = Eigen::VectorXd::Zero(M);
-                D[c].resize(M, kBlock);
-            }
-            int filled = 0;
-            std::vector<double> Y(M);
-            auto flush = [&]() {
-                if (filled == 0) return;
-                for (int c = 0; c < 3; ++c) A[c].selfadjointView<Eigen::Lower>().rankUpdate(D[c].leftCols(filled));
-                filled = 0;
-            };
-            const std::ptrdiff_t pBegin = lobeVertices * chunk / kChunks, pEnd = lobeVertices * (chunk + 1) / kChunks;
-            for (std::ptrdiff_t p = pBegin; p < pEnd; ++p) {
-                const std::size_t v = static_cast<std::size_t>(p) * stride;
-                const float* nv = normals.data() + 3 * v;
-                for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
-                    if (!usable(i)) continue;
-                    const DirectionalSample& s = set.samples[i];
-                    const double w = double(s.weight) * model.robustWeight[i];
-                    if (!(w > 0.0)) continue;
-                    double r[3];
-                    const double cf = reflected(nv, s.direction, r, model);
-                    evaluateSphericalHarmonics(degree, r[0], r[1], r[2], Y.data());
-                    const double sw = std::sqrt(w);
-                    for (int c = 0; c < 3; ++c) {
-                        const double sc = model.specular[3 * v + c] * cf;
-                        const double t = s.rgb[c] - model.diffuse[3 * v + c];
-                        double* col = D[c].col(filled).data();
-                        for (int k = 0; k < M; ++k) col[k] = sw * sc * Y[k];
-                        const double f = w * sc * t;
-                        for (int k = 0; k < M; ++k) b[c][k] += f * Y[k];
-                    }
-                    if (++filled == kBlock) flush();
-                }
-            }
-            flush();
-            for (int c = 0; c < 3; ++c) {
-                partA[chunk][c].swap(A[c]);
-                partB[chunk][c].swap(b[c]);
-            }
-        }
-        for (std::ptrdiff_t chunk = 0; chunk < kChunks; ++chunk)
-            for (int c = 0; c < 3; ++c) {
-                Atotal[c].triangularView<Eigen::Lower>() += partA[chunk][c];
-                btotal[c] += partB[chunk][c];
-            }
-        for (int c = 0; c < 3; ++c) {
-            Eigen::MatrixXd& Ac = Atotal[c];
-            const double scale = std::max(Ac.trace() / M, 1e-300);
-            for (int l = 0, k = 0; l <= degree; ++l)
-                for (int m = -l; m <= l; ++m, ++k) Ac(k, k) += (lPenalty * (1.0 + l * (l + 1.0)) + 1e-9) * scale;
-            Eigen::LDLT<Eigen::MatrixXd> ldlt(Ac.selfadjointView<Eigen::Lower>());
-            Eigen::VectorXd x = ldlt.solve(btotal[c]);
-            if (ldlt.info() != Eigen::Success || !x.allFinite()) x.setZero();
-            for (int k = 0; k < M; ++k) model.lobe[c * M + k] = x[k];
-        }
-        // q_c: mean of G_c^2 over the G step's samples.
-        {
-            double q[3] = {0, 0, 0}, W = 0;
-            std::vector<std::array<double, 4>> partQ(kChunks);
-#pragma omp parallel for schedule(dynamic, 1)
-            for (std::ptrdiff_t chunk = 0; chunk < kChunks; ++chunk) {
-                std::vector<double> Y(M);
-                double ql[3] = {0, 0, 0}, Wl = 0;
-                const std::ptrdiff_t pBegin = lobeVertices * chunk / kChunks, pEnd = lobeVertices * (chunk + 1) / kChunks;
-                for (std::ptrdiff_t p = pBegin; p < pEnd; ++p) {
-                    const std::size_t v = static_cast<std::size_t>(p) * stride;
-                    const float* nv = normals.data() + 3 * v;
-                    for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
-                        if (!usable(i)) continue;
-                        const DirectionalSample& s = set.samples[i];
-                        double r[3];
-                        const double cf = reflected(nv, s.direction, r, model);
-                        evaluateSphericalHarmonics(degree, r[0], r[1], r[2], Y.data());
-                        for (int c = 0; c < 3; ++c) {
-                            double g = 0;
-                            for (int k = 0; k < M; ++k) g += model.lobe[c * M + k] * Y[k];
-                            g *= cf;
-                            ql[c] += s.weight * g * g;
-                        }
-                        Wl += s.weight;
-                    }
-                }
-                partQ[chunk] = {ql[0], ql[1], ql[2], Wl};
-            }
-            for (const auto& p : partQ) {
-                for (int c = 0; c < 3; ++c) q[c] += p[c];
-                W += p[3];
-            }
-            for (int c = 0; c < 3; ++c) model.lobeEnergy[c] = W > 0 ? q[c] / W : 0.0;
-        }
-        // ---- per-vertex step (Jacobi in the neighbour prior) ----
+        if (progress && !progress(double(it) / options.iterations, kStageLobe)) throw OperationCancelled();
+        fitLobe(in, subset, model);
+        measureLobeEnergy(in, subset, model);
         const LobeTable table(model, options.octahedralResolution);
-        const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(n);
-#pragma omp parallel for schedule(dynamic, 256)
-        for (std::ptrdiff_t iv = 0; iv < count; ++iv) {
-            const std::size_t v = static_cast<std::size_t>(iv);
-            if (seen[v]) neighbourPrior(off, adj, model.specular, seen, v, prior.data() + 3 * v);
-        }
-#pragma omp parallel for schedule(dynamic, 256)
-        for (std::ptrdiff_t iv = 0; iv < count; ++iv) {
-            const std::size_t v = static_cast<std::size_t>(iv);
-            if (!seen[v]) continue;
-            const float* nv = normals.data() + 3 * v;
-            PairSums sums[3];
-            for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
-                if (!usable(i)) continue;
-                const DirectionalSample& s = set.samples[i];
-                const double w = double(s.weight) * model.robustWeight[i];
-                double r[3], g[3];
-                const double cf = reflected(nv, s.direction, r, model);
-                table.lookup(r[0], r[1], r[2], g);
-                for (int c = 0; c < 3; ++c) g[c] *= cf;
-                for (int c = 0; c < 3; ++c) {
-                    PairSums& p = sums[c];
-                    p.W += w;
-                    p.Sg += w * g[c];
-                    p.Sgg += w * g[c] * g[c];
-                    p.Sy += w * s.rgb[c];
-                    p.Sgy += w * g[c] * s.rgb[c];
-                }
-            }
-            double d[3], sc[3];
-            for (int c = 0; c < 3; ++c) {
-                const double lambda = options.specularPrior * sums[c].W * model.lobeEnergy[c];
-                solvePair(sums[c], lambda, prior[3 * v + c], d[c], sc[c], nullptr);
-                model.diffuse[3 * v + c] = static_cast<float>(d[c]);
-                model.specular[3 * v + c] = static_cast<float>(sc[c]);
-            }
-            for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
-                if (!usable(i)) continue;
-                const DirectionalSample& s = set.samples[i];
-                double r[3], g[3];
-                const double cf = reflected(nv, s.direction, r, model);
-                table.lookup(r[0], r[1], r[2], g);
-                for (int c = 0; c < 3; ++c) g[c] *= cf;
-                double e2 = 0.0;
-                for (int c = 0; c < 3; ++c) {
-                    const double e = s.rgb[c] - d[c] - sc[c] * g[c];
-                    e2 += e * e;
-                }
-                residualNorm[i] = static_cast<float>(std::sqrt(e2));
-            }
-        }
-        // ---- factor curve step: h(n.w) = sum_k beta_k hat_k(n.w), shared by every vertex and channel,
-        // least squares with d, s, G fixed over the G step's vertices, pulled toward the cosine
-        // (weight 1e-3 of the trace), clamped >= 0, normalised to h(1) = 1 (G takes the scale) ----
-        if (options.cosineFactor && options.fitFactorCurve) {
-            constexpr int K = SharedModel::kCurveKnots;
-            constexpr std::ptrdiff_t kChunks = 16;
-            std::vector<Eigen::Matrix<double, K, K>> partA(kChunks);
-            std::vector<Eigen::Matrix<double, K, 1>> partB(kChunks);
-#pragma omp parallel for schedule(dynamic, 1)
-            for (std::ptrdiff_t chunk = 0; chunk < kChunks; ++chunk) {
-                Eigen::Matrix<double, K, K> A = Eigen::Matrix<double, K, K>::Zero();
-                Eigen::Matrix<double, K, 1> b = Eigen::Matrix<double, K, 1>::Zero();
-                const std::ptrdiff_t pBegin = lobeVertices * chunk / kChunks, pEnd = lobeVertices * (chunk + 1) / kChunks;
-                for (std::ptrdiff_t p = pBegin; p < pEnd; ++p) {
-                    const std::size_t v = static_cast<std::size_t>(p) * stride;
-                    const float* nv = normals.data() + 3 * v;
-                    for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
-                        if (!usable(i)) continue;
-                        const DirectionalSample& s = set.samples[i];
-                        const double w = double(s.weight) * model.robustWeight[i];
-                        if (!(w > 0.0)) continue;
-                        double r[3], g[3];
-                        reflected(nv, s.direction, r, model);
-                        const double nw = std::min(std::max(double(nv[0]) * s.direction[0] + double(nv[1]) * s.direction[1] +
-                                                                double(nv[2]) * s.direction[2], 0.0), 1.0);
-                        table.lookup(r[0], r[1], r[2], g);
-                        Eigen::Matrix<double, K, 1> phi;
-                        for (int k = 0; k < K; ++k) phi[k] = hat(k, nw);
-                        for (int c = 0; c < 3; ++c) {
-                            const double a = model.specular[3 * v + c] * g[c];
-                            A.noalias() += (w * a * a) * phi * phi.transpose();
-                            b.noalias() += (w * a * (s.rgb[c] - model.diffuse[3 * v + c])) * phi;
-                        }
-                    }
-                }
-                partA[chunk] = A;
-                partB[chunk] = b;
-            }
-            Eigen::Matrix<double, K, K> A = Eigen::Matrix<double, K, K>::Zero();
-            Eigen::Matrix<double, K, 1> b = Eigen::Matrix<double, K, 1>::Zero(), prior;
-            for (std::ptrdiff_t chunk = 0; chunk < kChunks; ++chunk) {
-                A += partA[chunk];
-                b += partB[chunk];
-            }
-            const double mu = 1e-3 * std::max(A.trace() / K, 1e-300);
-            for (int k = 0; k < K; ++k) prior[k] = double(k) / (K - 1);
-            A.diagonal().array() += mu;
-            b += mu * prior;
-            Eigen::Matrix<double, K, 1> beta = A.ldlt().solve(b);
-            if (beta.allFinite()) {
-                for (int k = 0; k < K; ++k) beta[k] = std::max(beta[k], 0.0);
-                const double top = beta[K - 1];
-                if (top > 1e-6) {
-                    for (int k = 0; k < K; ++k) model.curve[k] = beta[k] / top;
-                    for (double& x : model.lobe) x *= top;
-                    for (double& q : model.lobeEnergy) q *= top * top;
-                }
-            }
-        }
-        // ---- robust weights for the next iteration ----
-        if (it + 1 >= robustStart && it + 1 < options.iterations) {
-            std::vector<float> pool;
-            pool.reserve(std::min<std::size_t>(usedSamples, options.lobeSampleBudget) + 16);
-            const std::size_t poolStride = std::max<std::size_t>(1, usedSamples / options.lobeSampleBudget);
-            std::size_t k = 0;
-            for (std::size_t i = 0; i < total; ++i)
-                if (usable(i) && (k++ % poolStride) == 0) pool.push_back(residualNorm[i]);
-            if (!pool.empty()) {
-                std::nth_element(pool.begin(), pool.begin() + pool.size() / 2, pool.end());
-                const double sigma = kHuberScale * pool[pool.size() / 2];
-                const double limit = options.huberThreshold * sigma;
-                for (std::size_t i = 0; i < total; ++i) {
-                    const double e = residualNorm[i];
-                    model.robustWeight[i] = (limit > 0.0 && e > limit) ? static_cast<float>(limit / e) : 1.0f;
-                }
-            }
-        }
+        fitVertexPairs(in, table, seen, prior, model, residualNorm);
+        if (options.cosineFactor && options.fitFactorCurve) fitFactorCurve(in, subset, table, model);
+        if (it + 1 >= robustStart && it + 1 < options.iterations)
+            updateRobustWeights(in, usedSamples, residualNorm, model);
     }
-    if (progress && !progress(1.0, "fitting the shared reflected lobe")) throw OperationCancelled();
+    if (progress && !progress(1.0, kStageLobe)) throw OperationCancelled();
     return model;
 }
+
+namespace {
+
+constexpr const char* kStageConversion = "writing the shared fit into the basis";
+
+// The least-squares projection onto the basis of a function sampled at fixed local directions, and
+// what the storage needs of the basis.
+struct BasisProjector {
+    std::vector<double> dirs;    // 3 x Nd: local frame
+    int Nd = 0, K = 0;
+    Eigen::MatrixXd P;           // K x Nd: (B^T B + eps I)^-1 B^T
+    std::vector<double> sign;    // K: the local reflection (x, y, z) -> (-x, -y, z) of each function
+    double constantValue = 1.0;  // value of the constant basis function
+};
+
+BasisProjector buildBasisProjector(const BasisSpec& basis) {
+    BasisProjector proj;
+    const int K = proj.K = basis.coefficientCount();
+    proj.dirs = fibonacciHemisphere(112, 0.5);
+    constexpr int kRing = 24;
+    for (int i = 0; i < kRing; ++i) {
+        const double a = 2.0 * M_PI * (i + 0.5) / kRing;
+        proj.dirs.insert(proj.dirs.end(), {std::cos(a), std::sin(a), 0.0});
+    }
+    const std::vector<double>& dirs = proj.dirs;
+    const int Nd = proj.Nd = static_cast<int>(dirs.size() / 3);
+    Eigen::MatrixXd B(Nd, K);
+    std::vector<double> tmp(K);
+    for (int i = 0; i < Nd; ++i) {
+        evaluateBasis(basis, dirs[3 * i], dirs[3 * i + 1], dirs[3 * i + 2], tmp.data());
+        for (int k = 0; k < K; ++k) B(i, k) = tmp[k];
+    }
+    Eigen::MatrixXd BtB = B.transpose() * B;
+    BtB.diagonal().array() += 1e-6 * BtB.trace() / K;
+    proj.P = BtB.ldlt().solve(B.transpose());
+    std::vector<double> at(K), atReflected(K);
+    const double x = 0.3141, y = 0.4718, z = std::sqrt(1.0 - x * x - y * y);
+    evaluateBasis(basis, x, y, z, at.data());
+    evaluateBasis(basis, -x, -y, z, atReflected.data());
+    proj.sign.resize(K);
+    for (int k = 0; k < K; ++k) proj.sign[k] = atReflected[k] * at[k] >= 0.0 ? 1.0 : -1.0;
+    evaluateBasis(basis, 0.0, 0.0, 1.0, tmp.data());
+    proj.constantValue = tmp[0];
+    return proj;
+}
+
+// What the per-vertex conversion reads, and where it writes.
+struct ConversionInput {
+    const SharedModel& model;
+    const SampleSet& set;
+    const std::uint8_t* use;
+    const std::vector<std::size_t>& off;
+    const std::vector<std::uint32_t>& adj;
+    const RobustFitOptions& fit;
+    const SharedFitOptions& options;
+    const BasisProjector& proj;
+    const LobeTable& table;
+    const std::vector<std::uint8_t>& seen;
+    bool usable(std::size_t i) const { return !use || use[i]; }
+};
+struct ConversionOutputs {
+    RadianceField& field;
+    std::vector<float>& meanColor;
+    std::vector<float>& residual;
+    std::vector<std::uint8_t>& status;
+    std::vector<std::uint8_t>* keptShared;
+};
+
+// Per-thread buffers, allocated once.
+struct ConversionScratch {
+    Eigen::MatrixXd V, C;  // the lobe at the projection directions; its coefficients (K x 3)
+    std::vector<double> basisAt, g, a, raw, y, out, rotOut;
+    ConversionScratch(int Nd, int K) : V(Nd, 3), C(K, 3), basisAt(K), out(3 * K), rotOut(K) {}
+};
+
+// The vertex's samples against the projected lobe, and their (Huber-weighted) mean colour.
+struct VertexSampleSums {
+    PairSums sums[3];
+    double meanAcc[3] = {0, 0, 0}, W = 0, meanW = 0;
+    int m = 0;
+    std::size_t downweighted = 0;
+};
+
+// C: the lobe times the factor, seen from the vertex, projected onto the basis (local frame).
+void projectLobe(const ConversionInput& in, const Frame& frame, ConversionScratch& scratch) {
+    const std::vector<double>& dirs = in.proj.dirs;
+    const double nv[3] = {frame.n.x(), frame.n.y(), frame.n.z()};
+    for (int i = 0; i < in.proj.Nd; ++i) {
+        const Eigen::Vector3d w = frame.toWorld(Eigen::Vector3d(dirs[3 * i], dirs[3 * i + 1], dirs[3 * i + 2]));
+        const double d2 = 2.0 * (nv[0] * w.x() + nv[1] * w.y() + nv[2] * w.z());
+        double gv[3];
+        in.table.lookup(d2 * nv[0] - w.x(), d2 * nv[1] - w.y(), d2 * nv[2] - w.z(), gv);
+        const double cf = in.model.factor(dirs[3 * i + 2]);  // local z = n.w
+        for (int c = 0; c < 3; ++c) scratch.V(i, c) = cf * gv[c];
+    }
+    scratch.C.noalias() = in.proj.P * scratch.V;
+}
+
+// The projected lobe at the vertex's samples (g), their values (y) and weights (a, raw), and the
+// sums of the (d, s) regression.
+VertexSampleSums sumVertexSamples(const ConversionInput& in, const Frame& frame, std::size_t v,
+                                  ConversionScratch& scratch) {
+    const int K = in.proj.K;
+    const SampleSet& set = in.set;
+    VertexSampleSums vs;
+    scratch.g.clear();
+    scratch.a.clear();
+    scratch.raw.clear();
+    scratch.y.clear();
+    for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
+        if (!in.usable(i)) continue;
+        const DirectionalSample& s = set.samples[i];
+        const double w = double(s.weight) * in.model.robustWeight[i];
+        if (in.model.robustWeight[i] < 1.0f) ++vs.downweighted;
+        const Eigen::Vector3d l = frame.toLocal(Eigen::Vector3d(s.direction[0], s.direction[1], s.direction[2]));
+        double lx = l.x(), ly = l.y(), lz = l.z();
+        borderExtendLocal(lx, ly, lz);
+        evaluateBasis(in.fit.basis, lx, ly, lz, scratch.basisAt.data());
+        for (int c = 0; c < 3; ++c) {
+            double gc = 0.0;
+            for (int k = 0; k < K; ++k) gc += scratch.C(k, c) * scratch.basisAt[k];
+            scratch.g.push_back(gc);
+            scratch.y.push_back(s.rgb[c]);
+            PairSums& p = vs.sums[c];
+            p.W += w;
+            p.Sg += w * gc;
+            p.Sgg += w * gc * gc;
+            p.Sy += w * s.rgb[c];
+            p.Sgy += w * gc * s.rgb[c];
+            vs.meanAcc[c] += w * s.rgb[c];  // the Huber-weighted mean, as robust_radiance_fit.h
+        }
+        scratch.a.push_back(w);
+        scratch.raw.push_back(w);
+        vs.W += w;
+        vs.meanW += w;
+    }
+    vs.m = static_cast<int>(scratch.a.size());
+    return vs;
+}
+
+// Every usable sample has zero weight: the plain mean, and weights 1.
+void fallBackToPlainMean(const ConversionInput& in, std::size_t v, VertexSampleSums& vs, ConversionScratch& scratch) {
+    vs.W = 0;
+    vs.meanW = 0;
+    for (int c = 0; c < 3; ++c) vs.meanAcc[c] = 0;
+    for (std::size_t i = in.set.offsets[v]; i < in.set.offsets[v + 1]; ++i) {
+        if (!in.usable(i)) continue;
+        for (int c = 0; c < 3; ++c) vs.meanAcc[c] += in.set.samples[i].rgb[c];
+        vs.W += 1.0;
+        vs.meanW += 1.0;
+    }
+    for (int j = 0; j < vs.m; ++j) scratch.a[j] = scratch.raw[j] = 1.0;
+}
+
+// The vertex's (d, s) per channel and the inverse of each 2 x 2 system (for the leave-one-out errors).
+struct VertexPair {
+    double d[3], sc[3], inv[3][3];
+};
+
+// Whether d + s g predicts the vertex's own samples left out one at a time better than the mean
+// colour, in first-order sRGB levels.
+bool sharedBeatsConstant(const VertexPair& pair, const double mean[3], const VertexSampleSums& vs,
+                         const ConversionScratch& scratch) {
+    double looShared = 0.0, looConstant = 0.0;
+    for (int j = 0; j < vs.m; ++j)
+        for (int c = 0; c < 3; ++c) {
+            const double gj = scratch.g[3 * j + c], yj = scratch.y[3 * j + c];
+            const double scale = scratch.a[j] * srgbSlope2(yj);
+            const double hs = scratch.a[j] * (pair.inv[c][0] + 2.0 * gj * pair.inv[c][1] + gj * gj * pair.inv[c][2]);
+            const double es = (yj - pair.d[c] - pair.sc[c] * gj) / std::max(1.0 - hs, 1e-3);
+            const double hc = scratch.raw[j] / vs.meanW;
+            const double ec = (yj - mean[c]) / std::max(1.0 - hc, 1e-3);
+            looShared += scale * es * es;
+            looConstant += scale * ec * ec;
+        }
+    return looShared < looConstant;
+}
+
+// Weighted RMS residual of the stored function (shared or constant) at the vertex's samples.
+double storedResidual(bool keepShared, const VertexPair& pair, const double mean[3], const VertexSampleSums& vs,
+                      const ConversionScratch& scratch) {
+    double r2 = 0.0;
+    for (int j = 0; j < vs.m; ++j)
+        for (int c = 0; c < 3; ++c) {
+            const double f = keepShared ? pair.d[c] + pair.sc[c] * scratch.g[3 * j + c] : mean[c];
+            const double e = f - scratch.y[3 * j + c];
+            r2 += scratch.a[j] * e * e;
+        }
+    return std::sqrt(r2 / (3.0 * vs.W));
+}
+
+// Storage: PB local, SH rotated to the global frame; reflected: the local sign flips.
+void storeCoefficients(const ConversionInput& in, const Frame& frame, ConversionScratch& scratch, float* dst) {
+    const BasisSpec basis = in.fit.basis;
+    const int K = in.proj.K;
+    std::vector<double>& out = scratch.out;
+    if (in.fit.storeReflected)
+        for (int c = 0; c < 3; ++c)
+            for (int k = 0; k < K; ++k) out[c * K + k] *= in.proj.sign[k];
+    if (basis.usesLocalFrame()) {
+        for (int k = 0; k < 3 * K; ++k) dst[k] = static_cast<float>(out[k]);
+    } else {
+        const ShRotation rotation(basis.degree, frame.rotation().transpose());
+        for (int c = 0; c < 3; ++c) {
+            rotation.apply(out.data() + c * K, scratch.rotOut.data());
+            for (int k = 0; k < K; ++k) dst[c * K + k] = static_cast<float>(scratch.rotOut[k]);
+        }
+    }
+}
+
+enum class Conversion { Shared, Constant, TooFew };
+
+// One seen vertex: d + s * (projected lobe) when it beats the constant on the vertex's own samples,
+// else the constant mean colour.
+Conversion convertVertex(const ConversionInput& in, const ConversionOutputs& outputs, std::size_t v,
+                         ConversionScratch& scratch, std::size_t& downweighted) {
+    const int K = in.proj.K;
+    const Frame frame = frameFromStored(outputs.field.frame(v));
+    projectLobe(in, frame, scratch);
+    VertexSampleSums vs = sumVertexSamples(in, frame, v, scratch);
+    downweighted += vs.downweighted;
+    if (!(vs.W > 0.0) || !(vs.meanW > 0.0)) fallBackToPlainMean(in, v, vs, scratch);
+    double mean[3];
+    for (int c = 0; c < 3; ++c) mean[c] = vs.meanAcc[c] / vs.meanW;
+    double priorS[3];
+    neighbourPrior(in.off, in.adj, in.model.specular, in.seen, v, priorS);
+    VertexPair pair;
+    for (int c = 0; c < 3; ++c) {
+        const double lambda = in.options.specularPrior * vs.sums[c].W * in.model.lobeEnergy[c];
+        solvePair(vs.sums[c], lambda, priorS[c], pair.d[c], pair.sc[c], pair.inv[c]);
+    }
+    const bool keepShared = vs.m >= in.fit.minSamples && vs.m >= 2 && sharedBeatsConstant(pair, mean, vs, scratch);
+    std::vector<double>& out = scratch.out;
+    std::fill(out.begin(), out.end(), 0.0);
+    if (keepShared) {
+        for (int c = 0; c < 3; ++c) {
+            for (int k = 0; k < K; ++k) out[c * K + k] = pair.sc[c] * scratch.C(k, c);
+            out[c * K] += pair.d[c] / in.proj.constantValue;
+        }
+        if (outputs.keptShared) (*outputs.keptShared)[v] = 1;
+    } else {
+        for (int c = 0; c < 3; ++c) out[c * K] = mean[c] / in.proj.constantValue;
+    }
+    outputs.residual[v] = static_cast<float>(storedResidual(keepShared, pair, mean, vs, scratch));
+    for (int c = 0; c < 3; ++c) outputs.meanColor[3 * v + c] = static_cast<float>(mean[c]);
+    outputs.status[v] = static_cast<std::uint8_t>(vs.m < in.fit.poorSamplingFactor * K || vs.m < in.fit.minSamples
+                                                      ? FitStatus::PoorlySampled
+                                                      : FitStatus::Fitted);
+    storeCoefficients(in, frame, scratch, outputs.field.vertexCoefficients(v));
+    if (keepShared) return Conversion::Shared;
+    return vs.m < in.fit.minSamples ? Conversion::TooFew : Conversion::Constant;
+}
+
+}  // namespace
 
 SharedConversionStats writeSharedRadiance(const SharedModel& model, const SampleSet& set, const std::uint8_t* use,
                                           const std::vector<std::size_t>& off, const std::vector<std::uint32_t>& adj,
@@ -512,185 +846,36 @@ SharedConversionStats writeSharedRadiance(const SharedModel& model, const Sample
     if (field.vertexCount() != n || field.basis != fit.basis || meanColor.size() != 3 * n || residual.size() != n ||
         status.size() != n || model.diffuse.size() != 3 * n || model.robustWeight.size() != set.samples.size())
         throw std::invalid_argument("writeSharedRadiance: inconsistent sizes");
-    const BasisSpec basis = fit.basis;
-    const int K = basis.coefficientCount();
-    auto usable = [&](std::size_t i) { return !use || use[i]; };
-
-    // Projection directions (local frame) and the least-squares projector P = (B^T B + eps I)^-1 B^T.
-    std::vector<double> dirs = fibonacciHemisphere(112, 0.5);
-    constexpr int kRing = 24;
-    for (int i = 0; i < kRing; ++i) {
-        const double a = 2.0 * M_PI * (i + 0.5) / kRing;
-        dirs.insert(dirs.end(), {std::cos(a), std::sin(a), 0.0});
-    }
-    const int Nd = static_cast<int>(dirs.size() / 3);
-    Eigen::MatrixXd B(Nd, K);
-    std::vector<double> tmp(K);
-    for (int i = 0; i < Nd; ++i) {
-        evaluateBasis(basis, dirs[3 * i], dirs[3 * i + 1], dirs[3 * i + 2], tmp.data());
-        for (int k = 0; k < K; ++k) B(i, k) = tmp[k];
-    }
-    Eigen::MatrixXd BtB = B.transpose() * B;
-    BtB.diagonal().array() += 1e-6 * BtB.trace() / K;
-    const Eigen::MatrixXd P = BtB.ldlt().solve(B.transpose());  // K x Nd
-    // Value of the constant basis function and the local reflection signs (x, y, z) -> (-x, -y, z).
-    std::vector<double> sign(K), at(K), atReflected(K);
-    {
-        const double x = 0.3141, y = 0.4718, z = std::sqrt(1.0 - x * x - y * y);
-        evaluateBasis(basis, x, y, z, at.data());
-        evaluateBasis(basis, -x, -y, z, atReflected.data());
-        for (int k = 0; k < K; ++k) sign[k] = atReflected[k] * at[k] >= 0.0 ? 1.0 : -1.0;
-        evaluateBasis(basis, 0.0, 0.0, 1.0, tmp.data());
-    }
-    const double constantValue = tmp[0];
+    const BasisProjector proj = buildBasisProjector(fit.basis);
     const LobeTable table(model, options.octahedralResolution);
     std::vector<std::uint8_t> seen(n, 0);
     for (std::size_t v = 0; v < n; ++v)
-        for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1] && !seen[v]; ++i) seen[v] = usable(i);
+        for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1] && !seen[v]; ++i) seen[v] = !use || use[i];
+    const ConversionInput in{model, set, use, off, adj, fit, options, proj, table, seen};
+    const ConversionOutputs outputs{field, meanColor, residual, status, keptShared};
 
     if (keptShared) keptShared->assign(n, 0);
     SharedConversionStats stats;
     std::size_t sharedCount = 0, constantCount = 0, tooFew = 0, down = 0;
-    std::atomic<bool> stop{false};
-    std::atomic<std::size_t> done{0};
+    LoopProgress loop(progress, kStageConversion, n);
     const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(n);
 #pragma omp parallel reduction(+ : sharedCount, constantCount, tooFew, down)
     {
-        Eigen::MatrixXd V(Nd, 3), C(K, 3);
-        std::vector<double> basisAt(K), g, a, raw, y, local, out(3 * K), rot(K), rotOut(K);
+        ConversionScratch scratch(proj.Nd, proj.K);
         const bool reporter = omp_get_thread_num() == 0;
 #pragma omp for schedule(dynamic, 256)
-        for (std::ptrdiff_t iv = 0; iv < count; ++iv) {
-            if (stop.load(std::memory_order_relaxed)) continue;
-            const std::size_t v = static_cast<std::size_t>(iv);
-            if (reporter && progress && (done.load(std::memory_order_relaxed) & 4095) == 0 &&
-                !progress(double(done.load()) / double(n), "writing the shared fit into the basis"))
-                stop.store(true);
-            done.fetch_add(1, std::memory_order_relaxed);
-            if (!seen[v]) continue;
-            const Frame frame = frameFromStored(field.frame(v));
-            const double nv[3] = {frame.n.x(), frame.n.y(), frame.n.z()};
-            for (int i = 0; i < Nd; ++i) {
-                const Eigen::Vector3d w = frame.toWorld(Eigen::Vector3d(dirs[3 * i], dirs[3 * i + 1], dirs[3 * i + 2]));
-                const double d2 = 2.0 * (nv[0] * w.x() + nv[1] * w.y() + nv[2] * w.z());
-                double gv[3];
-                table.lookup(d2 * nv[0] - w.x(), d2 * nv[1] - w.y(), d2 * nv[2] - w.z(), gv);
-                const double cf = model.factor(dirs[3 * i + 2]);  // local z = n.w
-                for (int c = 0; c < 3; ++c) V(i, c) = cf * gv[c];
-            }
-            C.noalias() = P * V;
-            // The projected lobe at the vertex's samples.
-            g.clear();
-            a.clear();
-            raw.clear();
-            y.clear();
-            PairSums sums[3];
-            double meanAcc[3] = {0, 0, 0}, W = 0, meanW = 0;
-            for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
-                if (!usable(i)) continue;
-                const DirectionalSample& s = set.samples[i];
-                const double w = double(s.weight) * model.robustWeight[i];
-                if (model.robustWeight[i] < 1.0f) ++down;
-                const Eigen::Vector3d l = frame.toLocal(Eigen::Vector3d(s.direction[0], s.direction[1], s.direction[2]));
-                double lx = l.x(), ly = l.y(), lz = l.z();
-                borderExtendLocal(lx, ly, lz);
-                evaluateBasis(basis, lx, ly, lz, basisAt.data());
-                for (int c = 0; c < 3; ++c) {
-                    double gc = 0.0;
-                    for (int k = 0; k < K; ++k) gc += C(k, c) * basisAt[k];
-                    g.push_back(gc);
-                    y.push_back(s.rgb[c]);
-                    PairSums& p = sums[c];
-                    p.W += w;
-                    p.Sg += w * gc;
-                    p.Sgg += w * gc * gc;
-                    p.Sy += w * s.rgb[c];
-                    p.Sgy += w * gc * s.rgb[c];
-                    meanAcc[c] += w * s.rgb[c];  // the Huber-weighted mean, as robust_radiance_fit.h
+        for (std::ptrdiff_t iv = 0; iv < count; ++iv)
+            loop.runItem(reporter, [&] {
+                const std::size_t v = static_cast<std::size_t>(iv);
+                if (!seen[v]) return;
+                switch (convertVertex(in, outputs, v, scratch, down)) {
+                    case Conversion::Shared: ++sharedCount; break;
+                    case Conversion::Constant: ++constantCount; break;
+                    case Conversion::TooFew: ++tooFew; break;
                 }
-                a.push_back(w);
-                raw.push_back(w);
-                W += w;
-                meanW += w;
-            }
-            const int m = static_cast<int>(a.size());
-            if (!(W > 0.0) || !(meanW > 0.0)) {  // every usable sample has zero weight: plain mean
-                W = 0;
-                meanW = 0;
-                for (int c = 0; c < 3; ++c) meanAcc[c] = 0;
-                for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
-                    if (!usable(i)) continue;
-                    for (int c = 0; c < 3; ++c) meanAcc[c] += set.samples[i].rgb[c];
-                    W += 1.0;
-                    meanW += 1.0;
-                }
-                for (int j = 0; j < m; ++j) a[j] = raw[j] = 1.0;
-            }
-            double mean[3];
-            for (int c = 0; c < 3; ++c) mean[c] = meanAcc[c] / meanW;
-            double priorS[3];
-            neighbourPrior(off, adj, model.specular, seen, v, priorS);
-            double d[3], sc[3], inv[3][3];
-            double looShared = 0.0, looConstant = 0.0;
-            for (int c = 0; c < 3; ++c) {
-                const double lambda = options.specularPrior * sums[c].W * model.lobeEnergy[c];
-                solvePair(sums[c], lambda, priorS[c], d[c], sc[c], inv[c]);
-            }
-            for (int j = 0; j < m; ++j)
-                for (int c = 0; c < 3; ++c) {
-                    const double gj = g[3 * j + c], yj = y[3 * j + c];
-                    const double scale = a[j] * srgbSlope2(yj);
-                    const double hs = a[j] * (inv[c][0] + 2.0 * gj * inv[c][1] + gj * gj * inv[c][2]);
-                    const double es = (yj - d[c] - sc[c] * gj) / std::max(1.0 - hs, 1e-3);
-                    const double hc = raw[j] / meanW;
-                    const double ec = (yj - mean[c]) / std::max(1.0 - hc, 1e-3);
-                    looShared += scale * es * es;
-                    looConstant += scale * ec * ec;
-                }
-            const bool keepShared = m >= fit.minSamples && m >= 2 && looShared < looConstant;
-            float* dst = field.vertexCoefficients(v);
-            std::fill(out.begin(), out.end(), 0.0);
-            if (keepShared) {
-                for (int c = 0; c < 3; ++c) {
-                    for (int k = 0; k < K; ++k) out[c * K + k] = sc[c] * C(k, c);
-                    out[c * K] += d[c] / constantValue;
-                }
-                ++sharedCount;
-                if (keptShared) (*keptShared)[v] = 1;
-            } else {
-                for (int c = 0; c < 3; ++c) out[c * K] = mean[c] / constantValue;
-                if (m < fit.minSamples) ++tooFew;
-                else ++constantCount;
-            }
-            // Residual of the stored function at the samples.
-            double r2 = 0.0;
-            for (int j = 0; j < m; ++j)
-                for (int c = 0; c < 3; ++c) {
-                    const double f = keepShared ? d[c] + sc[c] * g[3 * j + c] : mean[c];
-                    const double e = f - y[3 * j + c];
-                    r2 += a[j] * e * e;
-                }
-            residual[v] = static_cast<float>(std::sqrt(r2 / (3.0 * W)));
-            for (int c = 0; c < 3; ++c) meanColor[3 * v + c] = static_cast<float>(mean[c]);
-            status[v] = static_cast<std::uint8_t>(m < fit.poorSamplingFactor * K || m < fit.minSamples
-                                                      ? FitStatus::PoorlySampled
-                                                      : FitStatus::Fitted);
-            // Storage: PB local, SH rotated to the global frame; reflected: the local sign flips.
-            if (fit.storeReflected)
-                for (int c = 0; c < 3; ++c)
-                    for (int k = 0; k < K; ++k) out[c * K + k] *= sign[k];
-            if (basis.usesLocalFrame()) {
-                for (int k = 0; k < 3 * K; ++k) dst[k] = static_cast<float>(out[k]);
-            } else {
-                const ShRotation rotation(basis.degree, frame.rotation().transpose());
-                for (int c = 0; c < 3; ++c) {
-                    rotation.apply(out.data() + c * K, rotOut.data());
-                    for (int k = 0; k < K; ++k) dst[c * K + k] = static_cast<float>(rotOut[k]);
-                }
-            }
-        }
+            });
     }
-    if (stop.load()) throw OperationCancelled();
+    loop.finish();
     stats.shared = sharedCount;
     stats.constant = constantCount;
     stats.tooFew = tooFew;

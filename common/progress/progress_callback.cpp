@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace rad {
 
@@ -13,7 +14,10 @@ ProgressCallback progressRange(const ProgressCallback& outer, double from, doubl
     if (!outer) return {};
     return [outer, from, to](double fraction, const char* stage) {
         const double f = std::isfinite(fraction) ? std::clamp(fraction, 0.0, 1.0) : 0.0;
-        return outer(from + (to - from) * f, stage != nullptr ? stage : "");
+        // Rounding could take from + (to - from) * 1 a bit past `to`, the start of the next step:
+        // clamped, consecutive steps stay non-decreasing.
+        const double mapped = from + (to - from) * f;
+        return outer(from <= to ? std::clamp(mapped, from, to) : mapped, stage != nullptr ? stage : "");
     };
 }
 
@@ -30,7 +34,21 @@ void LoopProgress::itemDone(bool callingThread) {
         stopped_.store(true, std::memory_order_relaxed);
 }
 
+void LoopProgress::captureException(std::exception_ptr error) {
+    {
+        const std::lock_guard<std::mutex> lock(failureMutex_);
+        if (!failure_) failure_ = std::move(error);
+    }
+    stopped_.store(true, std::memory_order_relaxed);
+}
+
 void LoopProgress::finish() {
+    std::exception_ptr failure;
+    {
+        const std::lock_guard<std::mutex> lock(failureMutex_);
+        failure = failure_;
+    }
+    if (failure) std::rethrow_exception(failure);
     if (stopRequested()) throw OperationCancelled();
     if (reportedPercent_ < 100) {
         reportedPercent_ = 100;

@@ -14,7 +14,9 @@
 
 #include <atomic>
 #include <cstddef>
+#include <exception>
 #include <functional>
+#include <mutex>
 #include <stdexcept>
 
 namespace rad {
@@ -37,11 +39,30 @@ ProgressCallback progressRange(const ProgressCallback& outer, double from, doubl
 // omp_get_thread_num() == 0); only that thread calls the callback, at most once per percent. A stop
 // request is final: the loop skips its remaining items when stopRequested(), and the calling thread
 // calls finish() after the loop (throws OperationCancelled after a stop, else reports 1).
+//
+// An exception thrown by an item is handed to captureException() (or the item is run through
+// runItem(), which does it): the first one is kept, later ones are dropped, the loop skips its
+// remaining items as for a stop request, and finish() rethrows it on the calling thread.
 class LoopProgress {
 public:
     LoopProgress(const ProgressCallback& progress, const char* stage, std::size_t total);
     void itemDone(bool callingThread);
     bool stopRequested() const { return stopped_.load(std::memory_order_relaxed); }
+    // Thread-safe; call it from a catch block with std::current_exception().
+    void captureException(std::exception_ptr error);
+    // Skips the item after a stop or a captured exception; otherwise runs item(), captures what it
+    // throws and counts it done. A template, so the per-item call costs no std::function.
+    template <class Item>
+    void runItem(bool callingThread, Item&& item) {
+        if (stopRequested()) return;
+        try {
+            item();
+        } catch (...) {
+            captureException(std::current_exception());
+            return;
+        }
+        itemDone(callingThread);
+    }
     void finish();
 
 private:
@@ -51,6 +72,8 @@ private:
     std::atomic<std::size_t> done_{0};
     std::atomic<bool> stopped_{false};
     long reportedPercent_ = -1;  // touched by the calling thread only
+    std::mutex failureMutex_;    // taken only when an item throws
+    std::exception_ptr failure_;
 };
 
 }  // namespace rad

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,23 @@ TEST(ProgressCallback, RangeMapsAndClampsFractions) {
     EXPECT_DOUBLE_EQ(seen[4], 0.4);
 }
 
+TEST(ProgressCallback, ConsecutiveRangesNeverGoBack) {
+    // 0.03 + (0.33 - 0.03) * 1 is 0.33000000000000007 in doubles: unclamped, the end of the first
+    // step would lie past the start of the next one.
+    std::vector<double> seen;
+    const rad::ProgressCallback outer = [&](double f, const char*) {
+        seen.push_back(f);
+        return true;
+    };
+    const rad::ProgressCallback first = rad::progressRange(outer, 0.03, 0.33);
+    const rad::ProgressCallback second = rad::progressRange(outer, 0.33, 0.5);
+    first(1.0, "a");
+    second(0.0, "b");
+    ASSERT_EQ(seen.size(), 2u);
+    EXPECT_EQ(seen[0], 0.33);
+    EXPECT_LE(seen[0], seen[1]);
+}
+
 TEST(ProgressCallback, LoopReportsFromTheCallingThreadOnlyAndEndsAtOne) {
     const int n = 20000;
     std::vector<double> seen;
@@ -86,6 +104,61 @@ TEST(ProgressCallback, LoopStopSkipsTheRestAndFinishThrows) {
     EXPECT_EQ(calls, 2);
     EXPECT_LT(processed, n / 10);  // stopped at about 2 %
     EXPECT_THROW(loop.finish(), rad::OperationCancelled);
+}
+
+TEST(ProgressCallback, LoopCapturesTheFirstExceptionSkipsTheRestAndFinishRethrowsIt) {
+    const int n = 100000;
+    std::vector<double> seen;
+    const rad::ProgressCallback record = [&](double f, const char*) {
+        seen.push_back(f);
+        return true;
+    };
+    rad::LoopProgress loop(record, "loop", n);
+    std::vector<int> ran(n, 0);
+#pragma omp parallel for schedule(dynamic, 16)
+    for (int i = 0; i < n; ++i)
+        loop.runItem(omp_get_thread_num() == 0, [&] {
+            ran[i] = 1;
+            if (i == 1000) throw std::invalid_argument("item 1000");
+            if (i > 1000) throw std::out_of_range("a later item");  // not the first: dropped
+        });
+    EXPECT_TRUE(loop.stopRequested());
+    int processed = 0;
+    for (int r : ran) processed += r;
+    EXPECT_LT(processed, n / 2);  // the items after the failure were skipped, not run
+    EXPECT_EQ(ran[1000], 1);
+    const std::size_t reportsBefore = seen.size();
+    try {
+        loop.finish();
+        ADD_FAILURE() << "finish() did not rethrow the item's exception";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_STREQ(e.what(), "item 1000");
+    } catch (const std::out_of_range&) {
+        // Another thread's later item may throw first in time; with one thread, item 1000 always does.
+        if (omp_get_max_threads() == 1) ADD_FAILURE() << "a later exception replaced the first one";
+    }
+    EXPECT_EQ(seen.size(), reportsBefore);  // no final report of 1 after a failure
+    for (double f : seen) EXPECT_LT(f, 1.0);
+}
+
+TEST(ProgressCallback, LoopCaptureIsRethrownOnTheCallingThreadEvenWithoutACallback) {
+    rad::LoopProgress loop({}, "loop", 10);
+    for (int i = 0; i < 10; ++i) {
+        if (loop.stopRequested()) continue;
+        try {
+            if (i == 3) throw std::runtime_error("third");
+            loop.itemDone(true);
+        } catch (...) {
+            loop.captureException(std::current_exception());
+        }
+    }
+    loop.captureException(std::make_exception_ptr(std::logic_error("second capture")));  // dropped
+    try {
+        loop.finish();
+        ADD_FAILURE() << "finish() did not rethrow the captured exception";
+    } catch (const std::runtime_error& e) {
+        EXPECT_STREQ(e.what(), "third");
+    }
 }
 
 }  // namespace
