@@ -7,6 +7,9 @@
 
 #include <common/GLExtensionsManager.h>
 #include <meshlab/glarea.h>
+#include <wrap/gl/math.h>
+
+#include <Eigen/LU>
 
 #include <cmath>
 
@@ -35,6 +38,19 @@ Fingerprint fingerprintOf(CMeshO& mesh) {
         f.transferFloats = transfer->values.size();
     }
     return f;
+}
+
+LayerEye enterLayerSpace(const CMeshO& mesh) {
+    glPushMatrix();
+    vcg::glMultMatrix(mesh.Tr);
+    GLdouble modelview[16];
+    glGetDoublev(GL_MODELVIEW_MATRIX, modelview);
+    LayerEye e;
+    e.modelview = Eigen::Map<const Eigen::Matrix4d>(modelview);  // column-major, as GL returns it
+    e.inverse = e.modelview.inverse();
+    const Eigen::Vector4d eye = e.inverse * Eigen::Vector4d(0, 0, 0, 1);
+    e.eye = eye.head<3>() / eye[3];
+    return e;
 }
 
 rad::ToneMapping toneMappingOf(const RichParameterList& par, const char* exposureKey, const char* toneCurveKey) {

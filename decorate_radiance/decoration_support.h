@@ -5,6 +5,8 @@
 
 #include "render/tone_mapping.h"
 
+#include <Eigen/Core>
+
 #include <common/interfaces.h>
 
 #include <cstddef>
@@ -88,11 +90,24 @@ Fingerprint fingerprintOf(CMeshO& mesh);
 // decoration's two parameters.
 rad::ToneMapping toneMappingOf(const RichParameterList& par, const char* exposureKey, const char* toneCurveKey);
 
+// The GL modelview pushed and multiplied by the layer's Tr (the caller pops it), as the layer's
+// drawing sees it: the modelview, its inverse, and the eye in the layer's coordinates.
+struct LayerEye {
+    Eigen::Matrix4d modelview;
+    Eigen::Matrix4d inverse;
+    Eigen::Vector3d eye;
+};
+LayerEye enterLayerSpace(const CMeshO& mesh);
+
 // Per-frame problems of a view, each logged once ("<decoration>: <message>"), not every frame.
 class OnceLog {
 public:
     explicit OnceLog(std::string decoration) : prefix_(std::move(decoration) + ": ") {}
     void report(GLLogStream& log, int level, const std::string& message);
+    // A warning when `problem` (a renderer's answer, its GL errors) is not empty.
+    void warnIfAny(GLLogStream& log, const std::string& problem) {
+        if (!problem.empty()) report(log, GLLogStream::WARNING, problem);
+    }
 
 private:
     std::string prefix_;

@@ -15,9 +15,7 @@
 
 #include <GL/glew.h>
 
-#include <wrap/gl/math.h>
 
-#include <Eigen/LU>
 
 #include <QDir>
 #include <QElapsedTimer>
@@ -260,6 +258,8 @@ IrradianceGridDecoration::~IrradianceGridDecoration() = default;
 
 void IrradianceGridDecoration::end(MeshModel& m, GLArea* gla) { views_.end(gla, m); }
 
+QString IrradianceGridDecoration::name() const { return kName; }
+
 QString IrradianceGridDecoration::info() const {
     return "Draws the layer lit by the indirect light stored in an irradiance vector grid: <i>P. Granier, R. "
            "Pacanowski, C. Schlick</i>, <b>Managing Geometry Complexity for Illumination Computation of Cultural "
@@ -337,21 +337,14 @@ void IrradianceGridDecoration::draw(MeshModel& m, const RichParameterList& par, 
     }
     if (!followGridFile(view, m, par, log)) return;
 
-    glPushMatrix();
-    vcg::glMultMatrix(m.cm.Tr);
-    GLdouble modelview[16];
-    glGetDoublev(GL_MODELVIEW_MATRIX, modelview);
-    const Eigen::Map<const Eigen::Matrix4d> mv(modelview);
-    const Eigen::Matrix4d inverse = mv.inverse();
-    const Eigen::Vector4d eye = inverse * Eigen::Vector4d(0, 0, 0, 1);
-    const radgl::NormalMapLighting lighting = lightingOf(par, inverse);
+    const LayerEye layer = enterLayerSpace(m.cm);
+    const radgl::NormalMapLighting lighting = lightingOf(par, layer.inverse);
     const rad::ToneMapping tm = toneMappingOf(par, kExposure, kToneMap);
     const radgl::NormalMapShading mode = view.normalMap ? radgl::NormalMapShading::NormalMap : radgl::NormalMapShading::VertexNormals;
-    const std::string problem = view.renderer->draw(mode, lighting, tm, eye.head<3>() / eye[3]);
+    const std::string problem = view.renderer->draw(mode, lighting, tm, layer.eye);
     glPopMatrix();
-    if (!problem.empty()) view.reported.report(log, GLLogStream::WARNING, problem);
-    const std::string errors = view.renderer->takeGlErrors();
-    if (!errors.empty()) view.reported.report(log, GLLogStream::WARNING, errors);
+    view.reported.warnIfAny(log, problem);
+    view.reported.warnIfAny(log, view.renderer->takeGlErrors());
 }
 
 }  // namespace raddecorate

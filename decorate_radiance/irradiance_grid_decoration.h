@@ -19,7 +19,7 @@ class IrradianceGridDecoration : public Decoration {
 public:
     IrradianceGridDecoration();
     ~IrradianceGridDecoration() override;
-    QString name() const override { return "Irradiance Vector Grid"; }
+    QString name() const override;
     QString info() const override;
     ActionLook look() const override;
     bool isApplicable(const MeshModel& m, QString& message) const override;

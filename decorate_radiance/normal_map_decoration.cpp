@@ -16,10 +16,8 @@
 #include <GL/glew.h>
 
 #include <meshlab/glarea.h>
-#include <wrap/gl/math.h>
 
 #include <Eigen/Geometry>
-#include <Eigen/LU>
 
 #include <QDir>
 #include <QElapsedTimer>
@@ -159,9 +157,8 @@ int levelOf(const rad::PopBuffer& pop, const Eigen::Matrix4d& modelview, const R
 // show through wherever the level's snapped surface lies behind it.
 void hideFullMesh(View& view, const GLArea& gla, GLLogStream& log) {
     const vcg::Color4b top = gla.glas.backgroundTopColor, bottom = gla.glas.backgroundBotColor;
-    const std::string eraseProblem = view.renderer->eraseFullMesh(
-        Eigen::Vector3f(top[0], top[1], top[2]) / 255.0f, Eigen::Vector3f(bottom[0], bottom[1], bottom[2]) / 255.0f);
-    if (!eraseProblem.empty()) view.reported.report(log, GLLogStream::WARNING, eraseProblem);
+    view.reported.warnIfAny(log, view.renderer->eraseFullMesh(Eigen::Vector3f(top[0], top[1], top[2]) / 255.0f,
+                                                              Eigen::Vector3f(bottom[0], bottom[1], bottom[2]) / 255.0f));
 }
 
 // The level in the log when it changes (not every frame), and in MeshLab's real-time info panel of
@@ -189,6 +186,8 @@ NormalMapDecoration::NormalMapDecoration() = default;
 NormalMapDecoration::~NormalMapDecoration() = default;
 
 void NormalMapDecoration::end(MeshModel& m, GLArea* gla) { views_.end(gla, m); }
+
+QString NormalMapDecoration::name() const { return kName; }
 
 QString NormalMapDecoration::info() const {
     return "Draws the layer with the normal map made by 'Bake Normal Map' (its texture and the "
@@ -297,24 +296,16 @@ void NormalMapDecoration::draw(MeshModel& m, const RichParameterList& par, GLAre
         view.reported.report(log, GLLogStream::WARNING, "no LEAN moments for this map: drawing the normal map with Blinn-Phong");
         mode = radgl::NormalMapShading::NormalMap;
     }
-    glPushMatrix();
-    vcg::glMultMatrix(m.cm.Tr);
-    GLdouble modelview[16];
-    glGetDoublev(GL_MODELVIEW_MATRIX, modelview);
-    const Eigen::Map<const Eigen::Matrix4d> mv(modelview);
-    const Eigen::Matrix4d inverse = mv.inverse();
-    const Eigen::Vector4d eye = inverse * Eigen::Vector4d(0, 0, 0, 1);
-    const radgl::NormalMapLighting lighting = lightingOf(par, inverse);
-    const int level = levelOf(view.pop, mv, par);
-    const std::string levelProblem = view.renderer->setPopLevel(level, par.getBool(kNormalLodCorrection));
-    if (!levelProblem.empty()) view.reported.report(log, GLLogStream::WARNING, levelProblem);
+    const LayerEye layer = enterLayerSpace(m.cm);
+    const radgl::NormalMapLighting lighting = lightingOf(par, layer.inverse);
+    const int level = levelOf(view.pop, layer.modelview, par);
+    view.reported.warnIfAny(log, view.renderer->setPopLevel(level, par.getBool(kNormalLodCorrection)));
     if (level > 0) hideFullMesh(view, *gla, log);
-    const std::string problem = view.renderer->draw(mode, lighting, rad::ToneMapping(), eye.head<3>() / eye[3]);
+    const std::string problem = view.renderer->draw(mode, lighting, rad::ToneMapping(), layer.eye);
     glPopMatrix();
     reportLevel(view, level, m, par, log, pluginLog);
-    if (!problem.empty()) view.reported.report(log, GLLogStream::WARNING, problem);
-    const std::string errors = view.renderer->takeGlErrors();
-    if (!errors.empty()) view.reported.report(log, GLLogStream::WARNING, errors);
+    view.reported.warnIfAny(log, problem);
+    view.reported.warnIfAny(log, view.renderer->takeGlErrors());
 }
 
 }  // namespace raddecorate

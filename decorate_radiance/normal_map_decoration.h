@@ -13,7 +13,7 @@ class NormalMapDecoration : public Decoration {
 public:
     NormalMapDecoration();
     ~NormalMapDecoration() override;
-    QString name() const override { return "Baked Normal Map"; }
+    QString name() const override;
     QString info() const override;
     ActionLook look() const override;
     bool isApplicable(const MeshModel& m, QString& message) const override;

@@ -13,10 +13,8 @@
 #include <GL/glew.h>
 
 #include <meshlab/glarea.h>
-#include <wrap/gl/math.h>
 
 #include <Eigen/Geometry>
-#include <Eigen/LU>
 
 #include <QElapsedTimer>
 
@@ -90,7 +88,8 @@ std::string missingDataAdvice() {
 
 // MeshLab's matrices and viewport when the frame was drawn (the view file reports them).
 struct FrameCamera {
-    GLdouble modelview[16], projection[16];
+    LayerEye layer;
+    GLdouble projection[16];
     GLint viewport[4];
 };
 
@@ -246,7 +245,7 @@ void writeViewFile(const std::string& target, const View& view, radgl::GlShading
         << "\nviewport " << camera.viewport[0] << ' ' << camera.viewport[1] << ' ' << camera.viewport[2] << ' '
         << camera.viewport[3] << "\nwidget_origin " << origin.x() << ' ' << origin.y() << "\nwidget_size "
         << gla.width() << ' ' << gla.height() << "\ndevice_pixel_ratio " << gla.devicePixelRatioF() << "\nmodelview";
-    for (double v : camera.modelview) out << ' ' << v;
+    for (int i = 0; i < 16; ++i) out << ' ' << camera.layer.modelview.data()[i];
     out << "\nprojection";
     for (double v : camera.projection) out << ' ' << v;
     out << "\nexposure " << tm.exposureStops << "\ntonemap " << (tm.curve == rad::ToneCurve::Reinhard ? "reinhard" : "clamp")
@@ -261,6 +260,8 @@ RadianceFieldDecoration::RadianceFieldDecoration() = default;
 RadianceFieldDecoration::~RadianceFieldDecoration() = default;
 
 void RadianceFieldDecoration::end(MeshModel& m, GLArea* gla) { views_.end(gla, m); }
+
+QString RadianceFieldDecoration::name() const { return kName; }
 
 QString RadianceFieldDecoration::info() const {
     return "Draws the layer's radiance functions (view-dependent colour) toward MeshLab's camera, or its "
@@ -351,19 +352,14 @@ void RadianceFieldDecoration::draw(MeshModel& m, const RichParameterList& par, G
     const radgl::GlShading shading = shadingOf(par);
     if (!readyToShade(view, shading, par, log)) return;
 
-    glPushMatrix();
-    vcg::glMultMatrix(m.cm.Tr);
     FrameCamera camera;
-    glGetDoublev(GL_MODELVIEW_MATRIX, camera.modelview);
+    camera.layer = enterLayerSpace(m.cm);
     glGetDoublev(GL_PROJECTION_MATRIX, camera.projection);
     glGetIntegerv(GL_VIEWPORT, camera.viewport);
-    const Eigen::Map<const Eigen::Matrix4d> mv(camera.modelview);  // column-major, as GL returns it
-    const Eigen::Vector4d eye = mv.inverse() * Eigen::Vector4d(0, 0, 0, 1);
     const rad::ToneMapping tm = toneMappingOf(par, kExposure, kToneMap);
-    view.renderer->draw(shading, tm, eye.head<3>() / eye[3]);
+    view.renderer->draw(shading, tm, camera.layer.eye);
     glPopMatrix();
-    const std::string errors = view.renderer->takeGlErrors();
-    if (!errors.empty()) view.reported.report(log, GLLogStream::WARNING, errors);
+    view.reported.warnIfAny(log, view.renderer->takeGlErrors());
     ++view.frame;
     if (const char* path = std::getenv("RADIANCE_DECORATE_VIEW_FILE")) writeViewFile(path, view, shading, camera, tm, *gla);
 }

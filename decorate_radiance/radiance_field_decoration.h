@@ -14,7 +14,7 @@ class RadianceFieldDecoration : public Decoration {
 public:
     RadianceFieldDecoration();
     ~RadianceFieldDecoration() override;
-    QString name() const override { return "Radiance Field"; }
+    QString name() const override;
     QString info() const override;
     ActionLook look() const override;
     bool isApplicable(const MeshModel& m, QString& message) const override;
