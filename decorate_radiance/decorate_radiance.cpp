@@ -28,9 +28,9 @@ QIcon drawnIcon(const raddecorate::ActionLook& look) {
 }  // namespace
 
 DecorateRadiancePlugin::DecorateRadiancePlugin() {
-    decorations_[DP_RADIANCE_FIELD] = std::make_unique<raddecorate::RadianceFieldDecoration>();
-    decorations_[DP_NORMAL_MAP] = std::make_unique<raddecorate::NormalMapDecoration>();
-    decorations_[DP_IRRADIANCE_GRID] = std::make_unique<raddecorate::IrradianceGridDecoration>();
+    decorations_[DP_RADIANCE_FIELD] = raddecorate::makeRadianceFieldDecoration();
+    decorations_[DP_NORMAL_MAP] = raddecorate::makeNormalMapDecoration();
+    decorations_[DP_IRRADIANCE_GRID] = raddecorate::makeIrradianceGridDecoration();
     typeList << DP_RADIANCE_FIELD << DP_NORMAL_MAP << DP_IRRADIANCE_GRID;
     for (FilterIDType tt : types()) {
         const raddecorate::ActionLook look = decoration(tt)->look();

@@ -1,5 +1,7 @@
 #include "irradiance_grid_decoration.h"
 
+#include "decoration_support.h"
+
 #include "layer_files.h"
 #include "mesh_conversion.h"
 
@@ -44,9 +46,8 @@ enum { kMappedNormals = 0, kVertexNormals = 1 };
 
 double linearOf(int code) { return double(rad::srgbToLinear(static_cast<std::uint8_t>(std::clamp(code, 0, 255)))); }
 
-}  // namespace
-
-struct IrradianceGridDecoration::View {
+// The state per (view, layer): the renderer, its grid and the uploaded layer.
+struct View {
     std::unique_ptr<radgl::NormalMapGlRenderer> renderer;
     std::string gridPath;        // the grid drawn
     std::string failedPath;      // a grid named in the options that could not be read (not retried every frame)
@@ -55,9 +56,6 @@ struct IrradianceGridDecoration::View {
     OnceLog reported{kName};     // messages logged once
 };
 
-using View = IrradianceGridDecoration::View;
-
-namespace {
 
 // Reads and uploads the grid at `path`; returns the reason on failure (the reader's message names
 // the file and the problem), else empty, with `note` from the upload.
@@ -251,14 +249,23 @@ radgl::NormalMapLighting lightingOf(const RichParameterList& par, const Eigen::M
     return lighting;
 }
 
-}  // namespace
+class IrradianceGridDecoration : public Decoration {
+public:
+    QString name() const override { return kName; }
+    QString info() const override;
+    ActionLook look() const override;
+    bool isApplicable(const MeshModel& m, QString& message) const override;
+    void addParameters(RichParameterList& par) const override;
+    // Sets the layer up (mesh, albedo, normal map, grid); refuses (logged) when there is no grid file,
+    // a bad file (with the reader's reason), GL limits, no faces.
+    bool start(MeshModel& m, const RichParameterList& par, GLArea& gla, MeshLabInterface& pluginLog) override;
+    void draw(MeshModel& m, const RichParameterList& par, GLArea* gla, GLLogStream& log,
+              MeshLabInterface& pluginLog) override;
+    void end(MeshModel& m, GLArea* gla) override { views_.end(gla, m); }
 
-IrradianceGridDecoration::IrradianceGridDecoration() = default;
-IrradianceGridDecoration::~IrradianceGridDecoration() = default;
-
-void IrradianceGridDecoration::end(MeshModel& m, GLArea* gla) { views_.end(gla, m); }
-
-QString IrradianceGridDecoration::name() const { return kName; }
+private:
+    LayerViews<View> views_;
+};
 
 QString IrradianceGridDecoration::info() const {
     return "Draws the layer lit by the indirect light stored in an irradiance vector grid: <i>P. Granier, R. "
@@ -346,5 +353,9 @@ void IrradianceGridDecoration::draw(MeshModel& m, const RichParameterList& par, 
     view.reported.warnIfAny(log, problem);
     view.reported.warnIfAny(log, view.renderer->takeGlErrors());
 }
+
+}  // namespace
+
+std::unique_ptr<Decoration> makeIrradianceGridDecoration() { return std::make_unique<IrradianceGridDecoration>(); }
 
 }  // namespace raddecorate

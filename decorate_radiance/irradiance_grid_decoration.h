@@ -11,30 +11,11 @@
 #pragma once
 
 #include "decoration.h"
-#include "decoration_support.h"
+
+#include <memory>
 
 namespace raddecorate {
 
-class IrradianceGridDecoration : public Decoration {
-public:
-    IrradianceGridDecoration();
-    ~IrradianceGridDecoration() override;
-    QString name() const override;
-    QString info() const override;
-    ActionLook look() const override;
-    bool isApplicable(const MeshModel& m, QString& message) const override;
-    void addParameters(RichParameterList& par) const override;
-    // Sets the layer up (mesh, albedo, normal map, grid); refuses (logged) when there is no grid file,
-    // a bad file (with the reader's reason), GL limits, no faces.
-    bool start(MeshModel& m, const RichParameterList& par, GLArea& gla, MeshLabInterface& pluginLog) override;
-    void draw(MeshModel& m, const RichParameterList& par, GLArea* gla, GLLogStream& log,
-              MeshLabInterface& pluginLog) override;
-    void end(MeshModel& m, GLArea* gla) override;
-
-    struct View;  // per (view, layer): the renderer, its grid and the uploaded layer
-
-private:
-    LayerViews<View> views_;
-};
+std::unique_ptr<Decoration> makeIrradianceGridDecoration();
 
 }  // namespace raddecorate

@@ -1,5 +1,7 @@
 #include "normal_map_decoration.h"
 
+#include "decoration_support.h"
+
 #include "layer_files.h"
 
 #include "mesh_conversion.h"
@@ -40,9 +42,8 @@ const char* const kNormalLodTolerance = "MeshLab::Decoration::NormalMapLevelOfDe
 const char* const kNormalLodCorrection = "MeshLab::Decoration::NormalMapLevelOfDetailCorrection";
 enum { kLodOff = 0, kLodAutomatic = 1, kLodForced = 2 };
 
-}  // namespace
-
-struct NormalMapDecoration::View {
+// The state per (view, layer): the normal-map renderer.
+struct View {
     std::unique_ptr<radgl::NormalMapGlRenderer> renderer;
     Fingerprint fingerprint;
     rad::BakeDescription description;
@@ -52,9 +53,6 @@ struct NormalMapDecoration::View {
     int loggedLevel = -1;
 };
 
-using View = NormalMapDecoration::View;
-
-namespace {
 
 // Uploads the layer (as a POP buffer), its normal map and its LEAN moments described by the bake
 // description at `descriptionPath`. Returns why it cannot be drawn, else empty with `leanNote` for
@@ -180,14 +178,21 @@ void reportLevel(View& view, int level, const MeshModel& m, const RichParameterL
                               view.renderer->drawnFaceCount(), view.pop.faceCount());
 }
 
-}  // namespace
+class NormalMapDecoration : public Decoration {
+public:
+    QString name() const override { return kName; }
+    QString info() const override;
+    ActionLook look() const override;
+    bool isApplicable(const MeshModel& m, QString& message) const override;
+    void addParameters(RichParameterList& par) const override;
+    bool start(MeshModel& m, const RichParameterList& par, GLArea& gla, MeshLabInterface& pluginLog) override;
+    void draw(MeshModel& m, const RichParameterList& par, GLArea* gla, GLLogStream& log,
+              MeshLabInterface& pluginLog) override;
+    void end(MeshModel& m, GLArea* gla) override { views_.end(gla, m); }
 
-NormalMapDecoration::NormalMapDecoration() = default;
-NormalMapDecoration::~NormalMapDecoration() = default;
-
-void NormalMapDecoration::end(MeshModel& m, GLArea* gla) { views_.end(gla, m); }
-
-QString NormalMapDecoration::name() const { return kName; }
+private:
+    LayerViews<View> views_;
+};
 
 QString NormalMapDecoration::info() const {
     return "Draws the layer with the normal map made by 'Bake Normal Map' (its texture and the "
@@ -307,5 +312,9 @@ void NormalMapDecoration::draw(MeshModel& m, const RichParameterList& par, GLAre
     view.reported.warnIfAny(log, problem);
     view.reported.warnIfAny(log, view.renderer->takeGlErrors());
 }
+
+}  // namespace
+
+std::unique_ptr<Decoration> makeNormalMapDecoration() { return std::make_unique<NormalMapDecoration>(); }
 
 }  // namespace raddecorate

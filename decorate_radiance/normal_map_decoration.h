@@ -5,28 +5,11 @@
 #pragma once
 
 #include "decoration.h"
-#include "decoration_support.h"
+
+#include <memory>
 
 namespace raddecorate {
 
-class NormalMapDecoration : public Decoration {
-public:
-    NormalMapDecoration();
-    ~NormalMapDecoration() override;
-    QString name() const override;
-    QString info() const override;
-    ActionLook look() const override;
-    bool isApplicable(const MeshModel& m, QString& message) const override;
-    void addParameters(RichParameterList& par) const override;
-    bool start(MeshModel& m, const RichParameterList& par, GLArea& gla, MeshLabInterface& pluginLog) override;
-    void draw(MeshModel& m, const RichParameterList& par, GLArea* gla, GLLogStream& log,
-              MeshLabInterface& pluginLog) override;
-    void end(MeshModel& m, GLArea* gla) override;
-
-    struct View;  // per (view, layer): the normal-map renderer
-
-private:
-    LayerViews<View> views_;
-};
+std::unique_ptr<Decoration> makeNormalMapDecoration();
 
 }  // namespace raddecorate

@@ -1,5 +1,7 @@
 #include "radiance_field_decoration.h"
 
+#include "decoration_support.h"
+
 #include "mesh_conversion.h"
 #include "radiance_attribute.h"
 #include "transfer_attribute.h"
@@ -93,9 +95,8 @@ struct FrameCamera {
     GLint viewport[4];
 };
 
-}  // namespace
-
-struct RadianceFieldDecoration::View {
+// The state per (view, layer): the GL renderer and what it was built from.
+struct View {
     std::unique_ptr<radgl::RadianceGlRenderer> renderer;
     radgl::GlCapabilities caps;
     Fingerprint fingerprint;
@@ -112,9 +113,6 @@ struct RadianceFieldDecoration::View {
     long long frame = 0;
 };
 
-using View = RadianceFieldDecoration::View;
-
-namespace {
 
 // Uploads the layer into the view's renderer. Returns false with `why` when nothing can be drawn.
 bool uploadLayer(View& view, CMeshO& mesh, std::string& why) {
@@ -254,14 +252,21 @@ void writeViewFile(const std::string& target, const View& view, radgl::GlShading
     std::rename(temporary.c_str(), target.c_str());
 }
 
-}  // namespace
+class RadianceFieldDecoration : public Decoration {
+public:
+    QString name() const override { return kName; }
+    QString info() const override;
+    ActionLook look() const override;
+    bool isApplicable(const MeshModel& m, QString& message) const override;
+    void addParameters(RichParameterList& par) const override;
+    bool start(MeshModel& m, const RichParameterList& par, GLArea& gla, MeshLabInterface& pluginLog) override;
+    void draw(MeshModel& m, const RichParameterList& par, GLArea* gla, GLLogStream& log,
+              MeshLabInterface& pluginLog) override;
+    void end(MeshModel& m, GLArea* gla) override { views_.end(gla, m); }
 
-RadianceFieldDecoration::RadianceFieldDecoration() = default;
-RadianceFieldDecoration::~RadianceFieldDecoration() = default;
-
-void RadianceFieldDecoration::end(MeshModel& m, GLArea* gla) { views_.end(gla, m); }
-
-QString RadianceFieldDecoration::name() const { return kName; }
+private:
+    LayerViews<View> views_;
+};
 
 QString RadianceFieldDecoration::info() const {
     return "Draws the layer's radiance functions (view-dependent colour) toward MeshLab's camera, or its "
@@ -363,5 +368,9 @@ void RadianceFieldDecoration::draw(MeshModel& m, const RichParameterList& par, G
     ++view.frame;
     if (const char* path = std::getenv("RADIANCE_DECORATE_VIEW_FILE")) writeViewFile(path, view, shading, camera, tm, *gla);
 }
+
+}  // namespace
+
+std::unique_ptr<Decoration> makeRadianceFieldDecoration() { return std::make_unique<RadianceFieldDecoration>(); }
 
 }  // namespace raddecorate
