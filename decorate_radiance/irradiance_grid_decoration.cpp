@@ -17,8 +17,6 @@
 
 #include <GL/glew.h>
 
-
-
 #include <QDir>
 #include <QElapsedTimer>
 #include <QFileInfo>
@@ -55,7 +53,6 @@ struct View {
     LayerGeometry geometry;      // what was uploaded (a filter that changes the layer stops the drawing)
     OnceLog reported{kName};     // messages logged once
 };
-
 
 // Reads and uploads the grid at `path`; returns the reason on failure (the reader's message names
 // the file and the problem), else empty, with `note` from the upload.

@@ -53,7 +53,6 @@ struct View {
     int loggedLevel = -1;
 };
 
-
 // Uploads the layer (as a POP buffer), its normal map and its LEAN moments described by the bake
 // description at `descriptionPath`. Returns why it cannot be drawn, else empty with `leanNote` for
 // the start line. Throws on unreadable files.

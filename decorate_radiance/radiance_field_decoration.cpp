@@ -113,7 +113,6 @@ struct View {
     long long frame = 0;
 };
 
-
 // Uploads the layer into the view's renderer. Returns false with `why` when nothing can be drawn.
 bool uploadLayer(View& view, CMeshO& mesh, std::string& why) {
     radml::ExportChoice choice;
