@@ -1,26 +1,17 @@
-// MeshLab decorations "Radiance Field" and "Baked Normal Map".
-// "Radiance Field" draws the current mesh's radiance functions per vertex or per
-// fragment (Vanhoey et al. 2015 sec. 5, eq. 8), or its PRT transfer relit by a light, over MeshLab's own
-// rendering. A thin adapter: the drawing is render_gl/radiance_gl_renderer.h, the relighting
-// prt/prt_lighting.h; this file reads parameters, gathers the layer's data, logs and writes the
-// optional view file (docs/decorate-radiance.md).
-// "Baked Normal Map" draws a layer with the normal map of the "Bake Normal Map" filter, with
-// Blinn-Phong or with the LEAN Gaussian lobe (Weber and Stamminger, Alg. 3-4; render_gl/normal_map_gl_renderer.h),
-// so that the highlight's behaviour at a distance can be compared (docs/normal-map-baking.md).
-// "Irradiance Vector Grid" draws a layer lit by the indirect light of an irradiance vector grid
-// (Granier et al. 2007; irradiance_grid_decoration.h).
+// MeshLab's decorate plugin of the project: the decorations "Radiance Field"
+// (radiance_field_decoration.h), "Baked Normal Map" (normal_map_decoration.h) and "Irradiance Vector
+// Grid" (irradiance_grid_decoration.h). A thin adapter over the Decoration interface (decoration.h):
+// it owns one of each, indexed by the decoration id, and forwards each of MeshLab's calls to the one
+// whose id the action has.
 #pragma once
+
+#include "decoration.h"
 
 #include <QObject>
 #include <common/interfaces.h>
 
-#include <map>
+#include <array>
 #include <memory>
-
-namespace raddecorate {
-struct IrradianceGridView;
-}
-#include <utility>
 
 class DecorateRadiancePlugin : public QObject, public MeshDecorateInterface {
     Q_OBJECT
@@ -28,7 +19,7 @@ class DecorateRadiancePlugin : public QObject, public MeshDecorateInterface {
     Q_INTERFACES(MeshDecorateInterface)
 
 public:
-    enum { DP_RADIANCE_FIELD, DP_NORMAL_MAP, DP_IRRADIANCE_GRID };
+    enum { DP_RADIANCE_FIELD, DP_NORMAL_MAP, DP_IRRADIANCE_GRID, DP_COUNT };
 
     DecorateRadiancePlugin();
     ~DecorateRadiancePlugin() override;
@@ -44,15 +35,10 @@ public:
     void decorateDoc(QAction*, MeshDocument&, const RichParameterList*, GLArea*, QPainter*, GLLogStream&) override {}
     void endDecorate(QAction* action, MeshModel& m, const RichParameterList* par, GLArea* gla) override;
 
-    struct MeshView;       // per (view, layer): the GL renderer and what it was built from
-    struct NormalMapView;  // per (view, layer): the normal-map renderer
-
 private:
-    bool startNormalMap(MeshModel& m, const RichParameterList* par, GLArea* gla);
-    void decorateNormalMap(MeshModel& m, const RichParameterList* par, GLArea* gla, GLLogStream& log);
+    // The decoration of an id; null for an id that is not one of ours.
+    raddecorate::Decoration* decoration(FilterIDType id) const;
+    raddecorate::Decoration& decoration(QAction* action) const { return *decoration(ID(action)); }
 
-    using Key = std::pair<const GLArea*, int>;
-    std::map<Key, std::unique_ptr<MeshView>> views_;
-    std::map<Key, std::unique_ptr<NormalMapView>> normalViews_;
-    std::map<Key, std::unique_ptr<raddecorate::IrradianceGridView>> gridViews_;
+    std::array<std::unique_ptr<raddecorate::Decoration>, DP_COUNT> decorations_;
 };

@@ -10,36 +10,12 @@
 // files, log; the drawing is render_gl/normal_map_gl_renderer.h.
 #pragma once
 
-#include "normal_map_gl_renderer.h"
-
-#include <common/interfaces.h>
+#include "decoration.h"
 
 #include <memory>
-#include <set>
-#include <string>
 
 namespace raddecorate {
 
-struct IrradianceGridView {
-    std::unique_ptr<radgl::NormalMapGlRenderer> renderer;
-    std::string gridPath;        // the grid drawn
-    std::string failedPath;      // a grid named in the options that could not be read (not retried every frame)
-    bool normalMap = false;      // the layer's baked normal map is uploaded
-    int vn = -1, fn = -1;        // what was uploaded (a filter that changes the layer stops the drawing)
-    const void* vertices = nullptr;
-    const void* faces = nullptr;
-    std::set<std::string> reported;  // messages logged once
-};
-
-void addIrradianceGridParameters(RichParameterList& par);
-QString irradianceGridInfo();
-
-// Sets the layer up (mesh, albedo, normal map, grid). Returns null with `why` (no grid file, a bad
-// file with the reader's reason, GL limits, no faces); else the view, with `startLine` for the log.
-std::unique_ptr<IrradianceGridView> startIrradianceGrid(MeshModel& m, const RichParameterList& par, std::string& startLine,
-                                                       std::string& why);
-
-// Draws one frame (MeshLab's matrices current); problems are logged once each.
-void drawIrradianceGrid(IrradianceGridView& view, MeshModel& m, const RichParameterList& par, GLLogStream& log);
+std::unique_ptr<Decoration> makeIrradianceGridDecoration();
 
 }  // namespace raddecorate
