@@ -49,15 +49,9 @@ public:
         ctx.progress(20, "Writing glTF");
         rad::RadianceGltfOptions options;
         options.name = ctx.mesh().label().toStdString();
-        std::vector<unsigned char> glb;
-        try {
-            glb = rad::buildRadianceGlb(plain, options);
-            rad::writeFileAtomically(path, {{glb.data(), glb.size()}});
-        } catch (const rad::GltfInputError& e) {
-            throw Refusal(asSentence(e.what()) + " Nothing was written.");
-        } catch (const rad::AtomicFileError& e) {
-            throw Refusal(asSentence(e.what()));
-        }
+        // A refusal of either step (GltfInputError, AtomicFileError) reaches the user through runFilter.
+        const std::vector<unsigned char> glb = rad::buildRadianceGlb(plain, options);
+        rad::writeFileAtomically(path, {{glb.data(), glb.size()}});
         ctx.progress(100, "Done");
         ctx.log(formatLine("Wrote %s radiance of %zu vertices, %zu faces to %s (%.1f MiB)",
                            plain.radiance->basis.name().c_str(), plain.vertexCount(), plain.faceCount(), path.c_str(),

@@ -24,12 +24,9 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
-#include <exception>
 #include <limits>
-#include <mutex>
 #include <string>
 
 namespace rad {
@@ -505,41 +502,22 @@ void bakeTileRow(const TileBakeInputs& in, int tileRow, TexelCounts& counts, Nor
 // `result`. Throws what the progress callback threw, or OperationCancelled.
 void bakeTileRows(const TileBakeInputs& in, NormalBakeResult& result) {
     const int tileRows = (in.options.height + kTile - 1) / kTile;
-    std::atomic<bool> cancelled{false};
-    std::atomic<int> rowsDone{0};
-    std::mutex progressMutex;
-    int lastPercent = -1;
-    std::exception_ptr failure;
+    LoopProgress progress(in.options.progress, "casting rays from the target to the scan",
+                          static_cast<std::size_t>(tileRows));
     std::size_t chartTexels = 0, hits = 0, fallbacks = 0, invalid = 0;
 
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : chartTexels, hits, fallbacks, invalid)
     for (int tileRow = 0; tileRow < tileRows; ++tileRow) {
-        if (cancelled.load(std::memory_order_relaxed)) continue;
-        TexelCounts counts;
-        bakeTileRow(in, tileRow, counts, result);
-        chartTexels += counts.chartTexels;
-        hits += counts.hits;
-        fallbacks += counts.fallbacks;
-        invalid += counts.invalid;
-
-        // Progress, from whichever thread crosses a whole percent (never two at once).
-        const int done = rowsDone.fetch_add(1) + 1;
-        if (in.options.progress) {
-            const int percent = int(100LL * done / tileRows);
-            std::lock_guard<std::mutex> lock(progressMutex);
-            if (percent > lastPercent && !cancelled.load()) {
-                lastPercent = percent;
-                try {
-                    if (!in.options.progress(percent / 100.0, "casting rays from the target to the scan")) cancelled = true;
-                } catch (...) {
-                    failure = std::current_exception();
-                    cancelled = true;
-                }
-            }
-        }
+        progress.runItem(omp_get_thread_num() == 0, [&] {
+            TexelCounts counts;
+            bakeTileRow(in, tileRow, counts, result);
+            chartTexels += counts.chartTexels;
+            hits += counts.hits;
+            fallbacks += counts.fallbacks;
+            invalid += counts.invalid;
+        });
     }
-    if (failure) std::rethrow_exception(failure);
-    if (cancelled) throw OperationCancelled();
+    progress.finish();
     result.chartTexels = chartTexels;
     result.rayHits = hits;
     result.closestPointFallbacks = fallbacks;

@@ -50,8 +50,8 @@ struct NormalBakeOptions {
     // Fill `tangents` (LEAN needs them). Off, the array stays empty: 12 bytes per texel neither
     // allocated nor written (a tangent-space bake without LEAN has no use for them).
     bool keepTangents = true;
-    // progress/progress_callback.h; may be called from several threads, never concurrently. A
-    // stop request makes the bake throw OperationCancelled.
+    // progress/progress_callback.h, called from the calling thread (LoopProgress). A stop request
+    // makes the bake throw OperationCancelled.
     ProgressCallback progress;
 };
 

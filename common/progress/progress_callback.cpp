@@ -30,8 +30,15 @@ void LoopProgress::itemDone(bool callingThread) {
     const long percent = static_cast<long>(100.0 * static_cast<double>(done) / static_cast<double>(total_));
     if (percent == reportedPercent_) return;
     reportedPercent_ = percent;
-    if (!progress_(std::min(1.0, static_cast<double>(done) / static_cast<double>(total_)), stage_))
-        stopped_.store(true, std::memory_order_relaxed);
+    // Called inside the caller's parallel region: what the callback throws is captured like an item's.
+    bool keepGoing = true;
+    try {
+        keepGoing = progress_(std::min(1.0, static_cast<double>(done) / static_cast<double>(total_)), stage_);
+    } catch (...) {
+        captureException(std::current_exception());
+        return;
+    }
+    if (!keepGoing) stopped_.store(true, std::memory_order_relaxed);
 }
 
 void LoopProgress::captureException(std::exception_ptr error) {

@@ -42,7 +42,8 @@ ProgressCallback progressRange(const ProgressCallback& outer, double from, doubl
 //
 // An exception thrown by an item is handed to captureException() (or the item is run through
 // runItem(), which does it): the first one is kept, later ones are dropped, the loop skips its
-// remaining items as for a stop request, and finish() rethrows it on the calling thread.
+// remaining items as for a stop request, and finish() rethrows it on the calling thread. An exception
+// the callback itself throws is captured the same way.
 class LoopProgress {
 public:
     LoopProgress(const ProgressCallback& progress, const char* stage, std::size_t total);
