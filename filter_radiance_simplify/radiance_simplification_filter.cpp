@@ -189,15 +189,8 @@ public:
         rad::AtomicFileSet progressiveFiles;
         if (!progressivePath.isEmpty()) {
             const QString base = progressivePath.left(progressivePath.size() - 4) + "_base.rply";
-            try {
-                rad::stageProgressiveMesh(progressivePath.toStdString(), base.toStdString(), progressive,
-                                          progressiveFiles);
-            } catch (const std::bad_alloc&) {
-                throw;
-            } catch (const std::exception& e) {
-                throw Refusal(QString("Could not write the progressive mesh: %1 The layers are unchanged.")
-                                  .arg(QString::fromStdString(asSentence(e.what()))));
-            }
+            // A failure (AtomicFileError, naming the file) reaches the user through runFilter.
+            rad::stageProgressiveMesh(progressivePath.toStdString(), base.toStdString(), progressive, progressiveFiles);
         }
 
         ctx.progress.setPhase(97, 100, "Updating layers");
@@ -209,12 +202,7 @@ public:
             ctx.log(formatLine("Level of detail %.4g %%: %zu vertices, %zu faces (layer '%s')", 100.0 * ratio, level.vertexCount(),
                 level.faceCount(), qUtf8Printable(layer->label())));
         }
-        try {
-            progressiveFiles.commit();
-        } catch (const std::exception& e) {
-            throw Refusal(QString("Could not write the progressive mesh: %1 The layers are unchanged.")
-                              .arg(QString::fromStdString(asSentence(e.what()))));
-        }
+        progressiveFiles.commit();
         const int mask = importPlainMesh(target, m.cm);
         enableLoadedData(m, mask);
         updateBoxAndNormals(m);
