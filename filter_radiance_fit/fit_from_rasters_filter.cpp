@@ -313,7 +313,7 @@ public:
         const rad::TriangleMesh mesh = meshForFit(ctx, m);
 
         // Everything is computed aside; the layer changes only once the fit succeeded.
-        const rad::RadianceFromViewsResult result =
+        rad::RadianceFromViewsResult result =
             rad::fitRadianceFromViews(mesh, split.training, options, ctx.progress.forCore());
         for (const std::string& warning : result.warnings) ctx.warning(warning);
         rad::HeldOutEvaluation evaluation;

@@ -1,5 +1,7 @@
 #include "filter_errors.h"
 
+#include "host_operations.h"
+
 #include "errors/error_categories.h"
 #include "progress/progress_callback.h"
 
@@ -32,8 +34,8 @@ std::string parameterProblem(const RichParameterList& par) {
     return {};
 }
 
-// A core's refusal as the user reads it: the core's own words (what is wrong, how to fix it), then
-// what the wrapper guarantees.
+// A core's refusal as the user reads it: the core's own words (what is wrong, how to fix it; the
+// cores write them as sentences), then what the wrapper guarantees.
 std::string withLayersUnchanged(std::string message) {
     while (!message.empty() && std::isspace(static_cast<unsigned char>(message.back()))) message.pop_back();
     if (message.find("unchanged") != std::string::npos) return message;
@@ -60,7 +62,10 @@ std::string runFilter(const Filter* filter, MeshDocument& md, const RichParamete
     if (current == nullptr && filter->needsCurrentLayer()) return "There is no current mesh: open or select a layer first.";
     if (const std::string problem = parameterProblem(par); !problem.empty()) return problem;
     FilterProgress progress(cb);
-    FilterContext context{md, current, par, progress, log, warning};
+    // Every line the user reads names the host's operations its own way (host_operations.h).
+    const auto hostLog = [&log](const std::string& line) { log(forThisHost(line)); };
+    const auto hostWarning = [&warning](const std::string& line) { warning(forThisHost(line)); };
+    FilterContext context{md, current, par, progress, hostLog, hostWarning};
     // Layers a filter added before it failed (a POP buffer's levels, LOD layers, when memory ran out
     // on the last one) are removed: a refusal leaves the document's layers as they were.
     const std::vector<MeshModel*> before = documentMeshes(md);
@@ -89,7 +94,7 @@ std::string runFilter(const Filter* filter, MeshDocument& md, const RichParamete
         refusal = std::string("Internal error (please report it): ") + e.what();
     }
     removeAddedLayers();
-    return refusal;
+    return forThisHost(refusal);
 }
 
 }  // namespace radml

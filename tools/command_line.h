@@ -2,6 +2,7 @@
 #pragma once
 
 #include "errors/error_categories.h"
+#include "errors/host_operations.h"
 
 #include <cmath>
 #include <exception>
@@ -55,17 +56,17 @@ int runTool(const char* name, int argc, char** argv, Run run, Usage usage, bool 
     try {
         return run(argc, argv);
     } catch (const UsageError& e) {
-        std::cerr << name << ": " << e.what() << "\n";
+        std::cerr << name << ": " << rad::plainHostOperations(e.what()) << "\n";
         usage(std::cerr);
         return 2;
     } catch (const rad::InputError& e) {  // a core's refusal of the mesh or scene, never a usage error
-        std::cerr << name << ": " << e.what() << "\n";
+        std::cerr << name << ": " << rad::plainHostOperations(e.what()) << "\n";
         return 1;
     } catch (const std::invalid_argument& e) {
-        std::cerr << name << ": " << e.what() << "\n";
+        std::cerr << name << ": " << rad::plainHostOperations(e.what()) << "\n";
         return invalidArgumentIsUsage ? 2 : 1;
     } catch (const std::exception& e) {
-        std::cerr << name << ": " << e.what() << "\n";
+        std::cerr << name << ": " << rad::plainHostOperations(e.what()) << "\n";
         return 1;
     }
 }

@@ -132,8 +132,8 @@ void checkBakeInput(const TriangleMesh& target, const float* targetWedgeUv, cons
     checkMesh(target, "target");
     checkMesh(source, "source");
     if (!target.hasNormals())
-        throw BakeInputError("the target mesh has no vertex normals: compute them first (Normals, Curvatures and "
-                             "Orientation > Compute normals for point sets / Re-Compute Vertex Normals)");
+        throw BakeInputError("the target mesh has no vertex normals: compute them first ({{Compute normals for point sets}} "
+                             "or {{Re-Compute Vertex Normals}})");
     for (std::size_t v = 0; v < target.vertexCount(); ++v) {
         if (!(vertexOf(target.normals, std::uint32_t(v)).squaredNorm() > 1e-12f))
             throw BakeInputError("the target mesh's vertex normal " + std::to_string(v) +

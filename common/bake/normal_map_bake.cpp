@@ -114,16 +114,15 @@ void checkNormalMapBakeRequest(const NormalMapBakeRequest& request) {
         if (!scale.empty()) throw BakeInputError(scale);
     }
     if (!request.target->hasNormals())
-        throw BakeInputError("The target has no vertex normals: run \"Normals, Curvatures and Orientation > "
-                             "Re-Compute Vertex Normals\" on it first.");
+        throw BakeInputError("The target has no vertex normals: run {{Re-Compute Vertex Normals}} on it first.");
     std::size_t badNormals = 0;
     for (std::size_t i = 0; i < request.target->faces.size(); ++i) {
         const float* n = &request.target->normals[3 * std::size_t(request.target->faces[i])];
         if (!(n[0] * n[0] + n[1] * n[1] + n[2] * n[2] > 1e-12f)) ++badNormals;
     }
     if (badNormals > 0)
-        throw BakeInputError("The target has zero vertex normals (the rays leave along them): run \"Normals, "
-                             "Curvatures and Orientation > Re-Compute Vertex Normals\" on it first.");
+        throw BakeInputError("The target has zero vertex normals (the rays leave along them): run "
+                             "{{Re-Compute Vertex Normals}} on it first.");
     const std::string sizeProblem = textureSizeProblem(request.textureSize);
     if (!sizeProblem.empty()) throw BakeInputError(sizeProblem);
     const std::size_t limit = request.memoryLimitBytes > 0 ? request.memoryLimitBytes : availableMemoryBytes();

@@ -35,12 +35,12 @@ int nextPowerOfTwo(long long n) {
 std::string textureSizeProblem(int size, int minSize, int maxSize) {
     std::ostringstream s;
     if (size < minSize || size > maxSize) {
-        s << "texture size " << size << " is outside [" << minSize << ", " << maxSize
+        s << "Texture size " << size << " is outside [" << minSize << ", " << maxSize
           << "]; choose a power of two in that range";
         return s.str();
     }
     if ((size & (size - 1)) != 0) {
-        s << "texture size " << size << " is not a power of two; choose e.g. " << nextPowerOfTwo(size);
+        s << "Texture size " << size << " is not a power of two; choose e.g. " << nextPowerOfTwo(size);
         return s.str();
     }
     return {};

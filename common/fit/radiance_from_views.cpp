@@ -19,8 +19,8 @@ namespace rad {
 namespace {
 
 const char* const kNormalsHint =
-    "compute normals first, e.g. Filters > Normals, Curvatures and Orientation > Compute normals for point sets "
-    "(point clouds) or Re-Compute Vertex Normals (meshes)";
+    "compute normals first, e.g. {{Compute normals for point sets}} (point clouds) or {{Re-Compute Vertex Normals}} "
+    "(meshes)";
 
 // Every check that needs no heavy work, in the order a user would fix things.
 void validateInput(const TriangleMesh& mesh, const std::vector<CalibratedView>& views,
@@ -31,12 +31,12 @@ void validateInput(const TriangleMesh& mesh, const std::vector<CalibratedView>& 
         std::ostringstream why;
         why << "The mesh cannot be used: " << meshProblem << ".";
         if (meshProblem.find("non-finite coordinate") != std::string::npos)
-            why << " Remove or repair such vertices first (e.g. Filters > Cleaning and Repairing).";
+            why << " Remove or repair such vertices first (e.g. {{Remove Unreferenced Vertices}} after fixing the faces).";
         else if (meshProblem.find("normal") != std::string::npos)
             why << " Radiance functions live on the hemisphere around the vertex normal: " << kNormalsHint << ".";
         else if (meshProblem.find("refers to vertex") != std::string::npos)
-            why << " Repair the mesh first (e.g. Filters > Cleaning and Repairing > Remove Zero Area Faces / "
-                   "Remove Unreferenced Vertices), or reload it.";
+            why << " Repair the mesh first (e.g. {{Remove Zero Area Faces}}, {{Remove Unreferenced Vertices}}), or "
+                   "reload it.";
         throw FitError(why.str());
     }
     if (!mesh.hasNormals())
@@ -69,7 +69,7 @@ void validateInput(const TriangleMesh& mesh, const std::vector<CalibratedView>& 
     const std::string problem = options.validate();
     if (!problem.empty()) throw FitError("Invalid parameter: " + problem + ".");
     if (views.empty())
-        throw FitError("There is no raster to fit from: load calibrated photographs first (File > Import Raster, or "
+        throw FitError("There is no raster to fit from: load calibrated photographs first ({{Import Raster}}, or "
                        "open a MeshLab project .mlp / Bundler .out with cameras), aligned with this mesh.");
 }
 

@@ -18,8 +18,8 @@ std::string coordinateRangeProblem(const float* positions, std::size_t vertexCou
                 << "such vertices or fix the file.";
         } else {
             why << "Vertex " << i / 3 << " has a coordinate of " << x << ", beyond the " << kMaxCoordinateMagnitude
-                << " that single-precision geometry can be computed with: scale the mesh down (Filters > Normals, "
-                << "Curvatures and Orientation > Transform: Scale, Normalize) or remove the stray vertices.";
+                << " that single-precision geometry can be computed with: scale the mesh down "
+                << "({{Transform: Scale, Normalize}}) or remove the stray vertices.";
         }
         return why.str();
     }
@@ -67,13 +67,11 @@ std::string boxScaleProblem(const double lo[3], const double hi[3], const std::s
     if (extent < kMinSceneExtent) {
         why << what << " is " << extent << " units across, below the " << kMinSceneExtent
             << " that single-precision geometry can be computed with (products of coordinates underflow to zero): "
-            << "scale it up (Filters > Normals, Curvatures and Orientation > Transform: Scale, Normalize, "
-            << "e.g. 'Scale to Unit bbox').";
+            << "scale it up ({{Transform: Scale, Normalize}}, e.g. 'Scale to Unit bbox').";
     } else if (extent < kMinRelativeExtent * magnitude) {
         why << what << " is " << extent << " units across but lies " << magnitude
             << " units from the origin: single-precision coordinates there are too coarse for its size. Move it to "
-            << "the origin first (Filters > Normals, Curvatures and Orientation > Transform: Translate, Center, set "
-            << "Origin, with 'Center on BBox').";
+            << "the origin first ({{Transform: Translate, Center, set Origin}}, with 'Center on BBox').";
     }
     return why.str();
 }

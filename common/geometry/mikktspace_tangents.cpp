@@ -91,8 +91,8 @@ void checkInput(const TangentSpaceInput& in) {
     if (!in.positions || !in.faces)
         throw TangentSpaceInputError("Tangents need the mesh's positions and faces.");
     if (!in.normals)
-        throw TangentSpaceInputError("Tangents need normals: compute the vertex normals first (Normals, Curvatures "
-                                     "and Orientation > Re-Compute Vertex Normals).");
+        throw TangentSpaceInputError("Tangents need normals: compute the vertex normals first ({{Re-Compute Vertex "
+                                     "Normals}}).");
     if (!in.uv)
         throw TangentSpaceInputError("Tangents need texture coordinates: the mesh has none (parametrize it first).");
     for (std::size_t i = 0; i < 3 * in.faceCount; ++i)

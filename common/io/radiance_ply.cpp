@@ -708,8 +708,7 @@ struct FaceDecoder {
                                         const unsigned char* end) const {
         if (count != 3)
             fail(cat("face ", f, " has ", count, " vertices but only triangle meshes are supported: "
-                     "triangulate the mesh first (e.g. in MeshLab: Filters > Polygonal and Quad Mesh > "
-                     "Turn into a Pure-Triangular mesh) and save it again"));
+                     "triangulate the mesh first (e.g. {{Turn into a Pure-Triangular mesh}}) and save it again"));
         if (static_cast<std::size_t>(end - cursor) < 12) truncatedFace(f);
         for (std::size_t k = 0; k < 3; ++k) {
             std::uint32_t raw;

@@ -111,8 +111,8 @@ public:
                 if (a == b)
                     throw std::invalid_argument(
                         "Face " + std::to_string(f) + " has two corners at the same position (zero area): remove "
-                        "such faces with MeshLab's Remove Duplicate Vertices and Remove Zero Area Faces (Filters > "
-                        "Cleaning and Repairing), then compute the transfer again.");
+                        "such faces with {{Remove Duplicate Vertices}} and {{Remove Zero Area Faces}}, then compute "
+                        "the transfer again.");
                 halfEdges[3 * f + k] = {undirectedEdgeKey(a, b), static_cast<std::uint32_t>(3 * f + k)};
             }
         }
@@ -122,8 +122,8 @@ public:
             while (j < halfEdges.size() && halfEdges[j].first == halfEdges[i].first) ++j;
             if (j - i > 2)
                 throw std::invalid_argument(
-                    "An edge is shared by more than two faces (non-manifold): repair it with MeshLab's Repair non "
-                    "Manifold Edges (Filters > Cleaning and Repairing), then compute the transfer again.");
+                    "An edge is shared by more than two faces (non-manifold): repair it with {{Repair non Manifold "
+                    "Edges}}, then compute the transfer again.");
             Edge e;
             e.lowPid = static_cast<std::uint32_t>(halfEdges[i].first >> 32);
             e.boundary = j - i == 1;
@@ -686,8 +686,8 @@ std::string checkPrtSubdivisionInput(const PrtMesh& mesh) {
     if (mesh.positions.size() % 3 != 0 || mesh.faces.size() % 3 != 0)
         return "the mesh arrays are malformed (positions or faces are not whole triples); reload the mesh";
     if (mesh.normals.size() != mesh.positions.size())
-        return "the mesh has no per-vertex normals: compute them first (Filters > Normals, Curvatures and "
-               "Orientation > Re-Compute Vertex Normals, or Compute normals for point sets)";
+        return "the mesh has no per-vertex normals: compute them first ({{Re-Compute Vertex Normals}}, or "
+               "{{Compute normals for point sets}})";
     if (mesh.width < 1 || mesh.transfer.size() != mesh.vertexCount() * std::size_t(std::max(mesh.width, 0)))
         return "the mesh's transfer vectors do not match its vertices (" + std::to_string(mesh.transfer.size()) +
                " floats for " + plural(mesh.vertexCount(), "vertex") + " of width " + std::to_string(mesh.width) +
@@ -712,13 +712,12 @@ std::string checkPrtSubdivisionInput(const PrtMesh& mesh) {
     }
     if (nonFinitePositions > 0)
         return "the mesh has " + plural(nonFinitePositions, "vertex") +
-               " with a non-finite position (NaN or infinity): fix or delete them (then Filters > Cleaning and "
-               "Repairing > Remove Unreferenced Vertices) and try again";
+               " with a non-finite position (NaN or infinity): fix or delete them (then {{Remove Unreferenced "
+               "Vertices}}) and try again";
     if (nonFiniteNormals > 0 || zeroNormals > 0)
         return "the mesh has " + plural(nonFiniteNormals + zeroNormals, "vertex") +
-               " with a zero or non-finite normal: recompute the normals (Filters > Normals, Curvatures and "
-               "Orientation > Re-Compute Vertex Normals) after removing zero-area faces (Filters > Cleaning and "
-               "Repairing > Remove Zero Area Faces)";
+               " with a zero or non-finite normal: recompute the normals ({{Re-Compute Vertex Normals}}) after "
+               "removing zero-area faces ({{Remove Zero Area Faces}})";
     if (nonFiniteTransfer > 0)
         return "the transfer vectors of " + plural(nonFiniteTransfer, "vertex") +
                " are not finite (NaN or infinity): compute the PRT transfer vectors again";
@@ -749,16 +748,15 @@ std::string checkPrtSubdivisionInput(const PrtMesh& mesh) {
     }
     if (repeated > 0)
         return "the mesh has " + plural(repeated, "face") +
-               " with two corners at the same position: run Filters > Cleaning and Repairing > Remove Zero Area "
-               "Faces and try again";
+               " with two corners at the same position: run {{Remove Zero Area Faces}} and try again";
     if (zeroArea > 0)
         return "the mesh has " + plural(zeroArea, "face") +
-               " of zero area: run Filters > Cleaning and Repairing > Remove Zero Area Faces and try again";
+               " of zero area: run {{Remove Zero Area Faces}} and try again";
     const std::size_t nonManifold = countNonManifoldEdges(edges);
     if (nonManifold > 0)
         return "the mesh has " + plural(nonManifold, "non-manifold edge") +
-               " (shared by more than two faces, vertices at the same position counted as one): run Filters > "
-               "Cleaning and Repairing > Repair non Manifold Edges and try again";
+               " (shared by more than two faces, vertices at the same position counted as one): run "
+               "{{Repair non Manifold Edges}} and try again";
     return {};
 }
 

@@ -80,8 +80,8 @@ void validate(float sceneDiagonal, const TransferOptions& options) {
                                     std::to_string(options.relativeRayOffset) + ".");
     if (!std::isfinite(sceneDiagonal))
         throw std::invalid_argument("The scene's bounding box is too large for single-precision ray casting "
-                                    "(its diagonal overflows): scale the mesh down (Filters > Normals, Curvatures "
-                                    "and Orientation > Transform: Scale) or remove the far-away vertices.");
+                                    "(its diagonal overflows): scale the mesh down ({{Transform: Scale, "
+                                    "Normalize}}) or remove the far-away vertices.");
     if (!(sceneDiagonal > 0.0f))
         throw std::invalid_argument("The scene has no extent (every vertex at the same position): PRT transfer "
                                     "needs a surface; check the layer's vertices.");

@@ -25,14 +25,14 @@ std::string checkMaterialRadianceInput(const float* positions, const float* norm
         const float* n = normals + 3 * v;
         if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
             why << "Vertex " << v << " has a non-finite position (NaN or infinity). Remove such vertices first "
-                << "(e.g. Filters > Cleaning and Repairing > Remove Unreferenced Vertices after fixing the faces).";
+                << "(e.g. {{Remove Unreferenced Vertices}} after fixing the faces).";
             return why.str();
         }
         const double len2 = double(n[0]) * n[0] + double(n[1]) * n[1] + double(n[2]) * n[2];
         if (!std::isfinite(len2) || len2 < 1e-20) {
             why << "Vertex " << v << " has no usable normal (zero or not finite): radiance functions live on the "
-                << "hemisphere around the normal. Compute vertex normals first (Filters > Normals, Curvatures and "
-                << "Orientation > Re-Compute Vertex Normals, or Compute normals for point sets).";
+                << "hemisphere around the normal. Compute vertex normals first ({{Re-Compute Vertex Normals}}, or "
+                << "{{Compute normals for point sets}}).";
             return why.str();
         }
     }

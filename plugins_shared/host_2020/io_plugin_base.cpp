@@ -1,5 +1,7 @@
 #include "io_plugin_base.h"
 
+#include "host_operations.h"
+
 #include <cstdio>
 
 namespace radml {
@@ -32,16 +34,16 @@ bool IoPluginBase::open(const QString& format, const QString& fileName, MeshMode
         return refuse("This plugin only reads ." + format_->extension().toLower().toStdString() + " files.");
     FilterProgress progress(cb);
     try {
-        format_->read(fileName, m, mask, progress, [this](const std::string& s) { Log(GLLogStream::FILTER, s); },
+        format_->read(fileName, m, mask, progress, [this](const std::string& s) { Log(GLLogStream::FILTER, forThisHost(s)); },
                       [this](const std::string& s) {
-                          Log(GLLogStream::WARNING, s);
-                          std::fprintf(stderr, "%s\n", s.c_str());
+                          Log(GLLogStream::WARNING, forThisHost(s));
+                          std::fprintf(stderr, "%s\n", forThisHost(s).c_str());
                       });
         return true;
     } catch (const std::exception& e) {
         // MeshLab discards the half-built layer of a failed open; the user's other layers are untouched.
         m.cm.Clear();
-        return refuse(e.what());
+        return refuse(forThisHost(e.what()));
     }
 }
 
@@ -58,7 +60,7 @@ bool IoPluginBase::save(const QString& format, const QString& fileName, MeshMode
                        });
         return true;
     } catch (const std::exception& e) {
-        return refuse(e.what());
+        return refuse(forThisHost(e.what()));
     }
 }
 

@@ -1,5 +1,7 @@
 #include "io_plugin_base.h"
 
+#include "host_operations.h"
+
 namespace radml {
 
 std::list<FileFormat> IoPluginBase::importFormats() const {
@@ -22,15 +24,15 @@ void IoPluginBase::open(const QString& format, const QString& fileName, MeshMode
         throw MLException("This plugin only reads ." + format_->extension().toLower() + " files.");
     FilterProgress progress(cb);
     try {
-        format_->read(fileName, m, mask, progress, [this](const std::string& s) { log(GLLogStream::FILTER, s); },
-                      [this](const std::string& s) { log(GLLogStream::WARNING, s); });
+        format_->read(fileName, m, mask, progress, [this](const std::string& s) { log(GLLogStream::FILTER, forThisHost(s)); },
+                      [this](const std::string& s) { log(GLLogStream::WARNING, forThisHost(s)); });
     } catch (const MLException&) {
         m.cm.Clear();
         throw;
     } catch (const std::exception& e) {
         // The host discards the layer of a failed open; the user's other layers are untouched.
         m.cm.Clear();
-        throw MLException(QString::fromUtf8(e.what()));
+        throw MLException(QString::fromStdString(forThisHost(e.what())));
     }
 }
 
@@ -45,7 +47,7 @@ void IoPluginBase::save(const QString& format, const QString& fileName, MeshMode
     } catch (const MLException&) {
         throw;
     } catch (const std::exception& e) {
-        throw MLException(QString::fromUtf8(e.what()));
+        throw MLException(QString::fromStdString(forThisHost(e.what())));
     }
 }
 

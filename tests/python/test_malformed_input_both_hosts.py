@@ -42,6 +42,10 @@ class Case:
 
 
 COORDINATES = "that single-precision geometry can be computed with: scale the mesh down"
+# The remedy of COORDINATES, as each host names MeshLab's operation (the cores write "{{Transform: Scale,
+# Normalize}}"; plugins_shared/host_operations names it per host).
+SCALE_IN_PYMESHLAB = "MeshSet.compute_matrix_from_scaling_or_normalization() (MeshLab's Transform: Scale, Normalize)"
+SCALE_IN_MESHLAB = "Filters > Normals, Curvatures and Orientation > Transform: Scale, Normalize"
 CASES = {
     # Embree asserted and aborted MeshLab on a target near 1e19.
     "bake_target_at_1e19": Case(("sphere.ply", "sphere_1e19.ply"), "Bake Normal Map", {"sourceMesh": 0},
@@ -231,6 +235,9 @@ def test_pymeshlab_refuses(name, inputs):
         h.assert_unchanged(before, h.snapshot(ms), name)
     assert expected in text, f"{name}: expected '{expected}' in:\n{text}"
     assert INTERNAL not in text, text
+    assert "{{" not in text and "Filters >" not in text, text
+    if case.message == COORDINATES:
+        assert SCALE_IN_PYMESHLAB in text, text
     _assert_no_files(case, inputs)
 
 
@@ -324,5 +331,8 @@ def test_meshlabserver_refuses(name, inputs, tmp_path):
             assert out.read_bytes() == reference.read_bytes(), f"{name}: the layer changed under a refused filter"
     assert case.message in log, f"{name}: expected '{case.message}' in:\n{log[-3000:]}"
     assert INTERNAL not in log, log[-3000:]
+    assert "{{" not in log, log[-3000:]
+    if case.message == COORDINATES:
+        assert SCALE_IN_MESHLAB in log, log[-3000:]
     _assert_no_files(case, inputs)
 
