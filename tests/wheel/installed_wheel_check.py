@@ -25,6 +25,11 @@ import sys
 import sysconfig
 import tempfile
 
+# The plugins the wheel ships (one per plugin folder of the repository, MeshLab 2025.07 builds).
+WHEEL_PLUGINS = ("libio_radiance.so", "libfilter_radiance_fit.so", "libfilter_radiance_simplify.so",
+                 "libfilter_prt_subdivide.so", "libfilter_normal_bake.so", "libfilter_out_of_core.so",
+                 "libfilter_level_of_detail.so", "libfilter_irradiance_grid.so")
+
 # The manylinux_2_35 policy's system libraries (auditwheel's policy file): a wheel may rely on them.
 MANYLINUX_SYSTEM = {
     "libatomic.so.1", "libgcc_s.so.1", "libstdc++.so.6", "libm.so.6", "libmvec.so.1", "libanl.so.1",
@@ -107,8 +112,9 @@ def main():
     if not os.path.realpath(pymeshlab_radiance.__file__).startswith(site + os.sep):
         fail(f"pymeshlab_radiance imported from {pymeshlab_radiance.__file__}, not from {site}")
     plugins = pymeshlab_radiance.load()
-    if len(plugins) != 7 or not all(os.path.realpath(p).startswith(inside[0]) for p in plugins):
-        fail(f"expected the wheel's 7 plugins, loaded {plugins}")
+    if sorted(os.path.basename(p) for p in plugins) != sorted(WHEEL_PLUGINS) or \
+            not all(os.path.realpath(p).startswith(inside[0]) for p in plugins):
+        fail(f"expected the wheel's {len(WHEEL_PLUGINS)} plugins {sorted(WHEEL_PLUGINS)}, loaded {plugins}")
 
     # 2. What loading them added to the process.
     added = sorted(mapped_libraries() - before)
