@@ -67,7 +67,7 @@ public:
     void finish();
 
 private:
-    const ProgressCallback& progress_;
+    const ProgressCallback progress_;  // a copy: a caller may pass a temporary (an empty {})
     const char* stage_;
     std::size_t total_;
     std::atomic<std::size_t> done_{0};
