@@ -207,7 +207,7 @@ void writeIrradianceVectorGrid(const std::string& path, const IrradianceVectorGr
     writeFileAtomically(path, {{text.data(), text.size()}, {grid.vectors.data(), grid.vectors.size() * sizeof(float)}});
 }
 
-IrradianceVectorGrid readIrradianceVectorGrid(const std::string& path) {
+IrradianceVectorGrid readIrradianceVectorGrid(const std::string& path, std::size_t memoryLimitBytes) {
     const std::string where = "cannot read the irradiance vector grid '" + path + "'";
     std::ifstream file(path, std::ios::binary);
     if (!file) throw IrradianceVectorGridError(where + ": cannot open the file; check the path");
@@ -286,7 +286,7 @@ IrradianceVectorGrid readIrradianceVectorGrid(const std::string& path) {
     // A grid of 2^26 vertices is 14.5 GB: refused with the figures before the allocation fails
     // (a sparse file passes the size check without using the disk).
     const double bytes = double(values) * sizeof(float);
-    const std::size_t available = availableMemoryBytes();
+    const std::size_t available = memoryLimitBytes > 0 ? memoryLimitBytes : availableMemoryBytes();
     if (available > 0 && bytes > double(available))
         throw IrradianceVectorGridError(where + ": the grid (" + std::to_string(grid.cells[0]) + " x " +
                                         std::to_string(grid.cells[1]) + " x " + std::to_string(grid.cells[2]) +

@@ -118,8 +118,10 @@ void writeIrradianceVectorGrid(const std::string& path, const IrradianceVectorGr
 
 // Throws IrradianceVectorGridError naming the file and the problem (not an .ivg file, unknown
 // version, missing or malformed header line, data size not matching the header, truncated data,
-// non-finite values). Never allocates more than the file's size justifies.
-IrradianceVectorGrid readIrradianceVectorGrid(const std::string& path);
+// non-finite values, a grid larger than the memory it may take). Never allocates more than the
+// file's size justifies. memoryLimitBytes 0: what the process has available now
+// (memory/available_memory.h).
+IrradianceVectorGrid readIrradianceVectorGrid(const std::string& path, std::size_t memoryLimitBytes = 0);
 
 // Why `grid` cannot light a mesh with these vertices, or empty: more than 1 % of them outside the
 // grid's box (with half a cell of slack: a stale grid of another scene, or one computed before the

@@ -252,6 +252,25 @@ TEST_F(IrradianceVectorGridFile, NonFiniteValueIsRefused) {
     EXPECT_NE(readError(hostile).find("not finite"), std::string::npos);
 }
 
+// A sparse file passes the size check without using the disk: a grid of 301^3 vertices (5.9 GB) is
+// refused with the figures before the allocation (a bare std::bad_alloc in the GUI, before).
+TEST_F(IrradianceVectorGridFile, GridLargerThanTheMemoryLimitIsRefusedWithTheFigures) {
+    const std::string withBigCells = replaced("cells 2 1 1", "cells 300 300 300");
+    const std::string header = withBigCells.substr(0, withBigCells.find("end_header\n") + 11);
+    radtest::writeBytes(path, std::vector<char>(header.begin(), header.end()));
+    const std::uintmax_t vertices = 301ull * 301ull * 301ull, floatsPerVertex = 6 * 9;
+    std::filesystem::resize_file(path, header.size() + vertices * floatsPerVertex * sizeof(float));
+    try {
+        rad::readIrradianceVectorGrid(path, std::size_t(64) << 20);
+        FAIL() << "a 5.9 GB grid was read under a 64 MiB limit";
+    } catch (const rad::IrradianceVectorGridError& e) {
+        const std::string message = e.what();
+        EXPECT_NE(message.find("(300 x 300 x 300 cells) needs 5.9 GB of memory and 67 MB are available"),
+                  std::string::npos) << message;
+        EXPECT_NE(message.find("compute a grid of lower resolution"), std::string::npos) << message;
+    }
+}
+
 TEST(IrradianceVectorGridFileMissing, MissingFileIsNamed) {
     try {
         rad::readIrradianceVectorGrid(tempPath("does_not_exist.ivg"));

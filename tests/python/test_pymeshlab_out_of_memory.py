@@ -1,0 +1,115 @@
+"""Running out of memory through pymeshlab 2025.7: a refusal that names the cause, and the document as
+it was (no layer left from a filter that failed half way, no file written).
+
+Each case runs in a child Python whose address space is limited (RLIMIT_AS, as `ulimit -v` and batch
+schedulers set it) to what it uses after loading the mesh plus a margin, so that the filter's
+allocations fail where they would on a smaller machine, and the rest of the suite is unaffected.
+The child reports what it saw as one JSON line; the assertions are made here.
+"""
+import json
+import subprocess
+import sys
+
+import pymeshlab_test_helpers as h
+
+# What the child does before the limit: load pymeshlab and our plugins, build the mesh, run the
+# filter once on a small case so that OpenMP's threads exist (a thread that cannot be created under
+# the limit aborts the process inside libgomp, which no filter can catch).
+CHILD_PROLOGUE = """
+import json, resource, sys
+import numpy as np
+import pymeshlab
+import pymeshlab_radiance
+
+def virtual_bytes():
+    with open("/proc/self/status") as f:
+        for line in f:
+            if line.startswith("VmSize:"):
+                return int(line.split()[1]) * 1024
+
+def limit_address_space(margin_mb):
+    used = virtual_bytes()
+    resource.setrlimit(resource.RLIMIT_AS, (used + margin_mb * 2**20, resource.RLIM_INFINITY))
+
+def state(ms):
+    return {"layers": ms.mesh_number(), "current": ms.current_mesh_id(),
+            "faces": int(ms.current_mesh().face_number()), "vertices": int(ms.current_mesh().vertex_number())}
+
+def report(**fields):
+    print("RESULT " + json.dumps(fields))
+    sys.stdout.flush()
+"""
+
+
+def run_child(body, timeout=600):
+    done = subprocess.run([sys.executable, "-c", CHILD_PROLOGUE + body], capture_output=True, text=True,
+                          timeout=timeout, env=h.python_env(OMP_NUM_THREADS="2"))
+    lines = [line for line in done.stdout.splitlines() if line.startswith("RESULT ")]
+    assert done.returncode == 0 and lines, \
+        f"the child Python failed (status {done.returncode}):\n{done.stdout[-3000:]}\n{done.stderr[-3000:]}"
+    return json.loads(lines[-1][len("RESULT "):])
+
+
+def grid_mesh_code(cells):
+    """A flat grid of `cells` x `cells` squares, two triangles each, built in the child (too large for
+    a command line as literals)."""
+    return f"""
+n = {cells}
+xs, ys = np.meshgrid(np.arange(n + 1) * 0.01, np.arange(n + 1) * 0.01)
+vertices = np.stack([xs.ravel(), ys.ravel(), np.zeros(xs.size)], axis=1)
+a = (np.arange(n)[None, :] + (n + 1) * np.arange(n)[:, None]).ravel()
+faces = np.concatenate([np.stack([a, a + 1, a + n + 2], 1), np.stack([a, a + n + 2, a + n + 1], 1)]).astype(np.int32)
+"""
+
+
+def test_pop_buffer_levels_out_of_memory_leave_no_layer_behind():
+    """16 levels of a 180k-face mesh need several hundred MB; under a 120 MB margin the filter runs out
+    of memory after adding some of its layers (the campaign saw up to 16 layers left, the last empty).
+    runFilter removes them: the document keeps its one layer, unchanged."""
+    body = grid_mesh_code(300) + f"""
+ms = pymeshlab.MeshSet()
+ms.add_mesh(pymeshlab.Mesh(vertex_matrix=vertices, face_matrix=faces), "plane")
+ms.apply_filter({h.POP_LEVELS!r}, levels="2", correction=False)   # OpenMP's threads, once
+ms.set_current_mesh(0)
+before = state(ms)
+limit_address_space(120)
+try:
+    ms.apply_filter({h.POP_LEVELS!r}, levels="1-16", correction=False)
+    report(refused=False, before=before, after=state(ms), message="")
+except pymeshlab.PyMeshLabException as e:
+    report(refused=True, before=before, after=state(ms), message=str(e))
+"""
+    result = run_child(body)
+    assert result["refused"], f"16 levels fitted in 120 MB? {result}"
+    assert "Out of memory" in result["message"], result["message"]
+    assert "The layers are unchanged." in result["message"], result["message"]
+    assert result["after"] == result["before"], result
+
+
+def test_irradiance_grid_larger_than_the_address_space_limit_is_refused_up_front(tmp_path):
+    """A resolution-400 grid (about 64 million vertices of 216 bytes: 14 GB) under a 400 MB margin: the
+    filter's memory check (memory/available_memory.h, which counts the address-space limit as well as
+    the machine's free memory) refuses it before allocating, with the figures and the parameter to
+    lower; without the limit in the check, the allocation itself fails and only 'Out of memory' is
+    said (or, with overcommit, the process is killed later)."""
+    out = tmp_path / "grid.ivg"
+    body = grid_mesh_code(20) + f"""
+ms = pymeshlab.MeshSet()
+ms.add_mesh(pymeshlab.Mesh(vertex_matrix=vertices, face_matrix=faces), "floor")
+ms.apply_filter({h.IRRADIANCE_GRID!r}, resolution=2, rays=8, lightsource=1, outputfile={str(tmp_path / 'small.ivg')!r})
+before = state(ms)
+limit_address_space(400)
+try:
+    ms.apply_filter({h.IRRADIANCE_GRID!r}, resolution=400, rays=8, lightsource=1, outputfile={str(out)!r})
+    report(refused=False, before=before, after=state(ms), message="")
+except pymeshlab.PyMeshLabException as e:
+    report(refused=True, before=before, after=state(ms), message=str(e))
+"""
+    result = run_child(body)
+    assert result["refused"], result
+    message = result["message"]
+    assert "A grid of resolution 400 needs about" in message and "choose a lower resolution" in message, message
+    assert "The layers are unchanged." in message, message
+    assert result["after"] == result["before"], result
+    assert not out.exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["small.ivg"]
