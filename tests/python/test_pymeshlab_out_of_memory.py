@@ -41,12 +41,14 @@ def report(**fields):
 """
 
 
-def run_child(body, timeout=600):
+def run_child(body, timeout=600, output=None):
     done = subprocess.run([sys.executable, "-c", CHILD_PROLOGUE + body], capture_output=True, text=True,
                           timeout=timeout, env=h.python_env(OMP_NUM_THREADS="2"))
     lines = [line for line in done.stdout.splitlines() if line.startswith("RESULT ")]
     assert done.returncode == 0 and lines, \
         f"the child Python failed (status {done.returncode}):\n{done.stdout[-3000:]}\n{done.stderr[-3000:]}"
+    if output is not None:
+        output.append(done.stdout + done.stderr)  # pymeshlab writes its verbose log to stderr
     return json.loads(lines[-1][len("RESULT "):])
 
 
@@ -84,6 +86,36 @@ except pymeshlab.PyMeshLabException as e:
     assert "Out of memory" in result["message"], result["message"]
     assert "The layers are unchanged." in result["message"], result["message"]
     assert result["after"] == result["before"], result
+
+
+def test_simplification_out_of_memory_while_adding_lod_layers_leaves_the_document_and_folder_as_they_were(tmp_path):
+    """The campaign's case: memory ran out while the filter added its levels of detail, and the current
+    layer was already simplified, partial LOD layers and the .rpm files were left. 60 levels of a
+    180k-face mesh under an 800 MB margin: the simplification itself fits, the layers do not (the log
+    shows the levels added before the failure). After the refusal: one layer, unsimplified, and no
+    file in the folder (the .rpm and its base are staged and committed only on success)."""
+    rpm = tmp_path / "plane.rpm"
+    body = grid_mesh_code(300) + f"""
+vertices[:, 2] = np.random.default_rng(1).uniform(0, 0.002, len(vertices))   # not flat: collapses cost
+ms = pymeshlab.MeshSet(verbose=True)
+ms.add_mesh(pymeshlab.Mesh(vertex_matrix=vertices, face_matrix=faces), "plane")
+before = state(ms)
+levels = ",".join(str(round(0.99 - 0.01 * i, 2)) for i in range(60))
+limit_address_space(800)
+try:
+    ms.apply_filter({h.SIMPLIFY!r}, metric=3, targetfaces=1000, lodlevels=levels, progressivefile={str(rpm)!r})
+    report(refused=False, before=before, after=state(ms), message="")
+except pymeshlab.PyMeshLabException as e:
+    report(refused=True, before=before, after=state(ms), message=str(e))
+"""
+    output = []
+    result = run_child(body, output=output)
+    assert result["refused"], f"60 levels of detail fitted in 800 MB? {result}"
+    assert "Out of memory" in result["message"] and "The layers are unchanged." in result["message"], result
+    added = output[0].count("Level of detail")
+    assert added >= 1, "memory ran out before the layers were added: the case is not the one tested\n" + output[0][-2000:]
+    assert result["after"] == result["before"], result
+    assert list(tmp_path.iterdir()) == [], list(tmp_path.iterdir())
 
 
 def test_irradiance_grid_larger_than_the_address_space_limit_is_refused_up_front(tmp_path):
