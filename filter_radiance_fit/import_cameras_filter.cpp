@@ -70,6 +70,10 @@ std::string planRaster(const QDir& folder, PlannedRaster& r) {
     const int orientation = rad::readExifOrientation(path);
     const bool swap = rad::orientationSwapsAxes(orientation);
     const int shownWidth = swap ? height : width, shownHeight = swap ? width : height;
+    if (r.camera.sizedByPhotograph()) {  // a field of view only (the original NeRF's camera_angle_x)
+        r.camera.takeSizeFromPhotograph(shownWidth, shownHeight);
+        if (std::string problem = r.camera.validate(); !problem.empty()) return problem;
+    }
     std::string problem = rad::imageSizeProblem(r.camera, shownWidth, shownHeight);
     r.orientation = orientation;
     int usedWidth = shownWidth, usedHeight = shownHeight;

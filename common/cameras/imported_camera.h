@@ -26,16 +26,29 @@ struct ImportedCamera {
     std::string imageName;  // the photograph, relative to the image folder (as the file names it)
     int width = 0, height = 0;  // the image size the calibration refers to
     LensModel lens;
+    // Radians, > 0 when the file gives the field of view instead of a focal length in pixels and an
+    // image size (the original NeRF's camera_angle_x, camera_angle_y): the photograph's size then
+    // completes the camera (takeSizeFromPhotograph), principal point at the image centre.
+    double fieldOfViewX = 0.0, fieldOfViewY = 0.0;
     Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // world -> camera, rows right, down, forward
     Eigen::Vector3d center = Eigen::Vector3d::Zero();        // optical centre, world coordinates
+
+    bool sizedByPhotograph() const { return fieldOfViewX > 0.0 && width == 0; }
+    // Size, focal lengths and principal point from the photograph's size and the field of view:
+    // f = (size / 2) / tan(angle / 2), fy = fx when only the horizontal angle is given.
+    void takeSizeFromPhotograph(int photographWidth, int photographHeight);
 
     // Where the lens images world point X (pixels, as LensModel); false behind the camera.
     bool project(const Eigen::Vector3d& X, double& u, double& v) const;
     // The same pose with the lens's pinhole part only (focal lengths and principal point).
     PinholeCamera pinholePart() const;
-    // Empty when usable (lens, size, an orthonormal right-handed rotation, finite centre);
-    // otherwise a sentence naming the image and what is wrong.
+    // Empty when usable (lens, size, an orthonormal right-handed rotation, finite centre; for a camera
+    // sized by its photograph, a field of view in (0, 180) degrees instead of the lens's pinhole part
+    // and size); otherwise a sentence naming the image and what is wrong.
     std::string validate() const;
+
+private:
+    std::string validatePose(const std::string& who) const;  // finite, and an orthonormal right-handed rotation
 };
 
 struct CameraImport {

@@ -28,6 +28,40 @@ std::string memberString(const JsonValue& frame, const JsonValue& top, const cha
     return fallback;
 }
 
+// The focal lengths, principal point and image size: nerfstudio's fl_x, fl_y, cx, cy, w, h, or the
+// original NeRF's camera_angle_x (and camera_angle_y) with the size of the photograph itself (or w, h
+// when given).
+void readIntrinsics(const JsonValue& frame, const JsonValue& top, const std::string& where, ImportedCamera& camera) {
+    const auto has = [&](const char* key) { return frame.find(key) != nullptr || top.find(key) != nullptr; };
+    const bool sized = has("w") && has("h");
+    if (!has("fl_x") && has("camera_angle_x")) {
+        camera.fieldOfViewX = member(frame, top, "camera_angle_x", 0, where);
+        camera.fieldOfViewY = member(frame, top, "camera_angle_y", 0, where);
+        if (!(camera.fieldOfViewX > 0.0))
+            throw CameraFileError(where + ": 'camera_angle_x' must be a positive angle in radians");
+        if (!sized) return;  // sized by the photograph (ImportedCamera::takeSizeFromPhotograph)
+    } else if (!has("fl_x") || !sized) {
+        const char* missing = !has("fl_x") ? "fl_x" : !has("w") ? "w" : "h";
+        throw CameraFileError(where + ": no '" + std::string(missing) + "' (focal length and image size in pixels, "
+                              "or the field of view camera_angle_x); give nerfstudio's intrinsics, as "
+                              "nerfstudio's ns-process-data writes them");
+    }
+    const double w = member(frame, top, "w", 0, where), h = member(frame, top, "h", 0, where);
+    if (!(w >= 1 && h >= 1 && w == std::floor(w) && h == std::floor(h)))
+        throw CameraFileError(where + ": 'w' and 'h' must be positive whole numbers");
+    if (camera.fieldOfViewX > 0.0) {
+        camera.takeSizeFromPhotograph(int(w), int(h));
+        camera.fieldOfViewX = camera.fieldOfViewY = 0.0;
+        return;
+    }
+    camera.width = int(w);
+    camera.height = int(h);
+    camera.lens.fx = member(frame, top, "fl_x", 0, where);
+    camera.lens.fy = member(frame, top, "fl_y", camera.lens.fx, where);
+    camera.lens.cx = member(frame, top, "cx", 0.5 * w, where);
+    camera.lens.cy = member(frame, top, "cy", 0.5 * h, where);
+}
+
 ImportedCamera readFrame(const JsonValue& frame, const JsonValue& top, const std::string& where) {
     ImportedCamera camera;
     const JsonValue* file = frame.find("file_path");
@@ -35,21 +69,8 @@ ImportedCamera readFrame(const JsonValue& frame, const JsonValue& top, const std
         throw CameraFileError(where + ": no 'file_path'; the file is not a nerfstudio transforms.json");
     camera.imageName = file->string;
     if (camera.imageName.rfind("./", 0) == 0) camera.imageName.erase(0, 2);
-    for (const char* key : {"fl_x", "w", "h"})
-        if (frame.find(key) == nullptr && top.find(key) == nullptr)
-            throw CameraFileError(where + ": no '" + std::string(key) + "' (focal length and image size in pixels); "
-                                  "this import needs nerfstudio's intrinsics (a file with only camera_angle_x "
-                                  "lacks them): convert it with nerfstudio's ns-process-data");
-    const double w = member(frame, top, "w", 0, where), h = member(frame, top, "h", 0, where);
-    if (!(w >= 1 && h >= 1 && w == std::floor(w) && h == std::floor(h)))
-        throw CameraFileError(where + ": 'w' and 'h' must be positive whole numbers");
-    camera.width = int(w);
-    camera.height = int(h);
+    readIntrinsics(frame, top, where, camera);
     LensModel& lens = camera.lens;
-    lens.fx = member(frame, top, "fl_x", 0, where);
-    lens.fy = member(frame, top, "fl_y", lens.fx, where);
-    lens.cx = member(frame, top, "cx", 0.5 * w, where);
-    lens.cy = member(frame, top, "cy", 0.5 * h, where);
     const std::string model = memberString(frame, top, "camera_model", "OPENCV");
     const char* radial[] = {"k1", "k2", "k3", "k4"};
     for (int i = 0; i < 4; ++i) lens.k[i] = member(frame, top, radial[i], 0.0, where);

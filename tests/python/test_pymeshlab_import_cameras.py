@@ -428,6 +428,41 @@ def test_metashape_and_nerfstudio_files_give_the_colmap_rasters(tmp_path):
             assert np.abs(h.read_png(other)[0] - a).max() <= 1.5 / 255, other
 
 
+def test_nerf_field_of_view_only_takes_the_photographs_size(tmp_path):
+    """The original NeRF's transforms.json (Mildenhall et al. 2020): only camera_angle_x, file paths
+    without an extension. Two pinhole cameras with square pixels and the principal point at the
+    image centre, written that way, import as the COLMAP model of the same cameras: the points
+    project to the same pixels (f = (W / 2) / tan(camera_angle_x / 2) with W the photograph's width)."""
+    import json
+
+    cx, cy = WIDTH / 2, HEIGHT / 2
+    models = {1: ("PINHOLE", [230.0, 230.0, cx, cy]), 2: ("PINHOLE", [205.0, 205.0, cx, cy])}
+    rec, expected = make_capture(tmp_path, models)
+    reference = pymeshlab.MeshSet()
+    import_cameras(reference, tmp_path / "sparse_bin", tmp_path / "images", cachefolder=str(tmp_path / "c0"))
+    colmap = saved_cameras(reference, tmp_path, "colmap.mlp")
+
+    for camera_id in models:
+        image = rec.images[camera_id]
+        pose = image.cam_from_world()
+        R = pose.rotation.matrix()
+        m = np.eye(4)
+        m[:3, :3] = R.T @ np.diag([1.0, -1.0, -1.0])
+        m[:3, 3] = -R.T @ np.asarray(pose.translation).reshape(3)
+        angle = 2 * math.atan(cx / models[camera_id][1][0])
+        frames = [{"file_path": "./images/" + os.path.splitext(image.name)[0], "transform_matrix": m.tolist()}]
+        (tmp_path / f"transforms_{camera_id}.json").write_text(json.dumps({"camera_angle_x": angle, "frames": frames}))
+        ms = pymeshlab.MeshSet()
+        import_cameras(ms, tmp_path / f"transforms_{camera_id}.json", tmp_path, cachefolder=str(tmp_path / "c1"))
+        assert ms.raster_number() == 1
+        nerf = saved_cameras(ms, tmp_path, f"nerf_{camera_id}.mlp")
+        reference_values, _ = colmap[image.name]
+        nerf_values, _ = nerf["images/" + os.path.splitext(image.name)[0]]
+        for X, uv in expected[image.name]:
+            assert np.abs(vcg_project(nerf_values, X) - vcg_project(reference_values, X)).max() < 2e-3, (image.name, X)
+            assert np.abs(vcg_project(nerf_values, X) - uv).max() < 2e-3, (image.name, X)
+
+
 def add_exif_orientation(jpeg, orientation):
     """The JPEG's bytes with an APP1 Exif segment holding only the orientation tag (TIFF 6.0, little
     endian: IFD0 with one SHORT entry 0x0112) inserted after the start-of-image marker."""

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 
 namespace {
@@ -53,6 +54,41 @@ TEST(NerfstudioTransformsReader, OpenGlAxesAndOpenCvDistortion) {
     EXPECT_FALSE(d.lens.distorts());
 }
 
+// The original NeRF's Blender scenes (Mildenhall et al. 2020) give only the horizontal field of view;
+// the photograph's size completes the camera. "lego" has camera_angle_x 0.6911112070083618 and
+// 800 x 800 photographs, whose focal length its users quote as 1111.11 pixels.
+TEST(NerfstudioTransformsReader, FieldOfViewOnlyIsCompletedByThePhotographsSize) {
+    const rad::CameraImport model = rad::readCameraFile(writeFile("nerf_transforms.json", R"({
+      "camera_angle_x": 0.6911112070083618,
+      "frames": [{"file_path": "./train/r_0", "transform_matrix": [[1,0,0,0],[0,1,0,0],[0,0,1,4],[0,0,0,1]]}]
+    })"));
+    ASSERT_EQ(model.cameras.size(), 1u);
+    rad::ImportedCamera camera = model.cameras[0];
+    EXPECT_EQ(camera.imageName, "train/r_0");
+    EXPECT_TRUE(camera.sizedByPhotograph());
+    camera.takeSizeFromPhotograph(800, 800);
+    EXPECT_FALSE(camera.sizedByPhotograph());
+    EXPECT_EQ(camera.width, 800);
+    EXPECT_NEAR(camera.lens.fx, 1111.111, 1e-3);
+    EXPECT_NEAR(camera.lens.fy, 1111.111, 1e-3);
+    EXPECT_DOUBLE_EQ(camera.lens.cx, 400.0);
+    EXPECT_EQ(camera.validate(), "");
+    // A point 4 units in front of the camera (world -z from the centre (0, 0, 4)) and 1 unit to the
+    // right lands 1111.11 / 4 pixels right of the centre.
+    double u = 0, v = 0;
+    ASSERT_TRUE(camera.project({1.0, 0.0, 0.0}, u, v));
+    EXPECT_NEAR(u, 400.0 + 1111.111 / 4, 1e-3);
+    EXPECT_NEAR(v, 400.0, 1e-9);
+    // With w and h in the file the size is the file's, and camera_angle_y gives fy.
+    const rad::CameraImport sized = rad::readCameraFile(writeFile("nerf_sized.json", R"({
+      "camera_angle_x": 1.0, "camera_angle_y": 0.8, "w": 640, "h": 480,
+      "frames": [{"file_path": "a.png", "transform_matrix": [[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]}]
+    })"));
+    EXPECT_FALSE(sized.cameras[0].sizedByPhotograph());
+    EXPECT_NEAR(sized.cameras[0].lens.fx, 320.0 / std::tan(0.5), 1e-9);
+    EXPECT_NEAR(sized.cameras[0].lens.fy, 240.0 / std::tan(0.4), 1e-9);
+}
+
 std::string refusal(const std::string& text) {
     try {
         rad::readCameraFile(writeFile("bad_transforms.json", text));
@@ -69,9 +105,13 @@ TEST(NerfstudioTransformsReader, RefusesBadFiles) {
     std::string nan = kTransforms;
     nan.replace(nan.find("\"fl_x\": 500"), 11, "\"fl_x\": NaN");
     EXPECT_NE(refusal(nan).find("not a finite number"), std::string::npos) << refusal(nan);
-    EXPECT_NE(refusal("{\"camera_angle_x\": 0.69, \"frames\": [{\"file_path\": \"./r_0\", \"transform_matrix\": "
+    EXPECT_NE(refusal("{\"frames\": [{\"file_path\": \"./r_0\", \"transform_matrix\": "
                       "[[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]}]}")
-                  .find("'fl_x'"),
+                  .find("no 'fl_x'"),
+              std::string::npos);
+    EXPECT_NE(refusal("{\"camera_angle_x\": -0.5, \"frames\": [{\"file_path\": \"./r_0\", \"transform_matrix\": "
+                      "[[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]}]}")
+                  .find("'camera_angle_x' must be a positive angle"),
               std::string::npos);
     std::string equirect = kTransforms;
     equirect.replace(equirect.find("\"OPENCV\""), 8, "\"EQUIRECTANGULAR\"");
