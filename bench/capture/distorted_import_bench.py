@@ -20,6 +20,7 @@ Run with the Python that has pymeshlab, pycolmap and our plugins:
 """
 import argparse
 import os
+import shutil
 import resource
 import struct
 import sys
@@ -243,9 +244,13 @@ def large_import(work, count):
         v, u = np.mgrid[0:H, 0:W].astype(np.int32)
         rgb = np.stack([(u * 7 + v * 3) % 256, (u // 3 + v // 5) % 256, (u ^ v) % 256], axis=-1).astype(np.uint8)
         del u, v
-        for n in names:
+        # One encoding, copied: every photograph is still a file of its own, decoded on import.
+        first = os.path.join(folder, names[0])
+        if not os.path.exists(first):
+            write_png(first, rgb)
+        for n in names[1:]:
             if not os.path.exists(os.path.join(folder, n)):
-                write_png(os.path.join(folder, n), rgb)
+                shutil.copyfile(first, os.path.join(folder, n))
         del rgb
     for model, params in (("PINHOLE", [5000.0, 5000.0, W / 2, H / 2]), ("OPENCV", [5000.0, 5000.0, W / 2, H / 2, K1, K2, P1, P2])):
         rec = pycolmap.Reconstruction()

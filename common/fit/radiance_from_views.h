@@ -1,5 +1,5 @@
 // "Fit Radiance Functions from Rasters": per-vertex radiance functions (RF) of a whole mesh fitted
-// on calibrated photographs (Vanhoey et al. 2015, Vanhoey et al. 2015, sec. 7 "Data acquisition and
+// on calibrated photographs (Vanhoey et al. 2015, sec. 7 "Data acquisition and
 // reconstruction"). The driver the MeshLab filter and the benchmarks call:
 //
 //   1. validation of everything before any work (FitError with a sentence saying what is wrong and

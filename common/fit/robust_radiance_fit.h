@@ -1,115 +1,12 @@
-// Robust per-vertex fitting of a radiance function (RF) to colour samples seen from a few
-// directions, as in "Fit Radiance Functions from Rasters" (Vanhoey et al. 2015, Vanhoey et al. 2015, sec. 7
-// "Data acquisition and reconstruction": RF "are fitted on photographs ... projected onto the mesh").
-//
-// The difficulty is the sampling: a vertex of a scan is seen by a handful of photographs, often from
-// one side only, so an unconstrained least-squares fit in PB(d) / SH(d) is free to do anything in
-// the directions nobody looked from (overshoot, negative radiance, wild highlights when rendered
-// from a new viewpoint). The remedy follows the idea of
-//   K. Vanhoey, B. Sauvage, O. Genevaux, F. Larue, J.-M. Dischler, "Robust Fitting on Poorly
-//   Sampled Data for Surface Light Field Rendering and Image Relighting", CGF 32(6), 2013, 101-112:
-// constrain the unobserved part of the hemisphere by a low-order estimate (here the diffuse/mean
-// colour) through virtual samples, and keep the fit within the range of what was observed.
-// The concrete recipe below (coverage test on a fixed direction set, the weights, the Tikhonov
-// term, the range guard with lambda escalation and the constant fallback) is OUR OWN design, not the
-// 2013 paper's algorithm (which builds a hierarchy of fits of increasing degree).
-//
-// Algorithm for one vertex with frame (t, b, n) and samples (w_j unit world direction toward the
-// camera, y_j linear RGB, weight a_j > 0):
-//  1. Local directions l_j = (t.w_j, b.w_j, n.w_j); a sample below the tangent plane is moved to its
-//     border direction (the border extension of Vanhoey et al. 2015 sec. 7, as radiance_projection.h does).
-//     Invalid samples (non-finite, zero direction, weight <= 0) are ignored.
-//  2. Weighted mean colour m = sum a_j y_j / sum a_j: the diffuse colour, returned, and the prior.
-//     Zero samples -> Unseen (zero coefficients). Fewer than minSamples -> the constant RF m
-//     (PoorlySampled).
-//  3. Coverage: a fixed set D of kCoverageDirections directions on the local hemisphere (a
-//     Fibonacci spiral, nearly equal areas, ~14 degrees apart). A direction of D with no sample
-//     within coverageAngleDegrees is "uncovered" and receives a virtual sample of value m and
-//     weight virtualSampleWeight * (mean real weight).
-//  4. Weighted least squares with Tikhonov regularisation, per channel (the 3 channels share the
-//     K x K matrix):  (G + lambda s E) c = r,  G = sum_i a_i B(l_i) B(l_i)^T over real + virtual
-//     samples, s = trace(G) / K, E = diag(0, 1, ..., 1): the constant function is not penalised, so
-//     a large lambda pulls the fit toward the weighted mean colour, not toward black (same scaling
-//     as fitRadiance in radiance/radiance_projection.h). Double accumulation, in-place Cholesky.
-//     A system whose Cholesky pivot falls below 1e-14 trace(G) (1e-12 when lambda = 0) counts as
-//     singular and is treated like a guard failure (lambda escalated).
-//  5. Model choice by validation on the vertex's own samples (options validationLambdas,
-//     validateLowerDegrees, validationMargin). Candidates: the fits of step 4 at lambda, then
-//     max(lambda, 1e-3) x 10, x 100, x 1000, each at the basis degree and every lower degree >= 1
-//     (PB and SH are ordered by degree, so the leading block of one Cholesky factor solves every
-//     lower degree: all degrees cost one factorisation per lambda), and the constant mean colour.
-//     Criterion: leave-one-out error. A vertex gets at most one sample per photograph, so leaving
-//     one sample out IS leaving one view out; for a linear smoother the leave-one-out residual is
-//     (f_j - y_j) / (1 - S_jj) from the self-influence S_jj, one forward substitution per sample
-//     (exact for the constant; for the fits a first-order approximation, since removing a sample
-//     also changes the coverage and the virtual samples' value, which S_jj accounts for to first
-//     order). Chosen over generalised cross-validation because GCV replaces every S_jj by their
-//     mean, and the leverages of a one-sided, clustered vertex are anything but equal: an isolated
-//     view alone determines the fit in its direction (S_jj near 1), which GCV would average away
-//     and exact leave-one-out exposes. Errors are weighted by a_j and measured in sRGB units to
-//     first order (scaled by the sRGB slope at the sample's value), the units photographs are
-//     compared in. The constant is kept unless the best fit's error is lower by more than
-//     validationMargin standard errors of that error (the least of ~16 noisy estimates is biased
-//     low; the one-standard-error rule of cross-validation, here two by default: the constant is
-//     what the fit must never be worse than). Huber IRLS (robustIterations, huberThreshold): the
-//     samples are reweighted by min(1, k s / |e_j|), e_j the leave-one-out residual of the best
-//     view-dependent candidate (plain residuals of a sparse fit are near zero at an outlier, which
-//     it interpolates), s = median |e_j| / 0.6745 (MAD), and the choice is made again with the
-//     new weights; the mean colour is the weighted mean with them too.
-//  6. Range guard: the chosen fit (its lambda and degree) is evaluated on a check set C of kGuardDirections local directions
-//     (Fibonacci spirals and rings on the border z = 0, disjoint from D, ~4.5 degrees apart); if
-//     channel c leaves [min_c - g R_c, max_c + g R_c] (min/max/range R_c of the vertex's observed
-//     values of channel c, g = kGuardMarginFraction * rangeTolerance), lambda is multiplied by 10
-//     (from max(lambda, 1e-3)) and the fit redone, at most maxGuardRetries times; then the channel
-//     is the constant m_c (always inside the range). Our decisions beyond the recipe: the channels
-//     share the matrix but each is accepted or escalated on its own (a channel that stays in range
-//     keeps its least regularised fit), and a channel whose observed values are all equal (R_c = 0,
-//     e.g. a black or clipped channel) is the constant m_c outright; there is no absolute slack,
-//     so the bound holds relative to any range, however small (8-bit data: R_c = 0 or >= 3e-4).
-//     Why g < rangeTolerance: C is finite and a polynomial can peak between its points. With
-//     g = rangeTolerance, the adversarial fits of the unit test (PB2..PB6, SH4, SH6; 3 samples from
-//     one side, 10-degree clusters, great-circle arcs, duplicated directions, K..2K-1 noisy samples)
-//     exceeded the bound by up to 3.5 % of the range on a 7201-point (theta, phi) grid; with g = 0.75
-//     rangeTolerance and C as above: never, in 10500 such fits (two seeds, 150 trials per case,
-//     including 8-bit data with a black channel and a channel of two adjacent codes). The guarantee is therefore: a guarded vertex's RF stays
-//     within [min_c - rangeTolerance R_c, max_c + rangeTolerance R_c] (+ float rounding of the
-//     stored coefficients, ~1e-7 of the values) on the whole closed hemisphere, hence everywhere
-//     (border extension), as far as tested.
-//  7. Poorly sampled (status PoorlySampled) := fewer than poorSamplingFactor * K samples (default
-//     2K), or fewer than half of D covered, or fewer than minSamples samples.
-//     Guard scope (option rangeGuard), measured with bench_fit (glossy analytic radiance, 0.01
-//     noise, RMS error over the hemisphere): on WELL-sampled vertices (300 views, ~124 samples)
-//     guarding costs PB4 accuracy (RMS 0.019 -> 0.041: 35 % of the vertices escalated, because the
-//     samples never contain the exact extremes of a highlight, so a correct fit often leaves their
-//     range) and helps SH6 a little (0.012 -> 0.010, damping its ringing near the border). The
-//     guarantee is only required where the data cannot constrain the fit, so the default is
-//     PoorlySampledOnly; AllVertices is there for SH users who want the bound everywhere. On poorly
-//     sampled vertices the guard is the price of the bound: PB4 with 50 views (~21 samples) RMS
-//     0.023 -> 0.035, SH6 0.033 -> 0.029 with the worst error 0.59 -> 0.25. With the 2K threshold
-//     nearly every vertex of a real acquisition (10-50 photographs) is poorly sampled for PB4 (30
-//     samples) and SH6 (98).
-//  8. Result: the coefficients (3K floats, PB in the local frame, SH in the global frame; plain L or
-//     reflected L~ of Vanhoey et al. 2015 sec. 3.1 per option), mean colour, sample count, weighted RMS
-//     residual of the real samples, status, guard retries.
-//
-// Frames: the whole fit is done in the vertex's local frame, for SH too (SH expressed in the local
-// frame), so the basis values at D and C are computed once per basis; for SH the solution is then
-// rotated to the global frame (sh_rotation.h, one rotation per vertex). Measured alternative: the
-// SH6 rotation costs ~5 us per vertex, evaluating SH6 in the global frame at the ~770 directions of
-// C and the uncovered part of D ~13 us (17 ns each), hence the rotation. The Tikhonov term is
-// rotation invariant (SH rotations are orthogonal within each band and keep Y_0^0), so this is
-// exactly the global-frame fit. The reflection of Vanhoey et al. 2015 sec. 3.1 is, in the local frame,
-// (x, y, z) -> (-x, -y, z): the sign (-1)^(i+j) for PB monomials u^i v^j and (-1)^|m| for Y_l^m,
-// both keeping E, so the reflected fit is the sign-flipped plain fit.
-//
-// Memory and threads: RobustRadianceFitter is immutable after construction and shared by all
-// threads; every thread owns a FitScratch, sized once for the basis, so fit() does not allocate
-// (except when a vertex has more samples than any previous one of that scratch: the buffers grow;
-// checked with an interposed malloc: 0 allocations in 1000 fits after the first). Eigen is only used
-// for the rank update G = B B^T (its triangular product kernel): Eigen's general products are
-// OpenMP-parallel when the library is built with OpenMP, which only costs inside our per-vertex
-// parallel loops and at these sizes; the right-hand side, the Cholesky factorisation and the guard's
-// evaluation are hand-written loops.
+// Robust per-vertex fitting of a radiance function (RF) to the colour samples a vertex receives from
+// a few photographs (Vanhoey et al. 2015, sec. 7; the idea of constraining the unobserved directions
+// by a low-order estimate follows Vanhoey et al. 2013). Why it is more than least squares: a vertex is
+// seen from a handful of directions, often from one side, and a free fit overshoots where nobody
+// looked. The remedy: virtual samples of the mean colour where the hemisphere is uncovered, Tikhonov
+// regularisation toward the mean, a model (degree, lambda, or the constant) chosen by leave-one-out
+// error on the vertex's own samples, Huber reweighting, and a range guard that keeps a poorly
+// sampled vertex's function within the range of what was observed. The algorithm step by step, the
+// guard's guarantee and its measured cost: docs/fitting.md, "How the per-vertex robust fit works".
 #pragma once
 
 #include "radiance/basis.h"

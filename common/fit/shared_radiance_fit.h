@@ -1,63 +1,12 @@
 // A radiance fit that shares what the surface has in common, for sparse captures (a few dozen
-// photographs: ~10 samples per vertex, far too few for a free per-vertex function of 15..49
-// coefficients, which validation then regularises down to the vertex's mean colour).
-//
-// Model (per vertex v, colour channel c, unit direction w toward the camera, n_v the vertex normal):
-//     L_vc(w) = d_vc + s_vc * h(n_v . w) * G_c(r_v(w)),     r_v(w) = 2 (n_v . w) n_v - w
-// (the factor h, one curve for the whole object, starts as the cosine: at the mirror configuration
-// the light's incidence cosine n.l equals n.w, so a lobe learnt on frontal views does not predict the
-// same highlight at grazing ones; without it, SharedFitOptions::cosineFactor = false, grazing held-out
-// views of glossy captures were predicted 2-3 levels too bright, worse than the constant. The curve
-// is then fitted (fitFactorCurve), since a metal's Fresnel brightening offsets part of the cosine.)
-// d_v: a per-vertex diffuse colour (everything that does not depend on the view: albedo, shading,
-// shadows, interreflections); G: ONE function of the world-space reflected direction for the whole
-// object (3 channels, real spherical harmonics of degree lobeDegree); s_v: a per-vertex, per-channel
-// scale of G (gloss, highlight colour of a metal, a highlight's shadowing), pulled toward the mean
-// of its mesh neighbours' scales (ridge prior, weight specularPrior). Why the reflected direction:
-// a distant light's mirror highlight sits at the same reflected direction at every vertex, so G,
-// fitted on all vertices' samples, predicts the highlight at a vertex from a view nobody
-// photographed it from. This is the "reflected" parametrisation of surface light fields: the
-// reflected reparametrisation of Wood et al. 2000 ("Surface Light Fields for 3D Photography"), the
-// reflected RF of Vanhoey et al. 2015 (sec. 3.1), and, as a rank-1-per-channel factorisation of the
-// (vertex x direction) radiance matrix into a surface map s and a view map G, a special case of the
-// factorisations of Chen et al. 2002 ("Light Field Mapping"). The diffuse + lobe split is the
-// classical one of Lensch et al. 2003 (who share BRDFs over material clusters; here the sharing is
-// global and the per-vertex scale plays the role of the cluster's weight).
-//
-// Fit (fitSharedModel): alternating weighted least squares on all samples of all vertices, as the
-// factorisations above are fitted:
-//   0. d_v := weighted mean colour of v, s_v := 1, G := 0.
-//   1. G step: with d, s fixed, G_c minimises sum a_j rho_j (y_jc - d_vc - s_vc G_c(r_j))^2 + a
-//      small Tikhonov term growing with the SH band (l(l+1), relative to trace / M): directions no
-//      vertex reflects a camera into get G = 0 (the diffuse colour), not an extrapolation. Only the
-//      samples of every k-th vertex enter (at most lobeSampleBudget samples): a function of M <= 121
-//      coefficients needs far fewer than the millions of samples of a scan.
-//   2. per-vertex step: with G fixed, (d_vc, s_vc) minimises the vertex's weighted squared error +
-//      lambda_v (s_vc - sbar_vc)^2, sbar_v the mean of its neighbours' s of the previous iteration
-//      (Jacobi: independent of the vertex order), lambda_v = specularPrior * (sum_j a_j) * q_c, q_c the
-//      mean of G_c^2 over the samples (the prior weighs like specularPrior times the vertex's samples).
-//   2b. factor step (cosineFactor and fitFactorCurve): with d, s, G fixed, the 5 knot values of h by
-//      least squares over the G step's samples (+ 1e-3 of the trace toward the cosine), clamped >= 0,
-//      scaled so that h(1) = 1 (G takes the scale).
-//   3. robust weights rho (from iteration 2 on): Huber, min(1, huberThreshold * sigma / |e_j|), e_j the
-//      RGB residual, sigma = 1.4826 median |e| over the G step's samples.
-// Steps 1-3 are repeated `iterations` times.
-//
-// Conversion to the user's basis (writeSharedRadiance): per vertex, the lobe G_c(r_v(w)) is
-// projected onto the basis over the vertex's hemisphere by least squares on a fixed set of local
-// directions (a Fibonacci spiral and a border ring; what the basis cannot represent is smoothed),
-// giving coefficients c_vc; evaluated at the vertex's samples they give g~_j. Then (d_vc, s_vc) are
-// fitted again by step 2 with g~ in place of G (so that the stored function, not the model, is what
-// is fitted), and the stored RF is d_v + s_v * c_v in the basis, plain or reflected, PB in the local
-// frame, SH rotated to the global frame (as robust_radiance_fit.h stores them). G is evaluated
-// through an octahedral table (octahedralResolution^2 texels, bilinear) during the per-vertex steps.
-// Per-vertex guarantee: the vertex keeps this function only when its leave-one-out error on its own
-// samples (exact for the 2-parameter ridge regression given g~: e_j / (1 - S_jj)) in sRGB units
-// (first-order, as robust_radiance_fit.h) is below the constant mean colour's; otherwise (or with
-// fewer than minSamples samples) it gets the constant weighted mean colour.
-//
-// Memory: every sample of every vertex is kept (SampleSet, 32 bytes a sample: ~10 samples x 437k
-// vertices = 140 MB); the per-vertex fit of robust_radiance_fit.h streams them instead.
+// photographs: ~10 samples per vertex, too few for a free per-vertex function). Per vertex a diffuse
+// colour d_v plus a scale s_v of ONE lobe G of the world-space reflected direction, shared by the
+// whole object: L_v(w) = d_v + s_v h(n_v . w) G(r_v(w)). A distant light's highlight sits at the same
+// reflected direction at every vertex, so G, fitted on all vertices' samples, predicts a highlight
+// where a vertex has no sample (Wood et al. 2000; Chen et al. 2002; Lensch et al. 2003). Fitted by
+// alternating weighted least squares, then written in the user's basis with a per-vertex leave-one-out
+// check against the constant. The model, the steps and the memory: docs/fitting.md, "How the shared
+// fit works".
 #pragma once
 
 #include "fit/robust_radiance_fit.h"

@@ -3,7 +3,7 @@
 // connectivity, the queue and the validity checks; a metric prices collapses and keeps its own
 // per-vertex attributes up to date after each collapse.
 //
-// Two kinds of collapse (Vanhoey et al. 2015, Vanhoey et al. 2015, sec. 4.1 and 4.3):
+// Two kinds of collapse (Vanhoey et al. 2015, sec. 4.1 and 4.3):
 //  - half-edge collapse v0 -> v1: v0 disappears, v1 keeps its position and attributes; the faces of
 //    v0's star that do not contain v1 become (v1, a, b);
 //  - full edge collapse (v0, v1) -> v: the survivor (slot v1) moves to `position` (QEM-optimal,

@@ -1,4 +1,4 @@
-// Progressive meshes (Hoppe 1996; Vanhoey et al. 2015, Vanhoey et al. 2015, sec. 4.5): the original radiance
+// Progressive meshes (Hoppe 1996; Vanhoey et al. 2015, sec. 4.5): the original radiance
 // mesh plus the ordered list of collapses the simplifier applied, so that any level of detail
 // between the original and the coarsest mesh can be extracted afterwards without simplifying again.
 //

@@ -48,7 +48,7 @@ namespace rad {
 // m = d + 1 z-nodes and 2m phi-nodes, the smallest Gauss product rule that integrates d^2 exactly
 // when every normal involved equals n0 (the integrand is then a polynomial of degree 2d: exact
 // needs 2m - 1 >= 2d z-nodes and 2m >= 2d + 1 phi-nodes). PB4: 5 x 10 = 50 points; SH6: 7 x 14 = 98.
-// Measured accuracy and speed: see the file comment.
+// Measured accuracy and speed: docs/simplification.md, "The eq. 7 pricing kernel".
 int defaultCollapseZNodes(const BasisSpec& basis);
 HemisphereIntegrator defaultCollapseIntegrator(const BasisSpec& basis);
 
