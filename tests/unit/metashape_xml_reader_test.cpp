@@ -99,6 +99,50 @@ TEST(MetashapeXmlReader, ProjectsThroughChunkAndCameraTransformsWithMetashapesLe
     EXPECT_DOUBLE_EQ(d.lens.cx, 160.0);
 }
 
+// Components (Metashape 1.6 and later): a camera's transform is relative to its component, whose
+// own similarity leads into the chunk. One component without a partition applies to every camera;
+// with partitions, each camera takes its own component's.
+std::string withComponents(const std::string& components) {
+    std::string text = document(kRotationZ90);
+    text.insert(text.find("    <transform>\n      <rotation"), components);
+    return text;
+}
+
+TEST(MetashapeXmlReader, ComponentTransformsLeadFromTheCamerasIntoTheChunk) {
+    // Component: scale 3, translation (1, 0, 0), no rotation. IMG_0001's centre (0, 0, 5) in the
+    // component is (1, 0, 15) in the chunk, and 2 Rz90 (1, 0, 15) + (10, 20, 30) = (10, 22, 60) in the world.
+    const rad::CameraImport single = rad::readCameraFile(writeFile("component.xml", withComponents(R"(
+    <components next_id="1" active_id="0">
+      <component id="0" label="Component 1">
+        <transform><rotation>1 0 0 0 1 0 0 0 1</rotation><translation>1 0 0</translation><scale>3</scale></transform>
+      </component>
+    </components>
+)")));
+    ASSERT_EQ(single.cameras.size(), 2u);
+    EXPECT_NEAR((single.cameras[0].center - Eigen::Vector3d(10, 22, 60)).norm(), 0.0, 1e-12);
+    // The camera's viewing direction (component -z, rotation diag(1, -1, -1)) turned by Rz90: world -z.
+    EXPECT_NEAR((single.cameras[0].rotation.row(2).transpose() - Eigen::Vector3d(0, 0, -1)).norm(), 0.0, 1e-12);
+
+    // Two components with partitions: camera 0 in the first (as above), camera 1 in the second, turned
+    // 90 degrees about x. IMG_0002's centre (1, 0, -5) becomes Rx90 (1, 0, -5) = (1, 5, 0) in the chunk,
+    // then 2 Rz90 (1, 5, 0) + (10, 20, 30) = (0, 22, 30).
+    const rad::CameraImport parts = rad::readCameraFile(writeFile("components.xml", withComponents(R"(
+    <components next_id="2" active_id="0">
+      <component id="0" label="Component 1">
+        <transform><rotation>1 0 0 0 1 0 0 0 1</rotation><translation>1 0 0</translation><scale>3</scale></transform>
+        <partition><camera_ids>0 2 3</camera_ids></partition>
+      </component>
+      <component id="1" label="Component 2">
+        <transform><rotation>1 0 0 0 0 -1 0 1 0</rotation><translation>0 0 0</translation><scale>1</scale></transform>
+        <partition><camera_ids>1</camera_ids></partition>
+      </component>
+    </components>
+)")));
+    ASSERT_EQ(parts.cameras.size(), 2u);
+    EXPECT_NEAR((parts.cameras[0].center - Eigen::Vector3d(10, 22, 60)).norm(), 0.0, 1e-12);
+    EXPECT_NEAR((parts.cameras[1].center - Eigen::Vector3d(0, 22, 30)).norm(), 0.0, 1e-12);
+}
+
 std::string refusal(const std::string& path) {
     return radtest::refusalMessage<rad::CameraFileError>([&] { rad::readCameraFile(path); });
 }
