@@ -28,7 +28,7 @@ bool readKilobytesLine(const char* path, const std::string& key, std::size_t& by
     return false;
 }
 
-// A cgroup v2 file holding one number, or "max"; false when absent or unlimited.
+// A cgroup file holding one number, or "max" (v2); false when absent or unlimited.
 bool readCgroupNumber(const std::string& path, std::size_t& value) {
     std::ifstream file(path);
     std::string text;
@@ -44,6 +44,9 @@ bool readCgroupNumber(const std::string& path, std::size_t& value) {
 // Headroom 0 means "no limit" in this file's functions; a limit already reached leaves 1 byte.
 std::size_t headroom(std::size_t limit, std::size_t used) { return limit > used ? limit - used : 1; }
 
+// The tighter of two headrooms, 0 standing for "no limit".
+std::size_t tighter(std::size_t a, std::size_t b) { return a == 0 ? b : b == 0 ? a : std::min(a, b); }
+
 // The tightest cgroup limit on `group` and its ancestors under `mount` (a limit on an ancestor binds
 // too). Inside a container the group's path may not exist in the container's view of the mount:
 // its ancestors, down to the mount's root (the container's own group), are still read.
@@ -53,10 +56,8 @@ std::size_t limitHeadroomUpTo(const std::string& mount, std::string group, const
     for (;;) {
         const std::string folder = mount + (group == "/" ? std::string() : group);
         std::size_t limit = 0, used = 0;
-        if (readCgroupNumber(folder + "/" + limitFile, limit) && readCgroupNumber(folder + "/" + usageFile, used)) {
-            const std::size_t left = headroom(limit, used);
-            tightest = tightest == 0 ? left : std::min(tightest, left);
-        }
+        if (readCgroupNumber(folder + "/" + limitFile, limit) && readCgroupNumber(folder + "/" + usageFile, used))
+            tightest = tighter(tightest, headroom(limit, used));
         if (group.empty() || group == "/") return tightest;
         group = group.substr(0, group.find_last_of('/'));
     }
@@ -89,20 +90,16 @@ std::size_t cgroupHeadroomBytes() {
         if (colon != std::string::npos) memory = line.substr(colon + 8);
     }
     std::size_t tightest = 0;
-    const auto consider = [&tightest](std::size_t left) {
-        if (left > 0) tightest = tightest == 0 ? left : std::min(tightest, left);
-    };
-    if (!unified.empty()) consider(limitHeadroomUpTo("/sys/fs/cgroup", unified, "memory.max", "memory.current"));
+    if (!unified.empty())
+        tightest = tighter(tightest, limitHeadroomUpTo("/sys/fs/cgroup", unified, "memory.max", "memory.current"));
     if (!memory.empty())
-        consider(limitHeadroomUpTo("/sys/fs/cgroup/memory", memory, "memory.limit_in_bytes", "memory.usage_in_bytes"));
+        tightest = tighter(tightest, limitHeadroomUpTo("/sys/fs/cgroup/memory", memory, "memory.limit_in_bytes",
+                                                       "memory.usage_in_bytes"));
     return tightest;
 }
 
 std::size_t availableMemoryBytes() {
-    std::size_t tightest = 0;
-    for (const std::size_t bound : {machineAvailableMemoryBytes(), addressSpaceHeadroomBytes(), cgroupHeadroomBytes()})
-        if (bound > 0) tightest = tightest == 0 ? bound : std::min(tightest, bound);
-    return tightest;
+    return tighter(machineAvailableMemoryBytes(), tighter(addressSpaceHeadroomBytes(), cgroupHeadroomBytes()));
 }
 
 std::string describeBytes(double bytes) {

@@ -28,17 +28,22 @@ bool IoPluginBase::refuse(const std::string& message) {
     return false;
 }
 
+void IoPluginBase::logLine(const std::string& line) { Log(GLLogStream::FILTER, forThisHost(line)); }
+
+void IoPluginBase::warningLine(const std::string& line) {
+    const std::string shown = forThisHost(line);
+    Log(GLLogStream::WARNING, shown);
+    std::fprintf(stderr, "%s\n", shown.c_str());  // meshlabserver shows no log: batch users read stderr
+}
+
 bool IoPluginBase::open(const QString& format, const QString& fileName, MeshModel& m, int& mask,
                         const RichParameterList&, vcg::CallBackPos* cb, QWidget*) {
     if (format.toUpper() != format_->extension())
         return refuse("This plugin only reads ." + format_->extension().toLower().toStdString() + " files.");
     FilterProgress progress(cb);
     try {
-        format_->read(fileName, m, mask, progress, [this](const std::string& s) { Log(GLLogStream::FILTER, forThisHost(s)); },
-                      [this](const std::string& s) {
-                          Log(GLLogStream::WARNING, forThisHost(s));
-                          std::fprintf(stderr, "%s\n", forThisHost(s).c_str());
-                      });
+        format_->read(fileName, m, mask, progress, [this](const std::string& s) { logLine(s); },
+                      [this](const std::string& s) { warningLine(s); });
         return true;
     } catch (const std::exception& e) {
         // MeshLab discards the half-built layer of a failed open; the user's other layers are untouched.
@@ -53,11 +58,8 @@ bool IoPluginBase::save(const QString& format, const QString& fileName, MeshMode
         return refuse("This plugin only writes ." + format_->extension().toLower().toStdString() + " files.");
     FilterProgress progress(cb);
     try {
-        format_->write(fileName, m, mask, progress, [this](const std::string& s) { Log(GLLogStream::FILTER, s); },
-                       [this](const std::string& s) {
-                           Log(GLLogStream::WARNING, s);
-                           std::fprintf(stderr, "%s\n", s.c_str());
-                       });
+        format_->write(fileName, m, mask, progress, [this](const std::string& s) { logLine(s); },
+                       [this](const std::string& s) { warningLine(s); });
         return true;
     } catch (const std::exception& e) {
         return refuse(forThisHost(e.what()));

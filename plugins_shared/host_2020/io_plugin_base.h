@@ -24,6 +24,9 @@ protected:
 
 private:
     bool refuse(const std::string& message);
+    // The format's log and warning lines as this host shows them (host_operations.h), for open and save.
+    void logLine(const std::string& line);
+    void warningLine(const std::string& line);
     std::unique_ptr<MeshFormat> format_;
 };
 

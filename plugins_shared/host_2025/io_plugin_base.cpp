@@ -18,14 +18,18 @@ void IoPluginBase::exportMaskCapability(const QString& format, int& capability, 
     capability = defaultBits = format_->exportCapability();
 }
 
+void IoPluginBase::logLine(const std::string& line) { log(GLLogStream::FILTER, forThisHost(line)); }
+
+void IoPluginBase::warningLine(const std::string& line) { log(GLLogStream::WARNING, forThisHost(line)); }
+
 void IoPluginBase::open(const QString& format, const QString& fileName, MeshModel& m, int& mask,
                         const RichParameterList&, vcg::CallBackPos* cb) {
     if (format.toUpper() != format_->extension())
         throw MLException("This plugin only reads ." + format_->extension().toLower() + " files.");
     FilterProgress progress(cb);
     try {
-        format_->read(fileName, m, mask, progress, [this](const std::string& s) { log(GLLogStream::FILTER, forThisHost(s)); },
-                      [this](const std::string& s) { log(GLLogStream::WARNING, forThisHost(s)); });
+        format_->read(fileName, m, mask, progress, [this](const std::string& s) { logLine(s); },
+                      [this](const std::string& s) { warningLine(s); });
     } catch (const MLException&) {
         m.cm.Clear();
         throw;
@@ -42,8 +46,8 @@ void IoPluginBase::save(const QString& format, const QString& fileName, MeshMode
         throw MLException("This plugin only writes ." + format_->extension().toLower() + " files.");
     FilterProgress progress(cb);
     try {
-        format_->write(fileName, m, mask, progress, [this](const std::string& s) { log(GLLogStream::FILTER, s); },
-                       [this](const std::string& s) { log(GLLogStream::WARNING, s); });
+        format_->write(fileName, m, mask, progress, [this](const std::string& s) { logLine(s); },
+                       [this](const std::string& s) { warningLine(s); });
     } catch (const MLException&) {
         throw;
     } catch (const std::exception& e) {

@@ -25,6 +25,9 @@ protected:
     explicit IoPluginBase(std::unique_ptr<MeshFormat> format) : format_(std::move(format)) {}
 
 private:
+    // The format's log and warning lines as this host shows them (host_operations.h), for open and save.
+    void logLine(const std::string& line);
+    void warningLine(const std::string& line);
     std::unique_ptr<MeshFormat> format_;
 };
 

@@ -365,6 +365,16 @@ def write_metashape_xml(path, rec, chunk_rotation, chunk_translation, chunk_scal
         f'<scale>{chunk_scale!r}</scale></transform></chunk></document>\n')
 
 
+def opengl_camera_to_world(pose):
+    """nerfstudio's transform_matrix of a pycolmap cam_from_world pose: camera to world, with OpenGL's
+    camera axes (columns 2 and 3 of OpenCV's negated)."""
+    R = pose.rotation.matrix()
+    m = np.eye(4)
+    m[:3, :3] = R.T @ np.diag([1.0, -1.0, -1.0])
+    m[:3, 3] = -R.T @ np.asarray(pose.translation).reshape(3)
+    return m
+
+
 def write_nerfstudio(path, rec):
     """The reconstruction as nerfstudio's transforms.json: per-frame intrinsics, camera-to-world
     matrices with OpenGL's axes (columns 2 and 3 of OpenCV's negated)."""
@@ -374,11 +384,7 @@ def write_nerfstudio(path, rec):
     for image_id, image in sorted(rec.images.items()):
         camera = rec.cameras[image.camera_id]
         p = [float(x) for x in camera.params]
-        pose = image.cam_from_world()
-        R = pose.rotation.matrix()
-        m = np.eye(4)
-        m[:3, :3] = R.T @ np.diag([1.0, -1.0, -1.0])
-        m[:3, 3] = -R.T @ np.asarray(pose.translation).reshape(3)
+        m = opengl_camera_to_world(image.cam_from_world())
         frame = {"file_path": "images/" + image.name, "transform_matrix": m.tolist(), "w": WIDTH, "h": HEIGHT,
                  "fl_x": p[0], "fl_y": p[1], "cx": p[2], "cy": p[3], "camera_model": "OPENCV"}
         if camera.model_name == "OPENCV":
@@ -444,11 +450,7 @@ def test_nerf_field_of_view_only_takes_the_photographs_size(tmp_path):
 
     for camera_id in models:
         image = rec.images[camera_id]
-        pose = image.cam_from_world()
-        R = pose.rotation.matrix()
-        m = np.eye(4)
-        m[:3, :3] = R.T @ np.diag([1.0, -1.0, -1.0])
-        m[:3, 3] = -R.T @ np.asarray(pose.translation).reshape(3)
+        m = opengl_camera_to_world(image.cam_from_world())
         angle = 2 * math.atan(cx / models[camera_id][1][0])
         frames = [{"file_path": "./images/" + os.path.splitext(image.name)[0], "transform_matrix": m.tolist()}]
         (tmp_path / f"transforms_{camera_id}.json").write_text(json.dumps({"camera_angle_x": angle, "frames": frames}))

@@ -12,9 +12,10 @@ import sys
 
 import pymeshlab_test_helpers as h
 
-# What the child does before the limit: load pymeshlab and our plugins, build the mesh, run the
-# filter once on a small case so that OpenMP's threads exist (a thread that cannot be created under
-# the limit aborts the process inside libgomp, which no filter can catch).
+# What every child does first: load pymeshlab and our plugins, and define its helpers. A case that
+# starts OpenMP threads under the limit runs its filter once on a small input before setting it: a
+# thread that cannot be created under the limit aborts the process inside libgomp, which no filter
+# can catch.
 CHILD_PROLOGUE = """
 import json, resource, sys
 import numpy as np
@@ -66,8 +67,8 @@ faces = np.concatenate([np.stack([a, a + 1, a + n + 2], 1), np.stack([a, a + n +
 
 def test_pop_buffer_levels_out_of_memory_leave_no_layer_behind():
     """16 levels of a 180k-face mesh need several hundred MB; under a 120 MB margin the filter runs out
-    of memory after adding some of its layers (the campaign saw up to 16 layers left, the last empty).
-    runFilter removes them: the document keeps its one layer, unchanged."""
+    of memory (the campaign saw up to 16 layers left, the last empty). runFilter removes what it
+    added: the document keeps its layers (the plane and the warm-up's level), unchanged."""
     body = grid_mesh_code(300) + f"""
 ms = pymeshlab.MeshSet()
 ms.add_mesh(pymeshlab.Mesh(vertex_matrix=vertices, face_matrix=faces), "plane")

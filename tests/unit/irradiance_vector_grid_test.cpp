@@ -260,15 +260,12 @@ TEST_F(IrradianceVectorGridFile, GridLargerThanTheMemoryLimitIsRefusedWithTheFig
     radtest::writeBytes(path, std::vector<char>(header.begin(), header.end()));
     const std::uintmax_t vertices = 301ull * 301ull * 301ull, floatsPerVertex = 6 * 9;
     std::filesystem::resize_file(path, header.size() + vertices * floatsPerVertex * sizeof(float));
-    try {
-        rad::readIrradianceVectorGrid(path, std::size_t(64) << 20);
-        FAIL() << "a 5.9 GB grid was read under a 64 MiB limit";
-    } catch (const rad::IrradianceVectorGridError& e) {
-        const std::string message = e.what();
-        EXPECT_NE(message.find("(300 x 300 x 300 cells) needs 5.9 GB of memory and 67 MB are available"),
-                  std::string::npos) << message;
-        EXPECT_NE(message.find("compute a grid of lower resolution"), std::string::npos) << message;
-    }
+    const std::string message = radtest::refusalMessage<rad::IrradianceVectorGridError>(
+        [&] { rad::readIrradianceVectorGrid(path, std::size_t(64) << 20); });
+    ASSERT_FALSE(message.empty()) << "a 5.9 GB grid was read under a 64 MiB limit";
+    EXPECT_NE(message.find("(300 x 300 x 300 cells) needs 5.9 GB of memory and 67 MB are available"),
+              std::string::npos) << message;
+    EXPECT_NE(message.find("compute a grid of lower resolution"), std::string::npos) << message;
 }
 
 TEST(IrradianceVectorGridFileMissing, MissingFileIsNamed) {
