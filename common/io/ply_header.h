@@ -1,8 +1,9 @@
-// The PLY header and scalar types, shared by the project's two PLY readers: the strict radiance PLY
-// reader (radiance_ply.cpp, binary little endian only) and the streaming reader of large scans
-// (ply_stream_reader.cpp, every encoding). One parser reads the header for both; it reports a fault
-// as a PlyHeaderFault (what is wrong, where, with the offending token) rather than as a sentence, so
-// that each reader keeps the refusal messages its users and tests know.
+// The PLY header and scalar types, shared by the project's PLY readers: the strict radiance PLY
+// reader (radiance_ply.cpp, binary little endian only), the streaming reader of large scans
+// (ply_stream_reader.cpp, every encoding) and the Gaussian splat reader (splats/gaussian_splat_ply.cpp,
+// every encoding). One parser reads the header for all; it reports a fault as a PlyHeaderFault (what
+// is wrong, where, with the offending token) rather than as a sentence, so that each reader keeps the
+// refusal messages its users and tests know.
 #pragma once
 
 #include <cstddef>

@@ -21,15 +21,16 @@ ProgressCallback progressRange(const ProgressCallback& outer, double from, doubl
     };
 }
 
-LoopProgress::LoopProgress(const ProgressCallback& progress, const char* stage, std::size_t total)
-    : progress_(progress), stage_(stage != nullptr ? stage : ""), total_(total) {}
+LoopProgress::LoopProgress(const ProgressCallback& progress, const char* stage, std::size_t total, int reports)
+    : progress_(progress), stage_(stage != nullptr ? stage : ""), total_(total), reports_(std::max(1, reports)) {}
 
-void LoopProgress::itemDone(bool callingThread) {
-    const std::size_t done = done_.fetch_add(1, std::memory_order_relaxed) + 1;
+void LoopProgress::itemDone(bool callingThread, std::size_t items) {
+    const std::size_t done = done_.fetch_add(items, std::memory_order_relaxed) + items;
     if (!callingThread || !progress_ || stopRequested() || total_ == 0) return;
-    const long percent = static_cast<long>(100.0 * static_cast<double>(done) / static_cast<double>(total_));
-    if (percent == reportedPercent_) return;
-    reportedPercent_ = percent;
+    const long step = static_cast<long>(static_cast<double>(reports_) * static_cast<double>(done) /
+                                        static_cast<double>(total_));
+    if (step == reportedStep_) return;
+    reportedStep_ = step;
     // Called inside the caller's parallel region: what the callback throws is captured like an item's.
     bool keepGoing = true;
     try {
@@ -57,8 +58,8 @@ void LoopProgress::finish() {
     }
     if (failure) std::rethrow_exception(failure);
     if (stopRequested()) throw OperationCancelled();
-    if (reportedPercent_ < 100) {
-        reportedPercent_ = 100;
+    if (reportedStep_ < reports_) {
+        reportedStep_ = reports_;
         reportProgress(progress_, 1.0, stage_);
     }
 }

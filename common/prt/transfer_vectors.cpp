@@ -29,7 +29,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <exception>
 #include <limits>
 #include <string>
 
@@ -298,42 +297,32 @@ void computeTransferVectors(const TransferEstimator& estimator, const float* pos
     // (on a busy machine that wait costs a scheduler time slice per call).
     if (count <= chunk) threads = 1;
     const auto chunkCount = static_cast<std::ptrdiff_t>((count + chunk - 1) / chunk);
-    std::atomic<std::size_t> done{0};
-    std::atomic<bool> stop{false};
-    std::exception_ptr failure;  // written by the master thread only (a throwing progress)
-    int lastPermille = 0;        // master thread only: at most 1000 progress calls
+    // Counts points, a chunk at a time; at most 1000 progress calls (a stop request is seen within
+    // 0.1 % of the work). Captures what a chunk or the callback throws for finish() to rethrow.
+    LoopProgress loop(report, kStage, count, 1000);
     const TransferEstimator::Impl& impl = *estimator.impl_;
 
 #pragma omp parallel num_threads(threads)
     {
-        const bool master = omp_get_thread_num() == 0;  // the calling thread
+        const bool callingThread = omp_get_thread_num() == 0;
 #pragma omp for schedule(dynamic, 1) nowait
         for (std::ptrdiff_t c = 0; c < chunkCount; ++c) {
-            if (stop.load(std::memory_order_relaxed)) continue;
             const std::size_t begin = static_cast<std::size_t>(c) * chunk, end = std::min(count, begin + chunk);
-            std::uint64_t rays = 0;  // this thread's rays of this chunk: one atomic add per chunk
-            for (std::size_t p = begin; p < end; ++p)
-                rays += static_cast<std::uint64_t>(impl.computePoint(positions + 3 * p, normals + 3 * p, out.data() + p * K));
-            impl.rays.fetch_add(rays, std::memory_order_relaxed);
-            const std::size_t finished = done.fetch_add(end - begin, std::memory_order_relaxed) + (end - begin);
-            if (master && report) {
-                const int permille = static_cast<int>(1000.0 * finished / count);
-                if (permille > lastPermille) {
-                    lastPermille = permille;
-                    try {
-                        if (!report(double(finished) / count, kStage)) stop.store(true, std::memory_order_relaxed);
-                    } catch (...) {
-                        failure = std::current_exception();
-                        stop.store(true, std::memory_order_relaxed);
-                    }
-                }
-            }
+            loop.runItem(
+                callingThread,
+                [&] {
+                    std::uint64_t rays = 0;  // this thread's rays of this chunk: one atomic add per chunk
+                    for (std::size_t p = begin; p < end; ++p)
+                        rays += static_cast<std::uint64_t>(
+                            impl.computePoint(positions + 3 * p, normals + 3 * p, out.data() + p * K));
+                    impl.rays.fetch_add(rays, std::memory_order_relaxed);
+                },
+                end - begin);
         }
     }
-    if (failure) std::rethrow_exception(failure);
-    if (stop.load()) throw OperationCancelled();
-    // The master may have finished its last chunk before the others: 1.0 is always reported.
-    if (lastPermille < 1000) reportProgress(report, 1.0, kStage);
+    // The first exception rethrown, else OperationCancelled after a stop, else 1.0 reported if the
+    // calling thread has not (it may have finished its last chunk before the others).
+    loop.finish();
 }
 
 TransferField multiplyByAlbedo(const TransferField& geometryTransfer, const std::vector<float>& rgbAlbedo) {

@@ -1,54 +1,19 @@
 #include "splats/gaussian_splat_ply.h"
 
+#include "io/ply_header.h"
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <fstream>
 #include <map>
-#include <sstream>
 
 namespace rad {
 namespace {
 
-enum class Encoding { Ascii, Little, Big };
-
-struct Property {
-    std::string name;
-    std::string type;
-    int bytes = 0;      // scalar size; 0 for a list
-    bool list = false;
-};
-
-struct Element {
-    std::string name;
-    std::uint64_t count = 0;
-    std::vector<Property> properties;
-    // Bytes of one record in a binary file; 0 when a list property makes records variable.
-    std::size_t recordBytes() const {
-        std::size_t sum = 0;
-        for (const Property& p : properties) {
-            if (p.list) return 0;
-            sum += p.bytes;
-        }
-        return sum;
-    }
-};
-
-struct Header {
-    Encoding encoding = Encoding::Ascii;
-    std::vector<Element> elements;
-};
-
-int scalarBytes(const std::string& type) {
-    static const std::map<std::string, int> sizes = {
-        {"char", 1},  {"int8", 1},  {"uchar", 1}, {"uint8", 1},  {"short", 2},   {"int16", 2},
-        {"ushort", 2}, {"uint16", 2}, {"int", 4},   {"int32", 4},  {"uint", 4},    {"uint32", 4},
-        {"float", 4}, {"float32", 4}, {"double", 8}, {"float64", 8}};
-    const auto it = sizes.find(type);
-    return it == sizes.end() ? 0 : it->second;
-}
+// The header is read from the file's first MiB (a splat header of degree 3 is about 2 KB).
+constexpr std::size_t kMaxHeaderBytes = std::size_t(1) << 20;
 
 std::string fileLabel(const std::string& path) { return "'" + path + "'"; }
 
@@ -56,61 +21,75 @@ std::string fileLabel(const std::string& path) { return "'" + path + "'"; }
     throw SplatFileError("Gaussian splat file " + fileLabel(path) + ": " + what);
 }
 
-// Step 1: the header, up to and including "end_header".
-Header readHeader(std::istream& in, const std::string& path) {
-    Header header;
-    std::string line;
-    if (!std::getline(in, line)) refuse(path, "the file is empty; give the .ply a 3D Gaussian Splatting trainer or SuperSplat wrote.");
+// The header line a fault names, without its line break.
+std::string faultLine(const std::string& head, const PlyHeaderFault& f) {
+    const std::size_t start = std::min(f.lineOffset, head.size());
+    std::string line = head.substr(start, head.find('\n', start) - start);
     if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line != "ply") refuse(path, "not a PLY file (it does not start with 'ply'); give the .ply a 3D Gaussian Splatting trainer or SuperSplat wrote.");
-    bool formatSeen = false;
-    while (true) {
-        if (!std::getline(in, line))
-            refuse(path, "the file ends inside its PLY header (no 'end_header'); the file is truncated, write it again.");
-        if (!line.empty() && line.back() == '\r') line.pop_back();
-        std::istringstream words(line);
-        std::string keyword;
-        words >> keyword;
-        if (keyword == "end_header") break;
-        if (keyword.empty() || keyword == "comment" || keyword == "obj_info") continue;
-        if (keyword == "format") {
-            std::string format, version;
-            words >> format >> version;
-            if (format == "ascii") header.encoding = Encoding::Ascii;
-            else if (format == "binary_little_endian") header.encoding = Encoding::Little;
-            else if (format == "binary_big_endian") header.encoding = Encoding::Big;
-            else refuse(path, "unknown PLY format '" + format + "'.");
-            formatSeen = true;
-        } else if (keyword == "element") {
-            Element element;
-            long long count = -1;
-            words >> element.name >> count;
-            if (element.name.empty() || count < 0) refuse(path, "malformed PLY header line '" + line + "'.");
-            element.count = static_cast<std::uint64_t>(count);
-            header.elements.push_back(element);
-        } else if (keyword == "property") {
-            if (header.elements.empty()) refuse(path, "PLY header has a property before any element.");
-            Property p;
-            words >> p.type;
-            if (p.type == "list") {
-                std::string countType, itemType;
-                words >> countType >> itemType >> p.name;
-                p.list = true;
-                if (!scalarBytes(countType) || !scalarBytes(itemType)) refuse(path, "malformed PLY header line '" + line + "'.");
-                p.type = countType + " " + itemType;
-            } else {
-                words >> p.name;
-                p.bytes = scalarBytes(p.type);
-                if (!p.bytes) refuse(path, "unknown PLY property type '" + p.type + "' in '" + line + "'.");
-            }
-            if (p.name.empty()) refuse(path, "malformed PLY header line '" + line + "'.");
-            header.elements.back().properties.push_back(p);
-        } else {
-            refuse(path, "malformed PLY header line '" + line + "'.");
-        }
+    return line;
+}
+
+// The shared header parser's fault, in this reader's words. `head` holds the bytes parsed,
+// `wholeFile` when that is all of the file.
+[[noreturn]] void refuseHeader(const std::string& path, const std::string& head, bool wholeFile,
+                               const PlyHeaderFault& f) {
+    using K = PlyHeaderFaultKind;
+    const char* const remedy = "give the .ply a 3D Gaussian Splatting trainer or SuperSplat wrote.";
+    const std::string malformed = "malformed PLY header line '" + faultLine(head, f) + "'.";
+    const std::string truncated =
+        "the file ends inside its PLY header (no 'end_header'); the file is truncated, write it again.";
+    switch (f.kind) {
+        case K::EmptyFile: refuse(path, std::string("the file is empty; ") + remedy);
+        case K::NoPlyLine:
+            // "ply" and nothing else: the start of a PLY file that was cut short.
+            if (wholeFile && head == "ply") refuse(path, truncated);
+            refuse(path, std::string("not a PLY file (it does not start with 'ply'); ") + remedy);
+        case K::NoEndHeader:
+            if (wholeFile) refuse(path, truncated);
+            refuse(path, "no 'end_header' in the first MiB of the file: not a PLY header; " + std::string(remedy));
+        case K::NoFormatLine: refuse(path, "the PLY header has no 'format' line.");
+        case K::UnknownFormat: refuse(path, "unknown PLY format '" + f.token + "'.");
+        case K::UnsupportedVersion:
+            refuse(path, "unsupported PLY version '" + f.token + "' in '" + faultLine(head, f) + "' (1.0 is read).");
+        case K::RepeatedFormat: refuse(path, "the PLY header has a second 'format' line '" + faultLine(head, f) + "'.");
+        case K::DuplicateElement: refuse(path, "the PLY header declares element '" + f.token + "' twice.");
+        case K::DuplicateProperty:
+            refuse(path, "the PLY header declares property '" + f.token + "' of element '" + f.detail + "' twice.");
+        case K::PropertyBeforeElement: refuse(path, "PLY header has a property before any element.");
+        case K::UnknownPropertyType:
+            refuse(path, "unknown PLY property type '" + f.token + "' in '" + faultLine(head, f) + "'.");
+        case K::MalformedFormat:
+        case K::MalformedElement:
+        case K::InvalidElementCount:
+        case K::UnknownListType:
+        case K::NonIntegerListLength:
+        case K::ScalarPropertyOfTypeList:
+        case K::MalformedProperty:
+        case K::UnknownKeyword:
+        // Only strict rules or a refused encoding give these; this reader's rules give none of them.
+        case K::MalformedEndHeader:
+        case K::FormatAfterElements:
+        case K::ElementBeforeFormat:
+        case K::EncodingNotAccepted: refuse(path, malformed);
     }
-    if (!formatSeen) refuse(path, "the PLY header has no 'format' line.");
-    return header;
+    refuse(path, malformed);
+}
+
+// Step 1: the header (any encoding, the headers tools write: lenient rules); `in` is left at the
+// first byte of data.
+PlyHeader readHeader(std::istream& in, const std::string& path) {
+    std::string head(kMaxHeaderBytes, '\0');
+    in.read(head.data(), static_cast<std::streamsize>(head.size()));
+    head.resize(static_cast<std::size_t>(in.gcount()));
+    const bool wholeFile = head.size() < kMaxHeaderBytes || in.peek() == std::char_traits<char>::eof();
+    PlyHeaderRules rules;
+    rules.strict = false;
+    PlyHeaderParse parse = parsePlyHeader(head.data(), head.size(), rules);
+    if (parse.fault) refuseHeader(path, head, wholeFile, *parse.fault);
+    in.clear();
+    in.seekg(static_cast<std::streamoff>(parse.header.dataOffset));
+    if (!in) refuse(path, "cannot be read after its PLY header (the file changed or the disk failed); check the file.");
+    return std::move(parse.header);
 }
 
 // Where each splat quantity sits in a vertex record (property indices), and the SH degree.
@@ -122,7 +101,7 @@ struct Layout {
 };
 
 // Step 2: the vertex element must be a splat set.
-Layout findLayout(const Header& header, std::size_t& vertexElement, const std::string& path) {
+Layout findLayout(const PlyHeader& header, std::size_t& vertexElement, const std::string& path) {
     const char* const remedy =
         " Give the .ply a 3D Gaussian Splatting trainer (point_cloud/iteration_*/point_cloud.ply) or SuperSplat "
         "(File > Export > PLY) wrote.";
@@ -130,18 +109,18 @@ Layout findLayout(const Header& header, std::size_t& vertexElement, const std::s
     for (std::size_t e = 0; e < header.elements.size(); ++e)
         if (header.elements[e].name == "vertex") vertexElement = e;
     bool compressed = false;
-    for (const Element& element : header.elements)
-        for (const Property& p : element.properties)
+    for (const PlyElement& element : header.elements)
+        for (const PlyProperty& p : element.properties)
             if (p.name == "packed_position") compressed = true;
     if (compressed)
         refuse(path, std::string("this is a compressed splat PLY (PlayCanvas / SuperSplat 'compressed.ply': packed "
                                  "chunks), which is not read; export the scene from SuperSplat as an uncompressed .ply "
                                  "(File > Export > PLY) and give that file."));
     if (vertexElement == header.elements.size()) refuse(path, std::string("a PLY file without vertices, not a splat file.") + remedy);
-    const Element& vertex = header.elements[vertexElement];
+    const PlyElement& vertex = header.elements[vertexElement];
     std::map<std::string, int> index;
     for (std::size_t i = 0; i < vertex.properties.size(); ++i) {
-        if (vertex.properties[i].list) continue;
+        if (vertex.properties[i].isList) continue;
         index[vertex.properties[i].name] = static_cast<int>(i);
     }
     Layout layout;
@@ -160,7 +139,7 @@ Layout findLayout(const Header& header, std::size_t& vertexElement, const std::s
     for (int c = 0; c < 4; ++c) need("rot_" + std::to_string(c), layout.rot[c]);
     if (!missing.empty()) {
         std::string have, lack;
-        for (const Property& p : vertex.properties) have += (have.empty() ? "" : " ") + p.name;
+        for (const PlyProperty& p : vertex.properties) have += (have.empty() ? "" : " ") + p.name;
         for (const std::string& m : missing) lack += (lack.empty() ? "" : " ") + m;
         refuse(path, "a PLY file but not a 3D Gaussian splat file: its vertices lack " + lack + " (they have: " +
                          (have.empty() ? std::string("no properties") : have) + ")." + remedy);
@@ -192,83 +171,33 @@ Layout findLayout(const Header& header, std::size_t& vertexElement, const std::s
     return layout;
 }
 
-enum class Scalar { Int8, Uint8, Int16, Uint16, Int32, Uint32, Float32, Float64 };
-
-Scalar scalarKind(const std::string& type) {
-    if (type == "float" || type == "float32") return Scalar::Float32;
-    if (type == "double" || type == "float64") return Scalar::Float64;
-    if (type == "char" || type == "int8") return Scalar::Int8;
-    if (type == "uchar" || type == "uint8") return Scalar::Uint8;
-    if (type == "short" || type == "int16") return Scalar::Int16;
-    if (type == "ushort" || type == "uint16") return Scalar::Uint16;
-    if (type == "int" || type == "int32") return Scalar::Int32;
-    return Scalar::Uint32;
-}
-
-double decodeBinary(const unsigned char* p, Scalar kind, int bytes, bool swap) {
-    unsigned char b[8];
-    for (int i = 0; i < bytes; ++i) b[i] = swap ? p[bytes - 1 - i] : p[i];
-    switch (kind) {
-    case Scalar::Float32: { float v; std::memcpy(&v, b, 4); return v; }
-    case Scalar::Float64: { double v; std::memcpy(&v, b, 8); return v; }
-    case Scalar::Int8: { std::int8_t v; std::memcpy(&v, b, 1); return v; }
-    case Scalar::Uint8: return b[0];
-    case Scalar::Int16: { std::int16_t v; std::memcpy(&v, b, 2); return v; }
-    case Scalar::Uint16: { std::uint16_t v; std::memcpy(&v, b, 2); return v; }
-    case Scalar::Int32: { std::int32_t v; std::memcpy(&v, b, 4); return v; }
-    case Scalar::Uint32: break;
-    }
-    std::uint32_t v;
-    std::memcpy(&v, b, 4);
-    return v;
-}
-
 // Step 3 helpers: skipping the elements stored before the vertices.
-void skipElement(std::istream& in, const Element& element, Encoding encoding, const std::string& path) {
-    if (encoding == Encoding::Ascii) {
+void skipElement(std::istream& in, const PlyElement& element, PlyEncoding encoding, const std::string& path) {
+    if (encoding == PlyEncoding::Ascii) {
         std::string line;
         for (std::uint64_t i = 0; i < element.count; ++i)
             if (!std::getline(in, line)) refuse(path, "the file ends inside element '" + element.name + "'; it is truncated, write it again.");
         return;
     }
-    const std::size_t record = element.recordBytes();
-    if (record == 0)
+    if (element.hasList)
         refuse(path, "element '" + element.name + "' with list properties comes before the splats; save the splats "
                      "as the file's first element (as 3D Gaussian Splatting and SuperSplat do).");
-    in.seekg(static_cast<std::streamoff>(record * element.count), std::ios::cur);
+    in.seekg(static_cast<std::streamoff>(element.scalarBytes * element.count), std::ios::cur);
     if (!in) refuse(path, "the file ends inside element '" + element.name + "'; it is truncated, write it again.");
 }
-
-// One splat's values by property index, from its record.
-struct RecordReader {
-    const Element& vertex;
-    Encoding encoding;
-    std::vector<std::size_t> offsets;  // binary: byte offset of each property in a record
-    std::vector<Scalar> kinds;
-    std::size_t recordBytes = 0;
-
-    RecordReader(const Element& v, Encoding e) : vertex(v), encoding(e) {
-        std::size_t offset = 0;
-        for (const Property& p : vertex.properties) {
-            offsets.push_back(offset);
-            kinds.push_back(scalarKind(p.type));
-            offset += p.bytes;
-        }
-        recordBytes = offset;
-    }
-};
 
 }  // namespace
 
 GaussianSplats readGaussianSplatPly(const std::string& path, const ProgressCallback& progress) {
     std::ifstream in(path, std::ios::binary);
     if (!in) refuse(path, "cannot be opened (missing or unreadable); check the path.");
-    const Header header = readHeader(in, path);
+    const PlyHeader header = readHeader(in, path);
     std::size_t vertexIndex = 0;
     const Layout layout = findLayout(header, vertexIndex, path);
-    const Element& vertex = header.elements[vertexIndex];
+    const PlyElement& vertex = header.elements[vertexIndex];
     if (vertex.count == 0) refuse(path, "it holds no splats (element vertex 0); give a trained scene.");
-    if (header.encoding != Encoding::Ascii && vertex.recordBytes() == 0)
+    const bool ascii = header.encoding == PlyEncoding::Ascii;
+    if (!ascii && vertex.hasList)
         refuse(path, "its splats have list properties, which a splat file does not have; export it again.");
     for (std::size_t e = 0; e < vertexIndex; ++e) skipElement(in, header.elements[e], header.encoding, path);
 
@@ -282,8 +211,8 @@ GaussianSplats readGaussianSplatPly(const std::string& path, const ProgressCallb
     splats.logScale.resize(3 * n);
     splats.rotation.resize(4 * n);
 
-    const RecordReader reader(vertex, header.encoding);
-    const bool swap = header.encoding == Encoding::Big;
+    const bool bigEndian = header.encoding == PlyEncoding::BinaryBigEndian;
+    const std::size_t recordBytes = vertex.scalarBytes;
     const std::size_t propertyCount = vertex.properties.size();
     std::vector<double> values(propertyCount);
     const std::size_t chunk = 4096;
@@ -292,16 +221,16 @@ GaussianSplats readGaussianSplatPly(const std::string& path, const ProgressCallb
     for (std::size_t first = 0; first < n; first += chunk) {
         reportProgress(progress, double(first) / n, "Reading splats");
         const std::size_t last = std::min(n, first + chunk);
-        if (header.encoding != Encoding::Ascii) {
-            bytes.resize((last - first) * reader.recordBytes);
+        if (!ascii) {
+            bytes.resize((last - first) * recordBytes);
             in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
             if (static_cast<std::size_t>(in.gcount()) != bytes.size())
-                refuse(path, "the file ends at splat " + std::to_string(first + in.gcount() / reader.recordBytes) + " of " +
+                refuse(path, "the file ends at splat " + std::to_string(first + in.gcount() / recordBytes) + " of " +
                                  std::to_string(n) + " its header announces; it is truncated, write it again.");
         }
         for (std::size_t s = first; s < last; ++s) {
             // 3a. The record's values, by property index.
-            if (header.encoding == Encoding::Ascii) {
+            if (ascii) {
                 if (!std::getline(in, line))
                     refuse(path, "the file ends at splat " + std::to_string(s) + " of " + std::to_string(n) +
                                      " its header announces; it is truncated, write it again.");
@@ -309,7 +238,7 @@ GaussianSplats readGaussianSplatPly(const std::string& path, const ProgressCallb
                 const char* end = line.data() + line.size();
                 for (std::size_t i = 0; i < propertyCount; ++i) {
                     while (p < end && (*p == ' ' || *p == '\t' || *p == '\r')) ++p;
-                    if (vertex.properties[i].list) refuse(path, "its splats have list properties, which a splat file does not have; export it again.");
+                    if (vertex.properties[i].isList) refuse(path, "its splats have list properties, which a splat file does not have; export it again.");
                     const auto result = std::from_chars(p, end, values[i]);
                     if (result.ec != std::errc()) {
                         // from_chars reads "nan" and "inf"; anything else here is not a number.
@@ -320,9 +249,11 @@ GaussianSplats readGaussianSplatPly(const std::string& path, const ProgressCallb
                     p = result.ptr;
                 }
             } else {
-                const unsigned char* record = bytes.data() + (s - first) * reader.recordBytes;
-                for (std::size_t i = 0; i < propertyCount; ++i)
-                    values[i] = decodeBinary(record + reader.offsets[i], reader.kinds[i], vertex.properties[i].bytes, swap);
+                const unsigned char* record = bytes.data() + (s - first) * recordBytes;
+                for (std::size_t i = 0; i < propertyCount; ++i) {
+                    const PlyProperty& p = vertex.properties[i];
+                    values[i] = readPlyNumber(record + p.offset, p.type, bigEndian);
+                }
             }
             // 3b. Every value the transfer uses must be finite (a diverged training leaves NaN).
             auto take = [&](int property) {

@@ -5,6 +5,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -87,6 +88,24 @@ TEST(ProgressCallback, LoopReportsFromTheCallingThreadOnlyAndEndsAtOne) {
     ASSERT_FALSE(seen.empty());
     EXPECT_LE(seen.size(), 102u);  // at most once per percent, plus the final 1
     for (std::size_t i = 1; i < seen.size(); ++i) EXPECT_GE(seen[i], seen[i - 1]);
+    EXPECT_EQ(seen.back(), 1.0);
+}
+
+TEST(ProgressCallback, LoopCountsChunksOfItemsAndReportsAtTheStepsAskedFor) {
+    const std::size_t n = 100007, chunk = 32;  // the last chunk is partial
+    std::vector<double> seen;
+    const rad::ProgressCallback record = [&](double f, const char*) {
+        seen.push_back(f);
+        return true;
+    };
+    rad::LoopProgress loop(record, "loop", n, 1000);
+    for (std::size_t begin = 0; begin < n; begin += chunk)  // serial: the calling thread does every chunk
+        loop.runItem(true, [] {}, std::min(chunk, n - begin));
+    loop.finish();
+    EXPECT_GT(seen.size(), 500u);   // finer than once per percent
+    EXPECT_LE(seen.size(), 1002u);  // at most once per permille, plus the final 1
+    EXPECT_EQ(seen.front(), 32.0 / double(n));  // the fraction counts items, not chunks
+    for (std::size_t i = 1; i < seen.size(); ++i) EXPECT_GT(seen[i], seen[i - 1]);
     EXPECT_EQ(seen.back(), 1.0);
 }
 
