@@ -98,8 +98,8 @@ for size in "${SIZES[@]}"; do
       base="$WORK/ours_${shape}_${size}_${space}"
       spaceIndex=$([ "$space" = tangent ] && echo 1 || echo 0)
       { echo '<!DOCTYPE FilterScript>'; echo '<FilterScript>'
-        bash "$REPO/scripts/bake_normal_map_filter.sh" 0 "$size" "$spaceIndex" 0 false false "${base}_normal.png" 0 \
-          | sed "s|name=\"maxDistance\" value=\"0\"|name=\"maxDistance\" value=\"$distance\"|; s|name=\"lean\" value=\"true\"|name=\"lean\" value=\"false\"|"
+        bash "$REPO/scripts/bake_normal_map_filter.sh" 0 "$size" "$spaceIndex" 0 false false "${base}_normal.png" 0 false \
+          maxDistance="$distance" lean=false
         echo '</FilterScript>'; } > "$base.mlx"
       t0=$(now)
       xvfb-run -a -s "-screen 0 640x480x24" "$SERVER" -i "$WORK/${shape}_high.ply" -i "$WORK/${shape}_low.ply" \
@@ -141,7 +141,7 @@ for shape in "${SHAPE_LIST[@]}"; do
   base="$WORK/gltf_${shape}_${size}"
   { echo '<!DOCTYPE FilterScript>'; echo '<FilterScript>'
     bash "$REPO/scripts/bake_normal_map_filter.sh" 0 "$size" 1 0 false false "${base}_normal.png" 0 true \
-      | sed "s|name=\"maxDistance\" value=\"0\"|name=\"maxDistance\" value=\"$distance\"|; s|name=\"lean\" value=\"true\"|name=\"lean\" value=\"false\"|"
+      maxDistance="$distance" lean=false
     echo '</FilterScript>'; } > "$base.mlx"
   xvfb-run -a -s "-screen 0 640x480x24" "$SERVER" -i "$WORK/${shape}_high.ply" -i "$WORK/${shape}_low.ply" \
     -s "$base.mlx" > "$base.log" 2>&1 || { tail -20 "$base.log" >&2; exit 1; }

@@ -83,16 +83,8 @@ if [ "$WHICH" = quality ] || [ "$WHICH" = all ]; then
 fi
 if [ "$WHICH" = speed ] || [ "$WHICH" = all ]; then
     mkdir -p "$OUT/armadillo_s3"
-    cat >"$OUT/armadillo_s3/subdivide.mlx" <<'MLX'
-<!DOCTYPE FilterScript>
-<FilterScript>
- <filter name="Subdivision Surfaces: Midpoint">
-  <Param type="RichInt" name="Iterations" value="3"/>
-  <Param type="RichAbsPerc" name="Threshold" value="0" min="0" max="1000"/>
-  <Param type="RichBool" name="Selected" value="false"/>
- </filter>
-</FilterScript>
-MLX
+    RADIANCE_BUILD_DIR="$REPO/build" bash "$REPO/scripts/filter_script.sh" --out "$OUT/armadillo_s3/subdivide.mlx" \
+        --filter "Subdivision Surfaces: Midpoint" Iterations=3 Threshold=0 Selected=false
     server "$OUT/armadillo_s3/subdivide.log" -i "$MESHES/armadillo.off" -s "$OUT/armadillo_s3/subdivide.mlx" \
         -o "$OUT/armadillo_s3/scan.ply" || { cat "$OUT/armadillo_s3/subdivide.log"; exit 1; }
     run_case armadillo_s3_2pct "$OUT/armadillo_s3/scan.ply" 66560 4096 "$(diag50 "$MESHES/armadillo.off")" 1

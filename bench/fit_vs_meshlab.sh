@@ -26,21 +26,9 @@ if [ ! -f "$WORK/photos/project.mlp" ]; then
         --views "$VIEWS" --size "$SIZE" --subdivide "$LEVELS" --material glossy | tail -n 3
 fi
 bash "$REPO/scripts/write_fit_mlx.sh" "$WORK/fit.mlx" 0.05
-cat >"$WORK/meshlab_projection.mlx" <<'MLX'
-<!DOCTYPE FilterScript>
-<FilterScript>
- <filter name="Project active rasters color to current mesh">
-  <Param type="RichFloat" name="deptheta" value="0.5"/>
-  <Param type="RichBool" name="onselection" value="false"/>
-  <Param type="RichBool" name="useangle" value="true"/>
-  <Param type="RichBool" name="usedistance" value="true"/>
-  <Param type="RichBool" name="useborders" value="true"/>
-  <Param type="RichBool" name="usesilhouettes" value="true"/>
-  <Param type="RichBool" name="usealpha" value="false"/>
-  <Param type="RichColor" name="blankColor" r="0" g="0" b="0" a="255"/>
- </filter>
-</FilterScript>
-MLX
+BUILD_DIR="$BUILD_DIR" bash "$REPO/scripts/filter_script.sh" --out "$WORK/meshlab_projection.mlx" \
+    --filter "Project active rasters color to current mesh" deptheta=0.5 onselection=false useangle=true \
+    usedistance=true useborders=true usesilhouettes=true usealpha=false blankColor=0,0,0,255
 args=(-i "$WORK/photos/mesh.ply" -p "$WORK/photos/project.mlp")
 echo "== loading only (mesh + $VIEWS rasters)"
 server "${args[@]}" >"$WORK/load.log" 2>&1; tail -n 1 "$WORK/load.log"

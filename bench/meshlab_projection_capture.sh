@@ -31,21 +31,9 @@ awk -v k="$K" -v cap="$CAP" '
   { gsub(/fileName="photos\//, "fileName=\"" cap "/photos/") }
   !skip { print }
   /<\/MLRaster>/ { skip = 0 }' "$CAP/project.mlp" >"$OUT/train.mlp"
-cat >"$OUT/projection.mlx" <<MLX
-<!DOCTYPE FilterScript>
-<FilterScript>
- <filter name="Project active rasters color to current mesh">
-  <Param type="RichFloat" name="deptheta" value="$DEPTH"/>
-  <Param type="RichBool" name="onselection" value="false"/>
-  <Param type="RichBool" name="useangle" value="true"/>
-  <Param type="RichBool" name="usedistance" value="true"/>
-  <Param type="RichBool" name="useborders" value="true"/>
-  <Param type="RichBool" name="usesilhouettes" value="true"/>
-  <Param type="RichBool" name="usealpha" value="false"/>
-  <Param type="RichColor" name="blankColor" r="0" g="0" b="0" a="255"/>
- </filter>
-</FilterScript>
-MLX
+BUILD_DIR="$BUILD_DIR" bash "$REPO/scripts/filter_script.sh" --out "$OUT/projection.mlx" \
+    --filter "Project active rasters color to current mesh" deptheta="$DEPTH" onselection=false useangle=true \
+    usedistance=true useborders=true usesilhouettes=true usealpha=false blankColor=0,0,0,255
 server() { /usr/bin/time -f "%e s wall, %M KB peak" xvfb-run -a -s "-screen 0 1280x1024x24" "$PREFIX/bin/meshlabserver" "$@"; }
 echo "depth threshold: $DEPTH"
 echo "rasters: $(grep -c '<MLRaster' "$OUT/train.mlp") of $(grep -c '<MLRaster' "$CAP/project.mlp") (every ${K}th left out)"

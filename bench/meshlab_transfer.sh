@@ -63,28 +63,14 @@ prepare)
     scan="$(abspath "$1")"; out="$2"; faces="$3"; tex="${4:-1024}"
     mkdir -p "$out"; out="$(cd "$out" && pwd)"
     export XDG_CONFIG_HOME="$out/config"; mkdir -p "$XDG_CONFIG_HOME"
-    cat >"$out/normals.mlx" <<'MLX'
-<!DOCTYPE FilterScript>
-<FilterScript>
- <filter name="Re-Compute Vertex Normals">
-  <Param type="RichEnum" name="weightMode" value="2" enum_cardinality="4" enum_val0="Simple Average" enum_val1="By Angle" enum_val2="By Area" enum_val3="As defined by N. Max"/>
- </filter>
-</FilterScript>
-MLX
+    bash "$REPO/scripts/filter_script.sh" --out "$out/normals.mlx" --filter "Re-Compute Vertex Normals" weightMode=2
     server "$out/normals.log" -i "$scan" -s "$out/normals.mlx" -o "$out/source.ply" -m vn \
         || { cat "$out/normals.log" >&2; die "normals failed"; }
-    cat >"$out/target.mlx" <<MLX
-<!DOCTYPE FilterScript>
-<FilterScript>
-$(bash "$REPO/scripts/meshlab_decimation_filter.sh" "$faces" false)
- <filter name="Parametrization: Trivial Per-Triangle">
-  <Param type="RichInt" name="sidedim" value="0"/>
-  <Param type="RichInt" name="textdim" value="$tex"/>
-  <Param type="RichInt" name="border" value="2"/>
-  <Param type="RichEnum" name="method" value="0" enum_cardinality="2" enum_val0="Basic" enum_val1="Space-optimizing"/>
- </filter>
-</FilterScript>
-MLX
+    # MeshLab's decimation as scripts/meshlab_decimation_filter.sh "$faces" false sets it.
+    bash "$REPO/scripts/filter_script.sh" --out "$out/target.mlx" \
+        --filter "Simplification: Quadric Edge Collapse Decimation" TargetFaceNum="$faces" TargetPerc=0 \
+            PreserveNormal=true PreserveTopology=false OptimalPlacement=true AutoClean=true \
+        --filter "Parametrization: Trivial Per-Triangle" sidedim=0 textdim="$tex" border=2 method=0
     server "$out/target.log" -i "$out/source.ply" -s "$out/target.mlx" -o "$out/target.ply" -m wt -o "$out/target.obj" -m wt \
         || { cat "$out/target.log" >&2; die "simplification + parametrization failed"; }
     echo "prepared $out/source.ply (area-weighted vertex normals) and $out/target.ply = $out/target.obj ($faces faces, per-triangle UVs)"
@@ -99,23 +85,9 @@ run)
     # The texture goes next to the target: bake into a private copy, loaded last so that it is the
     # current mesh the texture is created for (a target without texture gets none otherwise).
     cp "$target" "$work/target.ply"
-    cat >"$work/transfer.mlx" <<MLX
-<!DOCTYPE FilterScript>
-<FilterScript>
- <filter name="Transfer: Vertex Attributes to Texture (1 or 2 meshes)">
-  <Param type="RichMesh" name="sourceMesh" value="0"/>
-  <Param type="RichMesh" name="targetMesh" value="1"/>
-  <Param type="RichEnum" name="AttributeEnum" value="1" enum_cardinality="4" enum_val0="Vertex Color" enum_val1="Vertex Normal" enum_val2="Vertex Quality" enum_val3="Texture Color"/>
-  <Param type="RichAbsPerc" name="upperBound" value="$bound" min="0" max="1000000"/>
-  <Param type="RichString" name="textName" value="baked.png"/>
-  <Param type="RichInt" name="textW" value="$size"/>
-  <Param type="RichInt" name="textH" value="$size"/>
-  <Param type="RichBool" name="overwrite" value="false"/>
-  <Param type="RichBool" name="assign" value="true"/>
-  <Param type="RichBool" name="pullpush" value="true"/>
- </filter>
-</FilterScript>
-MLX
+    bash "$REPO/scripts/filter_script.sh" --layers 2 --out "$work/transfer.mlx" \
+        --filter "Transfer: Vertex Attributes to Texture (1 or 2 meshes)" sourceMesh=0 targetMesh=1 AttributeEnum=1 \
+        upperBound="$bound" textName=baked.png textW="$size" textH="$size" overwrite=false assign=true pullpush=true
     loads=(); totals=()
     for ((i = 0; i < repeats; ++i)); do
         t0=$(now); server "$work/load.log" -i "$source_mesh" -i "$work/target.ply" \

@@ -32,20 +32,9 @@ ln -sf "$SOURCE" "$MESH"
 VERTICES=$(grep -a -m1 "^element vertex" "$MESH" | awk '{print $3}')
 echo "mesh: $MESH, $VERTICES vertices"
 
-cat >"$WORK/ao.mlx" <<MLX
-<!DOCTYPE FilterScript>
-<FilterScript>
- <filter name="Ambient Occlusion">
-  <Param type="RichEnum" name="occMode" value="0" enum_cardinality="2" enum_val0="per-Vertex" enum_val1="per-Face"/>
-  <Param type="RichFloat" name="dirBias" value="0"/>
-  <Param type="RichInt" name="reqViews" value="$VIEWS"/>
-  <Param type="RichPoint3f" name="coneDir" x="0" y="1" z="0"/>
-  <Param type="RichFloat" name="coneAngle" value="30"/>
-  <Param type="RichBool" name="useGPU" value="false"/>
-  <Param type="RichInt" name="depthTexSize" value="512"/>
- </filter>
-</FilterScript>
-MLX
+export BUILD_DIR
+bash "$REPO/scripts/filter_script.sh" --out "$WORK/ao.mlx" --filter "Ambient Occlusion" occMode=0 dirBias=0 \
+    reqViews="$VIEWS" coneDir=0,1,0 coneAngle=30 useGPU=false depthTexSize=512
 bash "$REPO/scripts/write_prt_mlx.sh" "$WORK/prt.mlx" "transfer:6:$RAYS"
 
 echo "== (a) meshlabserver: load + save only"

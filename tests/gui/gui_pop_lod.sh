@@ -21,8 +21,8 @@ source "$(dirname "$0")/gui_lib.sh"
 bake_armadillo 512
 
 # Level 4 on the CPU (the filter), saved with the baked layer as a project.
-write_mlx "$WORK/extract.mlx" "Extract Level of Detail (POP Buffer)" \
-    '<Param type="RichString" name="levels" value="4"/>' '<Param type="RichBool" name="correction" value="true"/>'
+filter_script "$WORK/extract.mlx" "Extract Level of Detail (POP Buffer)" \
+    levels=4 correction=true
 run_meshlabserver "$WORK/extract.log" -i "$WORK/armadillo_baked.ply" -s "$WORK/extract.mlx" -w "$WORK/lod.mlp" \
     || { cat "$WORK/extract.log" >&2; fail "the level-4 layer could not be written"; }
 [ -s "$WORK/armadillo_baked_pop4_out.ply" ] || fail "no level-4 layer saved"

@@ -35,68 +35,53 @@ run_meshlabserver() {
     return "$status"
 }
 
-# write_mlx FILE FILTER_NAME PARAM_XML... : a one-filter script.
-write_mlx() {
+# filter_script FILE FILTER_NAME [name=value]... : a one-filter script with every parameter the
+# filter declares (meshlabserver 2020.09 aborts when one is missing), its defaults but for the values
+# named (scripts/filter_script.sh: the list comes from the filter itself).
+filter_script() {
     local file="$1" filter="$2"; shift 2
-    {
-        echo '<!DOCTYPE FilterScript>'
-        echo '<FilterScript>'
-        echo " <filter name=\"$filter\">"
-        for p in "$@"; do echo "  $p"; done
-        echo ' </filter>'
-        echo '</FilterScript>'
-    } >"$file"
+    bash "$RADIANCE_SOURCE_DIR/scripts/filter_script.sh" --out "$file" --filter "$filter" "$@"
+}
+
+# edit_mlx IN OUT NAME=VALUE...: a copy of the script IN with the named parameters' values replaced
+# verbatim and unchecked (tests of what a hand-edited script may carry); a name IN lacks is an error.
+edit_mlx() {
+    python3 - "$@" <<'PY'
+import sys, xml.etree.ElementTree as ET
+source, target, *pairs = sys.argv[1:]
+tree = ET.parse(source)
+params = {p.get("name"): p for p in tree.iter("Param")}
+for pair in pairs:
+    name, value = pair.split("=", 1)
+    params[name].set("value", value)
+open(target, "w").write("<!DOCTYPE FilterScript>\n" + ET.tostring(tree.getroot(), encoding="unicode") + "\n")
+PY
 }
 
 # create_radiance_mlx FILE BASIS(0=PB,1=SH) DEGREE REFLECTED(true|false) SPECULAR STRIPES [LIGHT_X LIGHT_Y LIGHT_Z]
-# A script running "Create Radiance Data from Analytic Material" with every parameter listed
-# (meshlabserver 2020.09 aborts when one is missing). Albedo (230, 60, 40) sRGB, directional light
-# of irradiance 3, ambient 0.05, shininess 40.
+# A script running "Create Radiance Data from Analytic Material": albedo (230, 60, 40) sRGB, white
+# specular colour, directional light of irradiance 3, ambient 0.05, shininess 40, stripes along Y.
 create_radiance_mlx() {
     local file="$1" basis="$2" degree="$3" reflected="$4" specular="$5" stripes="$6"
     local lx="${7:-0.5}" ly="${8:-1}" lz="${9:-1}"
-    write_mlx "$file" "Radiance: Create Radiance Data from Analytic Material" \
-        "<Param type=\"RichEnum\" name=\"basis\" value=\"$basis\" enum_cardinality=\"2\" enum_val0=\"PB\" enum_val1=\"SH\"/>" \
-        "<Param type=\"RichInt\" name=\"degree\" value=\"$degree\"/>" \
-        "<Param type=\"RichBool\" name=\"reflected\" value=\"$reflected\"/>" \
-        '<Param type="RichColor" name="albedo" r="230" g="60" b="40" a="255"/>' \
-        '<Param type="RichColor" name="specularColor" r="255" g="255" b="255" a="255"/>' \
-        "<Param type=\"RichFloat\" name=\"specular\" value=\"$specular\"/>" \
-        '<Param type="RichFloat" name="shininess" value="40"/>' \
-        "<Param type=\"RichInt\" name=\"stripes\" value=\"$stripes\"/>" \
-        '<Param type="RichEnum" name="stripeAxis" value="1" enum_cardinality="3" enum_val0="X" enum_val1="Y" enum_val2="Z"/>' \
-        '<Param type="RichEnum" name="lightType" value="0" enum_cardinality="2" enum_val0="Directional" enum_val1="Point"/>' \
-        "<Param type=\"RichPoint3f\" name=\"light\" x=\"$lx\" y=\"$ly\" z=\"$lz\"/>" \
-        '<Param type="RichFloat" name="lightIntensity" value="3"/>' \
-        '<Param type="RichFloat" name="ambient" value="0.05"/>' \
-        '<Param type="RichBool" name="setColor" value="true"/>'
+    filter_script "$file" "Radiance: Create Radiance Data from Analytic Material" \
+        basis="$basis" degree="$degree" reflected="$reflected" albedo=230,60,40,255 specularColor=255,255,255,255 \
+        specular="$specular" shininess=40 stripes="$stripes" stripeAxis=1 lightType=0 light="$lx,$ly,$lz" \
+        lightIntensity=3 ambient=0.05 setColor=true
 }
 
 # fit_mlx FILE [BASIS(0=PB,1=SH)] [DEGREE] [REFLECTED] [QUALITY(0=count,1=residual)] [VALIDATION] [ROBUST]:
-# a script running "Fit Radiance Functions from Rasters" with every parameter listed. VALIDATION and
-# ROBUST default to false: these tests check that the least-squares fit reproduces the photographs
-# it was fitted on (the per-vertex validation keeps the constant where a single photograph shows a
-# highlight; tests/python/test_pymeshlab_fit.py checks the defaults).
+# a script running "Fit Radiance Functions from Rasters". VALIDATION and ROBUST default to false:
+# these tests check that the least-squares fit reproduces the photographs it was fitted on (the
+# per-vertex validation keeps the constant where a single photograph shows a highlight;
+# tests/python/test_pymeshlab_fit.py checks the defaults).
 fit_mlx() {
     local file="$1" basis="${2:-0}" degree="${3:-4}" reflected="${4:-false}" quality="${5:-0}"
     local validation="${6:-false}" robust="${7:-false}"
-    write_mlx "$file" "Radiance: Fit Radiance Functions from Rasters" \
-        '<Param type="RichBool" name="visibleOnly" value="false"/>' \
-        "<Param type=\"RichEnum\" name=\"basis\" value=\"$basis\" enum_cardinality=\"2\" enum_val0=\"PB\" enum_val1=\"SH\"/>" \
-        "<Param type=\"RichInt\" name=\"degree\" value=\"$degree\"/>" \
-        '<Param type="RichFloat" name="regularization" value="0.001"/>' \
-        '<Param type="RichAbsPerc" name="depthTolerance" value="0.003" min="0" max="10"/>' \
-        '<Param type="RichFloat" name="grazingAngle" value="80"/>' \
-        '<Param type="RichInt" name="borderMargin" value="2"/>' \
-        '<Param type="RichInt" name="minSamples" value="3"/>' \
-        "<Param type=\"RichBool\" name=\"reflected\" value=\"$reflected\"/>" \
-        "<Param type=\"RichEnum\" name=\"quality\" value=\"$quality\" enum_cardinality=\"2\" enum_val0=\"count\" enum_val1=\"residual\"/>" \
-        '<Param type="RichBool" name="setColor" value="true"/>' \
-        "<Param type=\"RichBool\" name=\"validation\" value=\"$validation\"/>" \
-        "<Param type=\"RichBool\" name=\"robust\" value=\"$robust\"/>" \
-        '<Param type="RichBool" name="exposureCompensation" value="true"/>' \
-        '<Param type="RichEnum" name="fitModel" value="0" enum_cardinality="3" enum_val0="automatic" enum_val1="pervertex" enum_val2="shared"/>' \
-        '<Param type="RichInt" name="heldOutEvery" value="0"/>'
+    filter_script "$file" "Radiance: Fit Radiance Functions from Rasters" \
+        visibleOnly=false basis="$basis" degree="$degree" regularization=0.001 depthTolerance=0.003 \
+        reflected="$reflected" quality="$quality" validation="$validation" robust="$robust" \
+        exposureCompensation=true fitModel=0 heldOutEvery=0
 }
 
 VIRTUAL_ACQUISITION="$RADIANCE_BUILD_DIR/tools/virtual_acquisition"

@@ -7,19 +7,13 @@ source "$(dirname "$0")/lib.sh"
 CHECK="python3 $RADIANCE_SOURCE_DIR/tests/integration/check_radiance_ply.py"
 
 "$MAKE_SCENE" sphere --level 3 -o "$WORK/sphere.ply"
-create_radiance_mlx "$WORK/create.mlx" 0 3 false 0 0 0.5 1 1
-{
-    sed '$d' "$WORK/create.mlx"   # drop </FilterScript>, append MeshLab's own filters
-    cat <<'MLX'
- <filter name="Conditional Vertex Selection">
-  <Param type="RichString" name="condSelect" value="(x &gt; 0.1)"/>
- </filter>
- <filter name="Delete Selected Vertices"/>
- <filter name="Compact vertices"/>
- <filter name="Compact faces"/>
-</FilterScript>
-MLX
-} >"$WORK/edit.mlx"
+# Our create filter (as create_radiance_mlx: PB degree 3, Lambertian), then MeshLab's own filters.
+bash "$RADIANCE_SOURCE_DIR/scripts/filter_script.sh" --out "$WORK/edit.mlx" \
+    --filter "Radiance: Create Radiance Data from Analytic Material" basis=0 degree=3 reflected=false \
+        albedo=230,60,40,255 specular=0 stripes=0 lightType=0 light=0.5,1,1 lightIntensity=3 ambient=0.05 \
+        setColor=true \
+    --filter "Conditional Vertex Selection" "condSelect=(x > 0.1)" --filter "Delete Selected Vertices" \
+    --filter "Compact vertices" --filter "Compact faces"
 run_meshlabserver "$WORK/edit.log" -i "$WORK/sphere.ply" -o "$WORK/edited.rply" -m vc vn -s "$WORK/edit.mlx" \
     || { cat "$WORK/edit.log" >&2; fail "create + delete + compact + save failed"; }
 grep -q "Deleted [1-9][0-9]* vertices" "$WORK/edit.log" || { cat "$WORK/edit.log" >&2; fail "MeshLab deleted nothing: the test would prove nothing"; }

@@ -7,8 +7,8 @@ source "$(dirname "$0")/lib.sh"
 
 "$MAKE_SCENE" sphere --level 2 -o "$WORK/sphere.ply"
 export_mlx() {  # FILE OUTPUT
-    write_mlx "$1" "Radiance: Export Radiance Functions as glTF (.glb)" \
-        "<Param type=\"RichString\" name=\"outputFile\" value=\"$2\"/>"
+    filter_script "$1" "Radiance: Export Radiance Functions as glTF (.glb)" \
+        "outputFile=$2"
 }
 
 for case in "pb3:0:3:false" "sh3_reflected:1:3:true"; do

@@ -57,17 +57,9 @@ grep -q "The block is kept as it is and saved again unchanged" "$WORK/save.log" 
 note "open + save keeps both blocks byte for byte"
 
 # 2. MeshLab's delete + compact: the rows follow their vertices.
-cat >"$WORK/delete.mlx" <<'MLX'
-<!DOCTYPE FilterScript>
-<FilterScript>
- <filter name="Conditional Vertex Selection">
-  <Param type="RichString" name="condSelect" value="(x &gt; 0.5)"/>
- </filter>
- <filter name="Delete Selected Vertices"/>
- <filter name="Compact vertices"/>
- <filter name="Compact faces"/>
-</FilterScript>
-MLX
+bash "$RADIANCE_SOURCE_DIR/scripts/filter_script.sh" --out "$WORK/delete.mlx" \
+    --filter "Conditional Vertex Selection" "condSelect=(x > 0.5)" --filter "Delete Selected Vertices" \
+    --filter "Compact vertices" --filter "Compact faces"
 run_meshlabserver "$WORK/delete.log" -i "$WORK/in.rply" -o "$WORK/deleted.rply" -m vn -s "$WORK/delete.mlx" \
     || { cat "$WORK/delete.log" >&2; fail "delete + compact + save failed"; }
 python3 - "$PLY_READER" "$WORK/deleted.rply" <<'PY' || fail "block rows do not follow their vertices"
@@ -91,16 +83,7 @@ PY
 note "delete + compact: block values follow their vertices"
 
 # 3. A filter that adds vertices: saved without the blocks, and the log says so.
-cat >"$WORK/subdivide.mlx" <<'MLX'
-<!DOCTYPE FilterScript>
-<FilterScript>
- <filter name="Subdivision Surfaces: Midpoint">
-  <Param type="RichInt" name="Iterations" value="1"/>
-  <Param type="RichAbsPerc" name="Threshold" value="0" min="0" max="2"/>
-  <Param type="RichBool" name="Selected" value="false"/>
- </filter>
-</FilterScript>
-MLX
+filter_script "$WORK/subdivide.mlx" "Subdivision Surfaces: Midpoint" Iterations=1 Threshold=0 Selected=false
 run_meshlabserver "$WORK/subdivide.log" -i "$WORK/in.rply" -o "$WORK/subdivided.rply" -m vn -s "$WORK/subdivide.mlx" \
     || { cat "$WORK/subdivide.log" >&2; fail "subdivide + save failed"; }
 grep -q "the extra vertex blocks 'prt', 'curvature' of the opened file cannot be saved: [0-9]* of [0-9]* vertices were created" \

@@ -10,9 +10,9 @@ CHECK="python3 $RADIANCE_SOURCE_DIR/tests/integration/check_radiance_ply.py"
 run_meshlabserver "$WORK/ref.log" -i "$WORK/sphere.ply" -o "$WORK/reference.rply" -m vc vn \
     || { cat "$WORK/ref.log" >&2; fail "could not save the reference"; }
 
-write_mlx "$WORK/eval.mlx" "Radiance: Evaluate Radiance toward a Viewpoint as Vertex Color" \
-    '<Param type="RichPoint3f" name="viewpoint" x="0" y="0" z="5"/>' \
-    '<Param type="RichFloat" name="exposure" value="1"/>'
+filter_script "$WORK/eval.mlx" "Radiance: Evaluate Radiance toward a Viewpoint as Vertex Color" \
+    viewpoint=0,0,5 \
+    exposure=1
 run_meshlabserver "$WORK/eval.log" -i "$WORK/sphere.ply" -o "$WORK/eval.rply" -m vc vn -s "$WORK/eval.mlx" -l "$WORK/eval.filterlog" || true
 cat "$WORK/eval.filterlog" >>"$WORK/eval.log" 2>/dev/null || true
 grep -qF "has no radiance data" "$WORK/eval.log" || { cat "$WORK/eval.log" >&2; fail "no message for a mesh without radiance"; }

@@ -12,11 +12,11 @@ done
 
 # splats_mlx FILE SPLATFILE: the filter with every parameter listed (meshlabserver needs them all).
 splats_mlx() {
-    write_mlx "$1" "Radiance: Transfer Radiance from Gaussian Splats" \
-        "<Param type=\"RichOpenFile\" name=\"splatfile\" value=\"$2\" exts_cardinality=\"1\" exts_val0=\"*.ply\"/>" \
-        '<Param type="RichFloat" name="maxSplatSize" value="10"/>' \
-        '<Param type="RichFloat" name="frontTolerance" value="1"/>' \
-        '<Param type="RichBool" name="setColor" value="true"/>'
+    filter_script "$1" "Radiance: Transfer Radiance from Gaussian Splats" \
+        "splatfile=$2" \
+        maxSplatSize=10 \
+        frontTolerance=1 \
+        setColor=true
 }
 
 splats_mlx "$WORK/good.mlx" "$WORK/sphere_splats.ply"

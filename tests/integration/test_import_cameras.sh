@@ -46,12 +46,12 @@ open(sys.argv[2] + "/images.txt", "w").write("# IMAGE_ID, QW, QX, QY, QZ, TX, TY
 PY
 
 import_params() {
-    echo "<Param type=\"RichOpenFile\" name=\"camerafile\" value=\"$1\" exts_cardinality=\"4\" exts_val0=\"*.bin\" exts_val1=\"*.txt\" exts_val2=\"*.xml\" exts_val3=\"*.json\"/>"
-    echo "<Param type=\"RichString\" name=\"imagefolder\" value=\"$2\"/>"
-    echo "<Param type=\"RichString\" name=\"cachefolder\" value=\"$WORK/cache\"/>"
+    echo "camerafile=$1"
+    echo "imagefolder=$2"
+    echo "cachefolder=$WORK/cache"
 }
 mapfile -t IMPORT < <(import_params "$WORK/colmap/images.txt" "$WORK/photos")
-write_mlx "$WORK/import.mlx" "Import Cameras as Raster Layers" "${IMPORT[@]}"
+filter_script "$WORK/import.mlx" "Import Cameras as Raster Layers" "${IMPORT[@]}"
 run_meshlabserver "$WORK/import.log" -i "$WORK/photos/mesh.ply" -s "$WORK/import.mlx" -w "$WORK/imported.mlp" \
     || { cat "$WORK/import.log" >&2; fail "import failed"; }
 grep -qF "COLMAP text model '$WORK/colmap/images.txt': 8 cameras usable, 0 skipped" "$WORK/import.log" \
@@ -116,6 +116,6 @@ mkdir -p "$WORK/unsupported"
 cp "$WORK/colmap/images.txt" "$WORK/unsupported/"
 awk '/^#/ {print; next} {printf "%s EUCM %s %s 100 100 80 60 0.5 1.0\n", $1, $3, $4}' "$WORK/colmap/cameras.txt" >"$WORK/unsupported/cameras.txt"
 mapfile -t BAD < <(import_params "$WORK/unsupported" "$WORK/photos")
-write_mlx "$WORK/bad.mlx" "Import Cameras as Raster Layers" "${BAD[@]}"
+filter_script "$WORK/bad.mlx" "Import Cameras as Raster Layers" "${BAD[@]}"
 expect_refusal unsupported_model "camera model EUCM is not supported" "$WORK/photos/mesh.ply" "$WORK/bad.mlx"
 note "ok"

@@ -9,17 +9,17 @@ FILTER="Compute Irradiance Vector Grid"
 CHECK="python3 $RADIANCE_SOURCE_DIR/tests/integration/check_ivg.py"
 
 ivg_mlx() {  # FILE LIGHT(0 map, 1 sun) ENVMAP RESOLUTION OUTPUT
-    write_mlx "$1" "$FILTER" \
-        "<Param type=\"RichInt\" name=\"resolution\" value=\"$4\"/>" \
-        '<Param type="RichInt" name="bounces" value="2"/>' \
-        '<Param type="RichInt" name="rays" value="16"/>' \
-        "<Param type=\"RichEnum\" name=\"lightSource\" value=\"$2\" enum_cardinality=\"2\" enum_val0=\"Environment map\" enum_val1=\"Directional light\"/>" \
-        "<Param type=\"RichString\" name=\"envMap\" value=\"$3\"/>" \
-        '<Param type="RichInt" name="lightCount" value="16"/>' \
-        '<Param type="RichFloat" name="envScale" value="1"/>' \
-        '<Param type="RichPoint3f" name="lightDirection" x="0.3" y="0.2" z="1"/>' \
-        '<Param type="RichFloat" name="lightIrradiance" value="1"/>' \
-        "<Param type=\"RichString\" name=\"outputFile\" value=\"$5\"/>"
+    filter_script "$1" "$FILTER" \
+        "resolution=$4" \
+        bounces=2 \
+        rays=16 \
+        "lightSource=$2" \
+        "envMap=$3" \
+        lightCount=16 \
+        envScale=1 \
+        lightDirection=0.3,0.2,1 \
+        lightIrradiance=1 \
+        "outputFile=$5"
 }
 
 "$MAKE_SCENE" column -o "$WORK/column.ply" >/dev/null

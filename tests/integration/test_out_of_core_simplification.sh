@@ -9,13 +9,13 @@ source "$(dirname "$0")/lib.sh"
 FILTER="Out-of-Core Simplification and Normal Map"
 
 ooc_mlx() {  # FILE PLY OUTPUT_BASE
-    write_mlx "$1" "$FILTER" \
-        "<Param type=\"RichOpenFile\" name=\"plyFile\" value=\"$2\" exts_cardinality=\"1\" exts_val0=\"*.ply\"/>" \
-        '<Param type="RichInt" name="targetFaces" value="400"/>' \
-        '<Param type="RichInt" name="textureSize" value="256"/>' \
-        '<Param type="RichInt" name="gutter" value="4"/>' \
-        '<Param type="RichEnum" name="bits" value="0" enum_cardinality="2" enum_val0="16 bit" enum_val1="8 bit"/>' \
-        "<Param type=\"RichString\" name=\"outputFile\" value=\"$3\"/>"
+    filter_script "$1" "$FILTER" \
+        "plyFile=$2" \
+        targetFaces=400 \
+        textureSize=256 \
+        gutter=4 \
+        bits=0 \
+        "outputFile=$3"
 }
 
 "$MAKE_SCENE" sphere --level 5 -o "$WORK/scan.ply" >/dev/null

@@ -9,9 +9,9 @@ CHECK="python3 $RADIANCE_SOURCE_DIR/tests/integration/check_pop_levels.py"
 FILTER="Extract Level of Detail (POP Buffer)"
 
 pop_mlx() {  # FILE LEVELS CORRECTION
-    write_mlx "$1" "$FILTER" \
-        "<Param type=\"RichString\" name=\"levels\" value=\"$2\"/>" \
-        "<Param type=\"RichBool\" name=\"correction\" value=\"$3\"/>"
+    filter_script "$1" "$FILTER" \
+        "levels=$2" \
+        "correction=$3"
 }
 
 $CHECK make "$WORK/plane.ply"

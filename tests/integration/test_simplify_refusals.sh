@@ -15,13 +15,7 @@ $WRITE_MLX "$WORK/half.mlx" 0.5
 
 expect_refusal no_radiance "The current mesh has no radiance data" "$WORK/sphere.ply" "$WORK/half.mlx"
 $WRITE_MLX "$WORK/everything.mlx" 0.999999
-python3 - "$WORK/target.mlx" "$WORK/half.mlx" <<'PY'
-import sys
-text = open(sys.argv[2]).read()
-text = text.replace('name="targetFaces" value="0"', 'name="targetFaces" value="100000"')
-text = text.replace('name="targetPercentage" value="0.5"', 'name="targetPercentage" value="0"')
-open(sys.argv[1], "w").write(text)
-PY
+edit_mlx "$WORK/half.mlx" "$WORK/target.mlx" targetFaces=100000 targetPercentage=0
 expect_refusal target_too_large "is not below the layer's" "$WORK/sphere.rply" "$WORK/target.mlx"
 
 # ASCII PLY variants of the radiance-free sphere (geometry-only metric, so radiance is not the issue).
@@ -68,12 +62,11 @@ cmp -s "$WORK/duplicate.out.ply" "$WORK/strip.out.ply" || fail "the strip with a
 
 # Script mistakes meshlabserver passes through unchecked: an enum index beyond the choices (it used to
 # be read as another metric), a NaN weight, a negative angle. Each is refused, naming the parameter.
-$WRITE_MLX "$WORK/metric9.mlx" 0.5 9
+edit_mlx "$WORK/half.mlx" "$WORK/metric9.mlx" metric=9
 expect_refusal enum_out_of_range "The parameter 'metric' is 9, which is none of its choices: 0 = " \
     "$WORK/sphere.rply" "$WORK/metric9.mlx"
-sed 's/name="geometryWeight" value="[^"]*"/name="geometryWeight" value="nan"/' "$WORK/half.mlx" > "$WORK/nan_weight.mlx"
-grep -q 'name="geometryWeight" value="nan"' "$WORK/nan_weight.mlx" || fail "could not write the NaN weight script"
+edit_mlx "$WORK/half.mlx" "$WORK/nan_weight.mlx" geometryWeight=nan
 expect_refusal nan_weight "The parameter 'geometryWeight' is not a finite number" "$WORK/sphere.rply" "$WORK/nan_weight.mlx"
-sed 's/name="maxNormalChange" value="90"/name="maxNormalChange" value="-10"/' "$WORK/half.mlx" > "$WORK/angle.mlx"
+edit_mlx "$WORK/half.mlx" "$WORK/angle.mlx" maxNormalChange=-10
 expect_refusal negative_angle "[0, 180] degrees (it is -10)" "$WORK/sphere.rply" "$WORK/angle.mlx"
 note "refusals ok"

@@ -126,31 +126,31 @@ def run_python(code, timeout=300):
                           text=True, timeout=timeout, env=python_env())
 
 
-def create_mlx(path, case):
-    """A meshlabserver script running the create filter with every parameter listed (as lib.sh's
-    create_radiance_mlx); `case` gives basis, degree, reflected, specular, stripes, lighttype, light."""
-    lx, ly, lz = case["light"]
-    path.write_text(f"""<!DOCTYPE FilterScript>
-<FilterScript>
- <filter name="Radiance: Create Radiance Data from Analytic Material">
-  <Param type="RichEnum" name="basis" value="{case['basis']}" enum_cardinality="2" enum_val0="PB" enum_val1="SH"/>
-  <Param type="RichInt" name="degree" value="{case['degree']}"/>
-  <Param type="RichBool" name="reflected" value="{str(case['reflected']).lower()}"/>
-  <Param type="RichColor" name="albedo" r="230" g="60" b="40" a="255"/>
-  <Param type="RichColor" name="specularColor" r="255" g="255" b="255" a="255"/>
-  <Param type="RichFloat" name="specular" value="{case['specular']}"/>
-  <Param type="RichFloat" name="shininess" value="40"/>
-  <Param type="RichInt" name="stripes" value="{case['stripes']}"/>
-  <Param type="RichEnum" name="stripeAxis" value="1" enum_cardinality="3" enum_val0="X" enum_val1="Y" enum_val2="Z"/>
-  <Param type="RichEnum" name="lightType" value="{case['lighttype']}" enum_cardinality="2" enum_val0="Directional" enum_val1="Point"/>
-  <Param type="RichPoint3f" name="light" x="{lx}" y="{ly}" z="{lz}"/>
-  <Param type="RichFloat" name="lightIntensity" value="3"/>
-  <Param type="RichFloat" name="ambient" value="0.05"/>
-  <Param type="RichBool" name="setColor" value="true"/>
- </filter>
-</FilterScript>
-""")
+def filter_script(path, *filters):
+    """Writes a meshlabserver 2020.09 script with every parameter each filter declares (from the
+    filter itself: scripts/filter_script.sh), its defaults but for the values given. `filters`: pairs
+    (filter name, {parameter: value}); booleans become true/false, sequences x,y,z or r,g,b,a."""
+    def word(value):
+        if isinstance(value, bool):
+            return "true" if value else "false"
+        if isinstance(value, (list, tuple)):
+            return ",".join(str(v) for v in value)
+        return str(value)
+    args = ["bash", os.path.join(REPO, "scripts", "filter_script.sh"), "--out", str(path)]
+    for name, values in filters:
+        args += ["--filter", name] + [f"{key}={word(value)}" for key, value in values.items()]
+    subprocess.run(args, check=True, env=dict(os.environ, RADIANCE_BUILD_DIR=BUILD))
     return path
+
+
+def create_mlx(path, case):
+    """A meshlabserver script running the create filter (as lib.sh's create_radiance_mlx); `case`
+    gives basis, degree, reflected, specular, stripes, lighttype, light."""
+    return filter_script(path, ("Radiance: Create Radiance Data from Analytic Material", dict(
+        basis=case["basis"], degree=case["degree"], reflected=bool(case["reflected"]), albedo=(230, 60, 40, 255),
+        specularColor=(255, 255, 255, 255), specular=case["specular"], shininess=40, stripes=case["stripes"],
+        stripeAxis=1, lightType=case["lighttype"], light=case["light"], lightIntensity=3, ambient=0.05,
+        setColor=True)))
 
 
 # ---------------------------------------------------------------------------------------------------

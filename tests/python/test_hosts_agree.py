@@ -98,12 +98,8 @@ def test_splat_transfer_agrees_between_hosts(tmp_path):
     splat_writer.write_scenario("sphere_mesh", str(mesh))
     splat_writer.write_scenario("sphere_splats", str(splats))
     mlx = tmp_path / "splats.mlx"
-    mlx.write_text(
-        '<!DOCTYPE FilterScript>\n<FilterScript>\n <filter name="Radiance: Transfer Radiance from Gaussian Splats">\n'
-        f'  <Param type="RichOpenFile" name="splatfile" value="{splats}" exts_cardinality="1" exts_val0="*.ply"/>\n'
-        '  <Param type="RichFloat" name="maxSplatSize" value="10"/>\n'
-        '  <Param type="RichFloat" name="frontTolerance" value="1"/>\n'
-        '  <Param type="RichBool" name="setColor" value="true"/>\n </filter>\n</FilterScript>\n')
+    h.filter_script(mlx, ("Radiance: Transfer Radiance from Gaussian Splats",
+                          dict(splatfile=splats, maxSplatSize=10, frontTolerance=1, setColor=True)))
     server_out = tmp_path / "meshlabserver.rply"
     status, log = h.run_meshlabserver(tmp_path, "-i", mesh, "-o", server_out, "-m", "vc", "vn", "-s", mlx)
     assert status == 0 and server_out.is_file(), f"meshlabserver failed ({status}):\n{log[-3000:]}"

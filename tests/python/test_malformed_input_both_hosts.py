@@ -14,7 +14,6 @@ estimate (tests/unit/normal_map_bake_test.cpp with a memory limit), stale tempor
 save (tests/unit/radiance_ply_test.cpp, bench/kill_during_save.sh).
 """
 import os
-import subprocess
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 
@@ -250,53 +249,33 @@ def _assert_no_files(case, inputs):
 # ---------------------------------------------------------------------------------------------------
 # meshlabserver 2020.09
 
+def _base_values(filter_name, work):
+    """The values each filter's case starts from (those of the repository's script writers)."""
+    if filter_name == "Bake Normal Map":
+        return dict(sourceMesh=0, textureSize=256, space=0, bits=1, newAtlas=True, diffuse=False,
+                    outputFile=str(work / "baked.png"))
+    if filter_name == "Radiance: Radiance-Aware Simplification":
+        return dict(metric=0, collapse=0, targetFaces=0, targetPercentage=0.5)
+    if filter_name == "Radiance: Adaptive PRT Subdivision":
+        return dict(budget=0, budgetFactor=2, measure=3, alpha=4, threshold=0)
+    if filter_name == "Radiance: PRT Relighting as Vertex Color":
+        return dict(lighting=1, lightDirection=(0, 0, 1), lightIntensity=3)
+    if filter_name == "Radiance: Create Radiance Data from Analytic Material":
+        return dict(basis=0, degree=4, reflected=False, albedo=(230, 60, 40, 255), specular=0.5, stripes=0,
+                    lightType=0, light=(0.5, 1.0, 1.0), lightIntensity=3, ambient=0.05, setColor=True)
+    if filter_name == "Radiance: Evaluate Radiance toward a Viewpoint as Vertex Color":
+        return dict(viewpoint=(0, 0, 5), exposure=1)
+    if filter_name == "Compute Irradiance Vector Grid":
+        return dict(resolution=4, bounces=1, rays=16, lightSource=1, lightCount=16, lightDirection=(0, 0, 1),
+                    outputFile=str(work / "grid.ivg"))
+    raise AssertionError(f"no script values for {filter_name}")
+
+
 def _script(case, work, inputs):
-    """A complete .mlx for the case: the repository's script writers (every parameter listed, as
-    meshlabserver 2020.09 requires), then the case's values put in."""
-    mlx = work / "case.mlx"
-    scripts = os.path.join(h.REPO, "scripts")
-    if case.filter == "Bake Normal Map":
-        element = subprocess.run(["bash", os.path.join(scripts, "bake_normal_map_filter.sh"), "0", "256", "0", "1",
-                                  "true", "false", str(work / "baked.png")], check=True, stdout=subprocess.PIPE,
-                                 text=True).stdout
-        mlx.write_text("<!DOCTYPE FilterScript>\n<FilterScript>\n" + element + "</FilterScript>\n")
-    elif case.filter == "Radiance: Radiance-Aware Simplification":
-        subprocess.run(["bash", os.path.join(scripts, "write_simplify_mlx.sh"), str(mlx), "0.5"], check=True)
-    elif case.filter == "Radiance: Adaptive PRT Subdivision":
-        subprocess.run(["bash", os.path.join(scripts, "write_prt_mlx.sh"), str(mlx), "adaptive:2"], check=True)
-    elif case.filter == "Radiance: PRT Relighting as Vertex Color":
-        subprocess.run(["bash", os.path.join(scripts, "write_prt_mlx.sh"), str(mlx), "relight-dir:0:0:1"], check=True)
-    elif case.filter == "Radiance: Create Radiance Data from Analytic Material":
-        h.create_mlx(mlx, dict(basis=0, degree=4, reflected=False, specular=0.5, stripes=0, lighttype=0,
-                               light=(0.5, 1.0, 1.0)))
-    elif case.filter == "Radiance: Evaluate Radiance toward a Viewpoint as Vertex Color":
-        mlx.write_text(f"""<!DOCTYPE FilterScript>
-<FilterScript>
- <filter name="{case.filter}">
-  <Param type="RichPoint3f" name="viewpoint" x="0" y="0" z="5"/>
-  <Param type="RichFloat" name="exposure" value="1"/>
- </filter>
-</FilterScript>
-""")
-    elif case.filter == "Compute Irradiance Vector Grid":
-        mlx.write_text(f"""<!DOCTYPE FilterScript>
-<FilterScript>
- <filter name="{case.filter}">
-  <Param type="RichInt" name="resolution" value="4"/>
-  <Param type="RichInt" name="bounces" value="1"/>
-  <Param type="RichInt" name="rays" value="16"/>
-  <Param type="RichEnum" name="lightSource" value="1" enum_cardinality="2" enum_val0="Environment map" enum_val1="Directional light"/>
-  <Param type="RichString" name="envMap" value=""/>
-  <Param type="RichInt" name="lightCount" value="16"/>
-  <Param type="RichFloat" name="envScale" value="1"/>
-  <Param type="RichPoint3f" name="lightDirection" x="0" y="0" z="1"/>
-  <Param type="RichFloat" name="lightIrradiance" value="1"/>
-  <Param type="RichString" name="outputFile" value="{work / 'grid.ivg'}"/>
- </filter>
-</FilterScript>
-""")
-    else:
-        raise AssertionError(f"no script writer for {case.filter}")
+    """A complete .mlx for the case: every parameter the filter declares (scripts/filter_script.sh,
+    as meshlabserver 2020.09 requires), then the case's values put in verbatim: the writer would
+    refuse the out-of-range ones, whose refusal by meshlabserver's side is what a case checks."""
+    mlx = h.filter_script(work / "case.mlx", (case.filter, _base_values(case.filter, work)))
     tree = ET.parse(str(mlx))
     params = {p.get("name"): p for p in tree.getroot().iter("Param")}
     for name, value in case.params.items():
