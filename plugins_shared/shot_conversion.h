@@ -1,19 +1,10 @@
-// MeshLab's camera (vcg::Shot) <-> our plain pinhole camera (common/camera/pinhole_camera.h).
-//
-// vcg's conventions (vcglib vcg/math/shot.h and camera.h, checked by tests/adapter against
-// vcg::Shot::Project itself):
-//  - Extrinsics.Rot(): rows = camera axes in world coordinates: image right, image UP, BACKWARDS;
-//  - Extrinsics.Tra(): the camera centre C (GetViewPoint);
-//  - camera point cp = Rot (X - C), then cp.z = -cp.z (depth > 0 in front);
-//  - px = cp.x * FocalMm / cp.z / PixelSizeMm.x + CenterPx.x, py likewise with y, where px counts
-//    from the image's LEFT edge and py from its BOTTOM edge; ViewportPx = image size.
-// Ours: rows right, DOWN, FORWARD; v from the TOP edge. Hence
-//    rotation rows = (Rot row 0, -Rot row 1, -Rot row 2),   fx = FocalMm / PixelSizeMm.x,
-//    fy = FocalMm / PixelSizeMm.y,   cx = CenterPx.x,   cy = ViewportPx.y - CenterPx.y,
-// so that u = px and v = height - py for every point in front of the camera.
-//
-// Refused (with a sentence for the log): orthographic cameras, a non-zero radial distortion
-// (vcg's k1 model; undistort the photographs first), non-finite or degenerate values.
+// MeshLab's camera (vcg::Shot) <-> our plain pinhole camera (common/camera/pinhole_camera.h). vcg's
+// camera rows are image right, UP, BACKWARDS and its image y counts from the BOTTOM edge; ours are
+// right, DOWN, FORWARD with v from the TOP, so rows 1-2 are negated and v = height - py, for every
+// point in front of the camera (checked by tests/adapter against vcg::Shot::Project itself).
+// Refused, with a sentence for the log: orthographic cameras, a non-zero radial distortion (vcg's k1
+// model; undistort the photographs first), non-finite or degenerate values.
+// Details: docs/camera-import.md, "`plugins_shared/shot_conversion.h`: how it works".
 #pragma once
 
 #include "camera/pinhole_camera.h"

@@ -1,19 +1,10 @@
-// Draws a mesh carrying per-vertex radiance functions (RF) with OpenGL, for MeshLab's decoration and
-// for the frame-time benchmark and the GL tests (no Qt, no MeshLab headers: a current context with
-// GLEW initialised is all it needs).
-//
-// Upload once, draw many: setMesh() and setRadiance() copy everything a frame needs into buffer
-// objects (positions, triangles, frames and reflected RF coefficients as texture buffers); draw()
-// only sets uniforms and issues one glDrawElements. The GLSL is in radiance_shaders.h.
-//
-// Without shaders (GL < 3.2, GLSL < 1.50, core profile) or when the coefficients exceed the texture
-// buffer limit, the per-vertex mode is evaluated on the CPU (rad::radianceTowardViewpoint, OpenMP)
-// whenever the eye moves, tone-mapped on the CPU and drawn with the fixed-function pipeline; the
-// per-fragment mode is then unavailable (drawn per vertex, see activeShading()).
-//
-// draw() uses the current GL matrices (MeshLab's fixed-function stack), depth test GL_LEQUAL with a
-// polygon offset of (-1, -1) so it covers the mesh MeshLab drew underneath, and restores every
-// binding and state it touches.
+// Draws a mesh carrying per-vertex radiance functions (RF) with OpenGL, for MeshLab's decoration, the
+// frame-time benchmark and the GL tests (no Qt, no MeshLab headers: a current context with GLEW
+// initialised is all it needs). Upload once (setMesh, setRadiance), draw many: draw() only sets
+// uniforms and issues one glDrawElements over the mesh MeshLab drew, with the current GL matrices,
+// and restores every binding and state it touches. Without shaders (or beyond the texture buffer
+// limit) the per-vertex mode is evaluated on the CPU; activeShading() says what is drawn.
+// Details: docs/decorate-radiance.md, "Where it draws" and "Decisions".
 #pragma once
 
 #include "gl_capabilities.h"

@@ -1,25 +1,9 @@
-// GLSL sources of the radiance decoration (GLSL 1.50, compatibility profile: the vertex position goes
-// through MeshLab's fixed-function matrices with ftransform(), which is invariant with the
-// fixed-function pipeline that drew the mesh underneath).
-//
-// Data the shaders read (uploaded once per mesh by radiance_gl_renderer.h):
-//  - uFrames  (samplerBuffer, RGB32F or RGBA32F): texel 3v = position p_v, 3v+1 = RF normal n_v,
-//    3v+2 = RF tangent t_v (radiance_field.h frames; bitangent b = n x t);
-//  - uCoefficients (samplerBuffer): texel v*K + k = (r, g, b) coefficient k of vertex v's REFLECTED
-//    RF L~_v (Vanhoey et al. 2015 sec. 3.1; plain storage is converted at upload);
-//  - uFaces (usamplerBuffer, R32UI): the three vertex indices of triangle f at 3f .. 3f+2, fetched
-//    with gl_PrimitiveID (the triangle's index in the draw call).
-//
-// evalReflected(v, d) = L~_v(d), border-extended about n_v below its hemisphere (Vanhoey et al. 2015 sec. 7),
-// in the basis of the field (radiance/basis.h): PB(d) monomials u^i v^j of the local coordinates
-// (t.d, b.d), or real SH in the global frame (radiance/spherical_harmonics.h, no Condon-Shortley
-// phase), evaluated with the same recurrences as the CPU code:
-//  - per vertex (sec. 5, "Gouraud-like"): colour_v = L_v(w_v) = L~_v(R_{n_v} w_v), w_v = normalize(eye - p_v),
-//    interpolated linearly over the triangle;
-//  - per fragment, eq. (8): L(p, w) = sum_i alpha_i L~_i(R_n w), n = normalize(sum_i alpha_i n_i),
-//    alpha = barycentrics of the fragment's object-space position in its triangle.
-// Both end with the same tone mapping as render/tone_mapping.h: 2^stops * L, clamp or Reinhard,
-// then the sRGB curve (the framebuffer is plain 8-bit).
+// GLSL sources of the radiance decoration (GLSL 1.50, compatibility profile; ftransform() keeps the
+// positions invariant with the fixed-function pass that drew the mesh underneath). They shade per
+// vertex (sec. 5) or per fragment (eq. 8) of Vanhoey et al. 2015 from the frames, REFLECTED RF
+// coefficients and triangles that radiance_gl_renderer.h uploads as texture buffers, with the same
+// recurrences as the CPU code and the same tone mapping as render/tone_mapping.h.
+// Details: docs/decorate-radiance.md, "`render_gl/radiance_shaders.h`: how it works".
 #pragma once
 
 #include <string>

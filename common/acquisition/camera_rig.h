@@ -1,25 +1,9 @@
-// A ring of virtual cameras around an object, as a photographer walking around it would take:
-// N viewpoints on a sphere around the object's bounding sphere, every camera looking at the
-// centre, the object filling a chosen fraction of the frame.
-//
-// Directions: a Fibonacci (golden-angle) spiral, which spreads N points on a sphere with nearly
-// equal areas per point (Gonzalez, "Measurement of areas on a sphere using Fibonacci and
-// latitude-longitude lattices", Math. Geosciences 2010): point i has
-//   sin(elevation_i) = s_min + (s_max - s_min) (i + 0.5) / N,   azimuth_i = i * golden angle,
-// where the elevation is measured from the plane perpendicular to `up` and [s_min, s_max] are the
-// sines of the elevation band (e.g. [0, 80] degrees: no view from below a ground plane). The
-// spacing between neighbouring points is about sqrt(band area / N) (capped at 0.5, ~29 degrees, for
-// rigs of very few cameras); each direction is then
-// jittered deterministically by up to `jitter` times that spacing (uniform in a square of the
-// tangent plane, from a std::mt19937_64 seeded with `seed`, whose output sequence the C++ standard
-// fixes, so every platform makes the same rig), clamped back into the band.
-//
-// Distance: a sphere of radius r whose centre is on the optical axis at distance d images as a
-// disc of radius f r / sqrt(d^2 - r^2) pixels; it is set to fillFraction * min(W, H) / 2, i.e.
+// A ring of virtual cameras around an object, as a photographer walking around it would take: N
+// viewpoints on a Fibonacci (golden-angle) spiral within an elevation band, jittered deterministically
+// (std::mt19937_64: the same rig on every platform), every camera looking at the centre, from the
+// distance at which the object's bounding sphere (radius r) fills a chosen fraction of the frame:
 //   d = r sqrt(1 + 1 / t^2),  t = fillFraction * min(W, H) / (2 f).
-// Every camera is PinholeCamera::lookAt(eye, centre, up, fov, W, H): the centre projects to the
-// principal point (W/2, H/2) and `up` points up in the image (when a camera looks along +-up,
-// lookAt picks another up direction).
+// Details: docs/fitting.md, "`common/acquisition/camera_rig.h`: how it works".
 #pragma once
 
 #include "camera/pinhole_camera.h"

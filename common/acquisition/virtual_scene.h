@@ -1,30 +1,10 @@
 // A shaded synthetic scene for "virtual acquisition": a triangle mesh with unit vertex normals, a
-// spatially varying analytic material and analytic lights, with CAST SHADOWS. Photographs of it
+// spatially varying analytic material (radiance/analytic_material.h) and analytic lights, with cast
+// shadows by Embree shadow rays (the ambient term unshadowed, no interreflection). Photographs of it
 // (virtual_photographs.h) exercise the radiance fitting exactly as a user's calibrated photographs
-// do, and radiance() at the vertices is the ground truth the fitting benchmarks compare to.
-//
-// Vanhoey et al. 2015, sec. 7, "Data acquisition and reconstruction": "The radiance
-// functions attached to the plane and the spheres (Fig. 6 and 8) are fitted on virtually acquired
-// photographs of a synthetic scene characterized by point light sources and BRDF."
-//
-// Shading model, at a surface point p with unit normal n seen from unit direction w_o:
-//   L(p, n, w_o) = albedo(p) * ambient
-//                + sum over lights i of V_i(p) * f_p(w_i, w_o) E_i max(0, n.w_i)
-// with f_p, E_i and the ambient term of radiance/analytic_material.h (Lambert + normalised
-// Blinn-Phong lobe, optional stripes), the material's albedo and ks made spatially varying by
-// SmoothVariation below, and V_i(p) in {0, 1} the visibility of light i, found by an Embree shadow
-// ray (raycast/ray_scene.h) from p + eps n towards the light (eps = shadowOffset * bounding-box
-// diagonal: it lifts the origin off the flat triangle the point lies on, so the surface does not
-// shadow itself). The AMBIENT term is UNSHADOWED (no ambient occlusion): it stands for a uniform,
-// unoccluded environment, as in analytic_material.h. No interreflection.
-//
-// Without shadows (or where every light is visible) radiance() equals
-// outgoingRadiance(materialAt(p), lighting, p, n, w_o) of analytic_material.h exactly, including
-// its clamp of w_o below the horizon to the nearest horizon direction.
-//
-// Known limitation, as in every ray tracer with interpolated normals ("shadow terminator"): where
-// the shading normal still faces a light but the flat triangle does not, the shadow ray may hit
-// the neighbouring surface; there n.w_i is close to 0 and so is the contribution that is lost.
+// do, and radiance() at the vertices is the ground truth the fitting benchmarks compare to (Vanhoey
+// et al. 2015 sec. 7 fit on "virtually acquired photographs of a synthetic scene").
+// Details: docs/fitting.md, "`common/acquisition/virtual_scene.h`: how it works".
 #pragma once
 
 #include "errors/error_categories.h"
@@ -105,7 +85,7 @@ public:
     bool reaches(const DirectionalLight& light, const Eigen::Vector3d& p, const Eigen::Vector3d& n) const;
     bool reaches(const PointLight& light, const Eigen::Vector3d& p, const Eigen::Vector3d& n) const;
 
-    // Outgoing radiance L(p, n, w_o) of the file comment, the ground truth at vertices. n and w_o
+    // Outgoing radiance L(p, n, w_o) (docs/fitting.md), the ground truth at vertices. n and w_o
     // need not be unit (zero vectors give zero radiance). Thread-safe.
     Rgb radiance(const Eigen::Vector3d& p, const Eigen::Vector3d& n, const Eigen::Vector3d& wo) const;
 

@@ -1,27 +1,11 @@
-// Baking the full scan's normals (and colours) into a texture of the simplified mesh.
-//
-// Granier et al. 2007: a simplified mesh plus normal maps baked from the full-resolution
-// scan keeps the object's appearance. Per covered texel (texel_coverage.h), the point p and the
-// interpolated normal n of the target at the texel centre cast two rays, p + t n and p - t n for
-// t in [0, maxRayDistance] (Embree); the nearer hit gives the source point, and the source's
-// interpolated vertex normal (and colour) there is what is baked. When neither ray hits, the
-// closest point of the source to p is used instead (counted as a fallback).
-//
-// Normal spaces:
-//  - Object: the unit normal in the mesh's coordinates.
-//  - Tangent, TangentFrame::MikkTSpace (the default): the frame every common tool decodes with
-//    (Blender, glTF 2.0, Unity, Unreal, three.js; Mikkelsen 2008): per-corner tangents T_k and
-//    bitangent signs s from geometry/mikktspace_tangents.h (target positions, vertex normals,
-//    wedge UVs), interpolated per texel without renormalisation, T = sum b_k T_k and
-//    N = sum b_k N_k; B = s (N x T). A renderer reconstructs n = normalize(t.x T + t.y B + t.z N),
-//    so the bake stores the exact inverse: t = normalize([T B N]^-1 n), as Blender's baker does.
-//  - Tangent, TangentFrame::PerFaceUvDerivative (the old frame, for maps made before): N = the
-//    interpolated normal (unit), T = the face's dP/du made orthogonal to N (Gram-Schmidt) and
-//    unit, B = s (N x T) with s = +1 when (dP/du, dP/dv, face normal) is right-handed and -1
-//    otherwise (mirrored UVs). dP/du is constant per face, which is also what a fragment shader
-//    gets from dFdx/dFdy of position and UV.
-//  Both: "+Y up" (OpenGL, glTF, Blender): B points to increasing v.
-// Either way a unit vector is stored; encodeNormal8/16 map [-1, 1] to the code range.
+// Baking the full scan's normals (and colours) into a texture of the simplified mesh, as Granier et
+// al. 2007 keep a simplified scan's appearance: per covered texel (texel_coverage.h), the nearer
+// source hit along the target's interpolated normal, either way (Embree), gives the source's
+// interpolated vertex normal (and colour); the closest source point when no ray hits (counted). The
+// normals are stored in object space or in tangent space, MikkTSpace (Mikkelsen 2008, the frame
+// Blender, glTF 2.0, Unity and Unreal decode with; the default) or the old per-face dP/du frame, both
+// "+Y up"; always a unit vector. A stop request makes the bake throw OperationCancelled.
+// Details: docs/normal-map-baking.md, "What the filter does" (step 4) and "Conventions".
 #pragma once
 #include "progress/progress_callback.h"
 #include "geometry/triangle_mesh.h"

@@ -1,19 +1,10 @@
-// The whole "Bake Normal Map" job behind the MeshLab filter and the tools: check the inputs,
-// make or check the texture layout, bake (normal_baker.h), fill holes and gutters
-// (map_filling.h), build the LEAN covariance maps (lean_maps.h), and write the documented file set
-// (docs/normal-map-baking.md) atomically: every file goes to a temporary name first and is renamed
-// only when all of them are complete, so a refusal, an error or a cancel leaves no partial file.
-//
-// File set, for an output base B (a path without extension):
-//   B_normal.png   the normal map, RGB, 8 or 16 bit, code = (x + 1) / 2 * max (normal_baker.h)
-//   B_diffuse.png  the source's colour at the same points, 8-bit RGB (when requested)
-//   B_lean.exr     LEAN second moments, MIP levels 1..K (lean_maps.h; when requested)
-//   B.glb          glTF 2.0 binary (when requested): the target with its UVs, MikkTSpace tangents,
-//                  the tangent-space normal map (8 bit), the diffuse map, and where LEAN moments
-//                  are made, a metallic-roughness texture from them (io/gltf_writer.h,
-//                  bake/toksvig_roughness.h)
-//   B_bake.txt     what was baked: key = value lines (space, tangent frame and convention, size,
-//                  bits, ray distance, files, counts)
+// The whole "Bake Normal Map" job behind the MeshLab filter and the tools: check the inputs, make or
+// check the texture layout, bake (normal_baker.h), fill holes and gutters (map_filling.h), build the
+// LEAN covariance maps (lean_maps.h), and write the documented file set (normal map, diffuse map,
+// LEAN moments, optional glTF binary, bake description) atomically: every file goes to a temporary
+// name first and all are renamed only when complete, so a refusal, an error or a cancel leaves no
+// partial file.
+// Details: docs/normal-map-baking.md, "What the filter does" and "File set".
 #pragma once
 #include "bake/normal_baker.h"
 #include "bake/texture_atlas.h"  // BakeInputError

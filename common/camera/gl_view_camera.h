@@ -1,24 +1,11 @@
 // The camera of an OpenGL view (GL_VIEWPORT, GL_MODELVIEW_MATRIX, GL_PROJECTION_MATRIX, as MeshLab's
 // GLArea leaves them when a decoration draws) as a PinholeCamera, and the view file the "Radiance
 // Field" decoration writes every frame (docs/decorate-radiance.md, "View file"), so that a CPU
-// reference rendering (render/radiance_renderer.h) can be made of exactly what is on screen.
-//
-// Fixed-function pipeline (OpenGL 2.1 spec, sec. 2.11 "Coordinate transformations"), for an object
-// point X:  eye = MV X;  clip = P eye;  ndc = clip.xyz / clip.w;
-//           x_win = X0 + (ndc.x + 1) W / 2,  y_win = Y0 + (ndc.y + 1) H / 2  (y_win from the BOTTOM).
-// The PinholeCamera's image is the viewport with row 0 at its TOP: u = x_win - X0, v = H - (y_win - Y0)
-// (both describe the same continuous plane: pixel centres at half-integers in either).
-//
-// Derivation. MV = [s R | t] with R a rotation and s > 0 a uniform scale (MeshLab's trackball scales
-// the scene to a unit size inside the modelview). A perspective P (glFrustum / gluPerspective form)
-// has rows (P00 0 P02 0), (0 P11 P12 0), (. . P22 P23), (0 0 -1 0) (row-major indices). With the
-// camera space (x, y, z) = (x_e, -y_e, -z_e) (x right, y down, z forward, pinhole_camera.h):
-//   ndc.x = P00 x / z - P02,  ndc.y = -(P11 y / z) - P12, hence
-//   fx = W/2 P00,  cx = W/2 (1 - P02),  fy = H/2 P11,  cy = H/2 (1 + P12).
-// A uniform scale does not move the projection (x/z, y/z are homogeneous): camera space divided by s
-// is diag(1, -1, -1) R (X - C) with C = -R^T t / s, so rotation = diag(1, -1, -1) R, center = C, and
-// the camera's world is the modelview's object space (the mesh's own coordinates when the modelview
-// includes the mesh's Tr).
+// reference rendering (render/radiance_renderer.h) can be made of exactly what is on screen. With
+// MV = [s R | t] (a uniform scale s > 0 allowed) and a perspective P, the image is the viewport with
+// row 0 at its TOP: fx = W/2 P00, cx = W/2 (1 - P02), fy = H/2 P11, cy = H/2 (1 + P12),
+// rotation = diag(1, -1, -1) R, center = -R^T t / s, in the modelview's object space.
+// Details: docs/decorate-radiance.md, "`common/camera/gl_view_camera.h`: how it works".
 #pragma once
 
 #include "camera/pinhole_camera.h"

@@ -1,19 +1,11 @@
-// The lens of a calibrated photograph, as the tools that calibrate real captures describe it
-// (COLMAP, Agisoft Metashape, nerfstudio): focal lengths, principal point and skew in pixels, and a
-// distortion that maps a point of the ideal pinhole image plane (x, y) = (X/Z, Y/Z), camera axes
-// x right, y down, z forward, to where the lens actually images it.
-//
-// One model covers them all, applied in this order:
-//  1. fisheye (equidistant): (x, y) *= atan(r) / r, r = |(x, y)| (COLMAP's *_FISHEYE models,
-//     OpenCV's fisheye module);
-//  2. FOV (Devernay and Faugeras 2001), when omega > 0: (x, y) *= atan(2 r tan(omega / 2)) / (omega r);
-//  3. radial, rational: (x, y) *= (1 + k1 r^2 + k2 r^4 + k3 r^6 + k4 r^8) / (1 + d1 r^2 + d2 r^4 + d3 r^6),
-//     with r the radius after steps 1-2;
-//  4. tangential (Brown-Conrady, OpenCV's order): x += 2 p1 x y + p2 (r^2 + 2 x^2),
-//     y += p1 (r^2 + 2 y^2) + 2 p2 x y;  thin prism: x += s1 r^2 + s2 r^4, y += s3 r^2 + s4 r^4;
-//  5. pixels: u = fx x + skew y + cx, v = fy y + cy.
-// Pixel coordinates as camera/pinhole_camera.h: continuous, origin at the image's top-left CORNER,
-// pixel (c, r) centred at (c + 0.5, r + 0.5) (COLMAP's and Metashape's convention as well).
+// The lens of a calibrated photograph, as the tools that calibrate real captures describe it (COLMAP,
+// Agisoft Metashape, nerfstudio): it maps a point (x, y) = (X/Z, Y/Z) of the ideal pinhole image
+// plane (x right, y down, z forward) to where the lens images it, in this order: 1. fisheye
+// (equidistant); 2. FOV (Devernay and Faugeras 2001); 3. rational radial; 4. tangential
+// (Brown-Conrady, OpenCV's order) and thin prism; 5. pixels, with focal lengths, principal point and
+// skew. Pixel coordinates as camera/pinhole_camera.h: from the image's top-left CORNER, pixel (c, r)
+// centred at (c + 0.5, r + 0.5).
+// Details: docs/camera-import.md, "`common/cameras/lens_model.h`: how it works".
 #pragma once
 
 #include <Eigen/Core>

@@ -1,22 +1,11 @@
-// Per-photograph exposure / white-balance compensation for "Fit Radiance Functions from Rasters".
-//
-// Real acquisitions rarely keep one exposure and one white balance: a camera in automatic mode
-// scales each photograph's linear values by its own gain per colour channel. Fitted as they are,
-// those gains become fake view dependence (a vertex looks brighter "from" the views that happened
-// to be exposed longer). Model: the linear value of point p in view i, channel c, is
-//     y_pic = g_ic x_pc,
-// x_pc the point's colour (its view dependence is left to the per-vertex fit and treated here as
-// noise), g_ic the view's gain. In the log domain, log y = log g + log x is linear; we solve it by
-// alternating weighted means over the points seen by at least two views:
-//     log x_pc = mean_i (log y_pic - log g_ic),   log g_ic = mean_p (log y_pic - log x_pc),
-// then normalise every channel to a geometric mean of the gains of 1 (the model only fixes gains up
-// to a common factor; this keeps the overall brightness of the photographs). The alternation is
-// block coordinate descent on a convex quadratic, so it converges; a Huber reweighting (MAD scale of
-// the log residuals) keeps highlights and misregistered samples from biasing the gains. Samples
-// too dark for a meaningful logarithm or at saturation are left out (a clipped value says nothing
-// about the gain). Views that share no usable point with any other view keep gain 1.
-// This is the usual gain compensation of image stitching and multi-view texturing (e.g. Brown and
-// Lowe's panorama gain compensation), here per channel in the log domain; our own recipe.
+// Per-photograph exposure / white-balance compensation for "Fit Radiance Functions from Rasters". A
+// camera in automatic mode scales each photograph's linear values by its own gain per channel;
+// fitted as they are, those gains become fake view dependence. The gains are estimated in the log
+// domain by alternating weighted means over the points seen by at least two views (Huber-reweighted,
+// dark and saturated samples left out), normalised to a geometric mean of 1 per channel, and divided
+// out of the samples. The usual gain compensation of image stitching (e.g. Brown and Lowe's
+// panoramas), per channel; the recipe is our own.
+// Details: docs/fitting.md, "`common/fit/exposure_compensation.h`: how it works".
 #pragma once
 
 #include <cstddef>

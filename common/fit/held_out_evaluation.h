@@ -1,21 +1,10 @@
 // Held-out photographs as the test of a fit: how well do the radiance functions fitted on some
-// photographs predict a photograph they never saw, compared with the two simpler answers a user
-// could have had? For every held-out view and every vertex it sees (the visibility of
-// fit/view_sampling.h: facing within the grazing cut-off, inside the image minus the margin,
-// unoccluded) that was also seen by at least one training view, three predictions of the pixel at
-// the vertex's projection (bilinear), compared in 8-bit sRGB levels (0..255, not rounded):
-//   - fitted: the vertex's radiance function evaluated toward the held-out camera;
-//   - constant: the vertex's mean colour (what the fit falls back to);
-//   - projection: the plain average of the sRGB values the training views show at the vertex, as
-//     MeshLab's "Project active rasters color to current mesh" blends the rasters' colours (its
-//     angle, distance and border weights aside).
-// Per view: the RMS error over the compared vertices and channels of each prediction, as is and
-// exposure-matched: no prediction can know the exposure and white balance of a photograph it never
-// saw (an automatic camera changes them from one photograph to the next), so the second set of
-// errors first scales each prediction by the per-channel gain that fits it best to the held-out
-// photograph (least squares in linear values, 3 numbers per view and prediction, the same freedom
-// for all three predictions; the usual per-image appearance adjustment when novel-view synthesis
-// is evaluated on real photographs).
+// photographs predict a photograph they never saw, compared with two simpler answers (the vertex's
+// mean colour, and the plain average of the training photographs' colours as MeshLab's colour
+// projection blends them)? RMS errors in 8-bit sRGB levels per held-out view, over the vertices it
+// sees that a training view saw too; as is and after the best per-channel gain of each prediction,
+// since no prediction can know the exposure of a photograph it never saw.
+// Details: docs/fitting.md, "`common/fit/held_out_evaluation.h`: how it works".
 #pragma once
 
 #include "fit/view_sampling.h"

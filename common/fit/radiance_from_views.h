@@ -1,28 +1,12 @@
 // "Fit Radiance Functions from Rasters": per-vertex radiance functions (RF) of a whole mesh fitted
-// on calibrated photographs (Vanhoey et al. 2015, sec. 7 "Data acquisition and
-// reconstruction"). The driver the MeshLab filter and the benchmarks call:
-//
-//   1. validation of everything before any work (FitError with a sentence saying what is wrong and
-//      how to fix it); unusable views are skipped with a warning naming their index;
-//   2. per vertex, in parallel (OpenMP, dynamic schedule): frame from the vertex normal
-//      (frameFromNormal of radiance_frame.h), samples from every view (fit/view_sampling.h: facing,
-//      in frame, Embree visibility, bilinear sRGB-decoded colour, weight = cosine), robust fit
-//      (fit/robust_radiance_fit.h: virtual samples of the mean colour where no view looked, Tikhonov
-//      regularisation toward the mean colour, range guard). Samples live in one buffer per thread:
-//      memory does not grow with the number of samples of the mesh;
-//   3. vertices no view sees are filled from their neighbours (below); vertices of parts of the mesh
-//      that no view sees at all keep zero radiance and are counted and reported.
-//
-// Filling unseen vertices: ring by ring over the edges of the faces. At each round every unseen
-// vertex with at least one known neighbour (fitted, or filled in an EARLIER round, so the result
-// does not depend on the vertex order or the thread count) receives the plain average of its known
-// neighbours' coefficients and mean colours. Averaging coefficients is exact for SH (one global
-// frame: the average of the coefficients is the coefficients of the average function; with
-// reflected storage it is the r-RF interpolation of Vanhoey et al. 2015 eq. 1). For PB it is an approximation:
-// each vertex's coefficients live in its own local frame, and neighbouring frames differ by the small
-// rotation between their normals (frameFromNormal is continuous away from n = -z), so the average
-// mixes functions expressed in slightly rotated frames. Exact re-projection would cost a fit per
-// filled vertex for data that is a guess anyway; we accept the approximation.
+// on calibrated photographs (Vanhoey et al. 2015, sec. 7 "Data acquisition and reconstruction").
+// The driver the MeshLab filter, the tools and the benchmarks call: it validates everything before
+// any work, compensates each photograph's exposure, samples every view per vertex
+// (fit/view_sampling.h), fits each vertex (fit/robust_radiance_fit.h) or the shared model
+// (fit/shared_radiance_fit.h) in parallel (OpenMP, one sample buffer per thread), and fills the
+// vertices no view sees from their neighbours. Unusable views are skipped with a warning; unusable
+// input throws FitError (an InputError).
+// Details: docs/fitting.md, "`common/fit/radiance_from_views.h`: how it works".
 #pragma once
 
 #include "errors/error_categories.h"

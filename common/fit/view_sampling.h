@@ -1,24 +1,11 @@
-// Gathering the colour samples of mesh vertices from calibrated photographs (Vanhoey et al. 2015 sec. 7:
-// radiance functions "are fitted on photographs ... projected onto the mesh"), for the robust
-// per-vertex fit of fit/robust_radiance_fit.h.
-//
-// A view (camera + image) gives vertex X with unit normal n a sample when ALL of these hold:
-//  1. front-facing within the grazing cut-off: n.w >= cos(grazingAngleDegrees), w = (C - X)/|C - X|
-//     the unit direction from the vertex toward the camera centre C;
-//  2. X is in front of the camera (camera-space depth > 0) and projects inside the image shrunk by
-//     borderMarginPixels on every side (pinhole_camera.h conventions);
-//  3. not occluded: the Embree ray X + t w hits nothing for t in [depthTolerance, |C - X| -
-//     depthTolerance] (the lower bound skips the faces around X itself and absorbs small geometric
-//     noise; the upper bound keeps a camera that sits on the surface from counting as occluded).
-// The sample is the bilinear interpolation of the sRGB-decoded (linear) pixels at the projection
-// (sampleBilinearLinear of image/rgb_image.h), direction w, weight cos(angle(n, w)) = n.w: views
-// seen at grazing angles see the surface foreshortened (fewer pixels per unit area, so more
-// blur and more sensitivity to calibration and normal errors), and the cosine is the standard
-// confidence of projective texturing; it is also > 0 by (1), as the fit requires.
-//
-// Vertex-major: ViewSampler::sampleVertex fills the caller's buffer (<= viewCount() samples) for one
-// vertex, so a whole mesh is fitted vertex by vertex without ever storing all samples (1M vertices x
-// 50 views would be 1.4 GB of samples): memory is one buffer per thread. Thread-safe.
+// Gathering the colour samples of mesh vertices from calibrated photographs (Vanhoey et al. 2015
+// sec. 7: radiance functions "are fitted on photographs ... projected onto the mesh") for the
+// per-vertex fit of fit/robust_radiance_fit.h. A view gives a vertex a sample when the vertex faces
+// it within the grazing cut-off, projects inside the image minus a border margin and is not occluded
+// (Embree ray); the sample is the bilinear, sRGB-decoded colour at the projection, weighted by the
+// cosine n.w. Vertex-major: sampleVertex fills the caller's buffer for one vertex, so memory is one
+// buffer per thread, never all samples of a mesh. Thread-safe.
+// Details: docs/fitting.md, "`common/fit/view_sampling.h`: how it works".
 #pragma once
 
 #include "camera/pinhole_camera.h"

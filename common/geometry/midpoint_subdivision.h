@@ -1,20 +1,9 @@
-// 1-to-4 midpoint subdivision of a triangle mesh: each triangle (a, b, c) becomes
-//   (a, m_ab, m_ca), (m_ab, b, m_bc), (m_ca, m_bc, c), (m_ab, m_bc, m_ca)
-// where m_xy is the midpoint of edge xy, created ONCE per undirected edge and shared by the
-// triangles on both sides (no cracks, no duplicated vertices), so a watertight mesh stays
-// watertight and orientations are kept. The shape does not change (no smoothing, unlike Loop):
-// this makes dense meshes of a real scan's exact shape, e.g. 1.66M vertices from the 26k-vertex
-// armadillo with 3 levels, for benchmarks at the scale of Vanhoey et al. 2015's acquisitions.
-//
-// Counts per level: V' = V + E, F' = 4 F, E' = 2 E + 3 F. Vertex order: the original vertices
-// first (same indices), then one midpoint per edge in increasing (min index, max index) order.
-//
-// Normals: recomputed after the last level with computeAreaWeightedNormals (geometry/mesh_normals.h),
-// as asked for by the fitting issue. Since every original triangle stays flat, the recomputed normals
-// are constant across the interior of each original triangle and only vary near its edges: shading
-// with them looks faceted at the original resolution. NormalMode::Interpolate instead gives each
-// midpoint normalize(n_a + n_b) of its edge's end normals (original vertices keep theirs), which
-// keeps the original's smooth (Phong-like) shading.
+// 1-to-4 midpoint subdivision of a triangle mesh: each midpoint is created once per edge and shared,
+// so a watertight mesh stays watertight, and the shape does not change (no smoothing, unlike Loop).
+// It makes dense meshes of a real scan's exact shape for benchmarks at the scale of Vanhoey et al.
+// 2015's acquisitions (e.g. 1.66M vertices from the 26k-vertex armadillo with 3 levels). Original
+// vertices keep their indices; normals are recomputed, or interpolated at the midpoints.
+// Details: docs/fitting.md, "`common/geometry/midpoint_subdivision.h`: how it works".
 #pragma once
 
 #include "geometry/triangle_mesh.h"

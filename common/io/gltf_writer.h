@@ -1,21 +1,10 @@
-// A triangle mesh with its baked maps as one glTF 2.0 binary file (.glb): the standard container
-// Blender, three.js, Unity and Unreal import, so that a bake made in MeshLab is used elsewhere
-// as it is. Written by us (a JSON chunk and a binary chunk, Khronos glTF 2.0 specification,
-// sec. 4.4 "GLB File Format Specification"): the JSON is a fixed structure of numbers and our own
-// names, so no JSON library is needed.
-//
-// Content: one node, one mesh, one triangle primitive with POSITION (with the min / max the
-// specification requires), NORMAL (unit), TEXCOORD_0 and, when a normal texture is given,
-// TANGENT (VEC4: unit xyz and the bitangent sign w, MikkTSpace, Mikkelsen 2008, which is what
-// glTF's normalTexture assumes), 32-bit indices; one metallic-roughness material with the given
-// textures (PNG, embedded in the binary chunk).
-//
-// Conventions: glTF's texture coordinates have v downwards (origin at the image's top-left), ours
-// (MeshLab's) upwards: v is written as 1 - v, so the same PNG (rows top to bottom) maps the same
-// way. Tangents computed with v upwards give the bitangent B = w N x T pointing to the image's
-// top, which is glTF's "+Y up" normal-texture convention: they are written unchanged.
-// Vertices are split where a corner's UV or tangent differs from another corner's of the same
-// vertex (seams, mirrored UVs).
+// A triangle mesh with its baked maps as one glTF 2.0 binary file (.glb), the container Blender,
+// three.js, Unity and Unreal import, so that a bake made in MeshLab is used elsewhere as it is:
+// positions, normals, UVs, MikkTSpace tangents (Mikkelsen 2008, what glTF's normalTexture assumes)
+// and one metallic-roughness material with embedded PNG textures. Written by us, without a JSON
+// library. v is written as 1 - v (glTF's v goes down); vertices are split where a corner's UV or
+// tangent differs.
+// Details: docs/gltf-export.md, "`common/io/gltf_writer.h`: how it works".
 #pragma once
 
 #include "errors/error_categories.h"

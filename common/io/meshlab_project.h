@@ -1,46 +1,10 @@
 // MeshLab projects (.mlp): calibrated photographs as MeshLab "raster layers", and the meshes of the
 // project. Written by the virtual acquisition (tools/virtual_acquisition.cpp) so that the fitting
-// filter is exercised exactly as on a user's photogrammetry project, and read back by the tools
-// and benchmarks, which have no MeshLab.
-//
-// The format, as MeshLab 2020.09 reads it (src/common/meshlabdocumentxml.cpp,
-// vcglib/wrap/qt/shot_qt.h; shared docs meshlab-platform.md, "Cameras in MeshLab projects"):
-//
-//   <!DOCTYPE MeshLabDocument>
-//   <MeshLabProject>
-//    <MeshGroup>                                 every child is a mesh: no comments in here
-//     <MLMesh label="..." filename="mesh.ply" visible="1"><MLMatrix44>16 numbers</MLMatrix44></MLMesh>
-//    </MeshGroup>
-//    <RasterGroup>
-//     <MLRaster label="...">
-//      <VCGCamera .../>                          must be the raster's FIRST child
-//      <Plane semantic="1" fileName="images/x.png"/>   only the first Plane is read
-//     </MLRaster>
-//    </RasterGroup>
-//   </MeshLabProject>
-//
-// File names are relative to the project file's folder. VCGCamera attributes (text, BinaryData="0";
-// BinaryData="1" holds base64 float32/int32 little-endian values and is read too):
-//   RotationMatrix    16 numbers, row-major; rows 0..2 of the 3x3 block are the camera axes in
-//                     world coordinates: image RIGHT, image UP, BACKWARDS (it looks along -row 2)
-//   TranslationVector minus the camera centre, -C (a 4th value is written as 1 and ignored)
-//   FocalMm, PixelSizeMm (x y): only FocalMm / PixelSizeMm is a focal length in pixels
-//   CenterPx (x y)    principal point, x from the image's LEFT edge, y from its BOTTOM edge
-//   ViewportPx (W H)  image size;  LensDistortion (k1 k2) vcg's radial model;  CameraType 0 = perspective
-// Projection (vcg::Shot): cp = R (X - C); cp.z = -cp.z;
-//   px = cp.x FocalMm / cp.z / PixelSizeMm.x + CenterPx.x,  py = cp.y FocalMm / cp.z / PixelSizeMm.y + CenterPx.y.
-//
-// Relation to PinholeCamera (x right, y DOWN, z forward, image v from the TOP):
-//   rows(vcg) = diag(1, -1, -1) rotation;  TranslationVector = -center;
-//   FocalMm / PixelSizeMm.x = fx,  FocalMm / PixelSizeMm.y = fy;  CenterPx = (cx, H - cy).
-// Both describe the same continuous image plane (pixel (c, r) covers px in [c, c+1), py in
-// (H-r-1, H-r]), so no half-pixel shift appears.
-//
-// Precision: MeshLab stores every value as float32. The writer rounds each value to float32 and
-// writes the shortest decimal that reads back as that float; the reader rounds what it parses to
-// float32 as MeshLab does. So read(write(x)) == roundedToFloat(x) bit for bit, and what our tools
-// read is exactly what MeshLab reads. Render virtual photographs with the camera as stored
-// (storedCamera()), so that photographs and project agree exactly.
+// filter is exercised exactly as on a user's photogrammetry project, and read back by the tools and
+// benchmarks, which have no MeshLab. The format is the one MeshLab 2020.09 reads; every camera value
+// is rounded to float32 as MeshLab stores it, so what our tools read is exactly what MeshLab reads.
+// Render virtual photographs with the camera as stored (storedCamera()), so that they agree exactly.
+// Details: docs/camera-import.md, "`common/io/meshlab_project.h`: how it works".
 #pragma once
 
 #include "errors/error_categories.h"
@@ -61,7 +25,7 @@ struct MeshLabProjectError : FileError {
     using FileError::FileError;
 };
 
-// The values of a <VCGCamera> element (see the file comment), in double.
+// The values of a <VCGCamera> element (docs/camera-import.md), in double.
 struct VcgCamera {
     Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // rows: right, up, backwards
     Eigen::Vector3d translation = Eigen::Vector3d::Zero();   // -C
@@ -72,7 +36,7 @@ struct VcgCamera {
     Eigen::Vector2d lensDistortion = Eigen::Vector2d::Zero();
     int cameraType = 0;  // 0 perspective, 1 orthographic
 
-    // The projection formula of the file comment (MeshLab's own, with continuous px, py); false
+    // MeshLab's projection (vcg::Shot, docs/camera-import.md), with continuous px, py; false
     // when X is not in front of the camera.
     bool project(const Eigen::Vector3d& X, double& px, double& py) const;
 };

@@ -1,27 +1,10 @@
-// Wavefront OBJ with per-wedge texture coordinates: how meshlabserver exchanges textured meshes
-// with us (MeshLab's OBJ exporter writes "vt" per wedge, "f v/vt[/vn]", and a "mtllib" whose
-// material names the texture with "map_Kd").
-//
-// Read:
-//   v x y z [w | r g b]        (w and MeshLab's per-vertex colours are ignored)
-//   vt u v [w]                 (w ignored)
-//   vn x y z
-//   f a b c ...                with corners v, v/vt, v/vt/vn or v//vn; 1-based or negative
-//                              (relative: -1 = the last one read so far) indices; polygons are
-//                              triangulated as a fan from the first corner (right for convex ones)
-//   mtllib file.mtl            the first material library (relative to the OBJ's folder); its
-//                              map_Kd (of the first material used by `usemtl`, else the first one
-//                              with a map_Kd) is the texture
-//   comments from '#', blank lines, CRLF, line continuations ('\' at the end of a line);
-//   o, g, s, usemtl, l, p and other statements are ignored.
-// Texture coordinates: every face corner has a vt, or none has (then wedgeUv is empty).
-// Normals: when every face corner has a vn, each vertex gets the normalised mean of the vn its
-// corners use (MeshLab writes one vn per vertex, so this is that vn); otherwise no normals.
-// Refused with "<path>:<line>: <reason>": a malformed number, vertex, vt, vn or face statement, an
-// index 0 or out of range, a face with fewer than 3 corners, a file mixing corners with and
-// without vt. Not errors (the mesh is read and `warnings` says what was dropped): corners mixing
-// with and without vn (no normals), a missing or unreadable .mtl (no texture). Only one texture
-// is kept (see mtllib above).
+// Wavefront OBJ with per-wedge texture coordinates: how meshlabserver exchanges textured meshes with
+// us (MeshLab's OBJ exporter writes "vt" per wedge, "f v/vt[/vn]", and a "mtllib" whose material
+// names the texture with "map_Kd"). The reader takes what MeshLab and common tools write (polygons
+// fanned, relative indices, one texture); a malformed file throws ObjReadError
+// ("<path>:<line>: <reason>"), while what can be dropped (mixed normals, a missing .mtl) is read
+// without it and reported in `warnings`.
+// Details: docs/design-notes.md, "`common/io/obj_mesh.h`: how it works".
 #pragma once
 
 #include "errors/error_categories.h"

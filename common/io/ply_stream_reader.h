@@ -1,26 +1,10 @@
 // A streaming reader for triangle meshes in PLY files of any size (scans that do not fit in memory,
 // Granier et al. 2007's out-of-core setting): the file is read once, front to back, through a buffer
-// of bounded size, and its vertices then its faces are handed to the caller in chunks. Nothing of the
-// mesh is kept by the reader.
-//
-// Accepted:
-//   format   ascii 1.0, binary_little_endian 1.0, binary_big_endian 1.0;
-//   vertex   element "vertex" with scalar properties x, y, z (any numeric type, read as float) and,
-//            optionally, nx, ny, nz (all three); every other property is skipped whatever its type,
-//            lists included;
-//   face     element "face" with a list property "vertex_indices" (or "vertex_index") whose length
-//            type is an integer type and whose items are an integer type; polygons with k > 3
-//            vertices are triangulated as a fan from their first vertex (counted); other face
-//            properties are skipped;
-//   other elements (edges, materials, ...) are skipped, before, between or after those two.
-// Refused with PlyStreamError (byte offset and element index in the message, and a fix): a file
-// that is not PLY or has a malformed header, no vertex element or no x / y / z, a face element
-// before the vertex element (the faces need the positions), counts the file is too short to hold,
-// a truncated file, a face with fewer than 3 vertices, a vertex index out of range, and a vertex
-// with a NaN or infinite coordinate (refused rather than skipped: a scan with such vertices is
-// damaged, and silently dropping the faces around them would make holes nobody asked for; MeshLab's
-// "Remove Unreferenced Vertices" after deleting them repairs the file).
-// ASCII numbers are parsed with std::from_chars (independent of the C locale).
+// of bounded size, and its vertices then its faces are handed to the caller in chunks; nothing of the
+// mesh is kept by the reader. ASCII and binary (either endianness); positions and optional normals;
+// polygons fanned into triangles; every other property and element skipped. Damaged or hostile
+// input (including NaN or infinite coordinates) throws PlyStreamError with the byte offset and a fix.
+// Details: docs/out-of-core.md, "`common/io/ply_stream_reader.h`: how it works".
 #pragma once
 
 #include "errors/error_categories.h"

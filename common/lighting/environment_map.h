@@ -1,37 +1,11 @@
-// HDR environment maps in the equirectangular (latitude-longitude) parameterisation: distant
-// lighting for the synthetic photographs of the virtual acquisition now, and for PRT relighting
-// (projection on spherical harmonics) later.
-//
-// Files: OpenEXR (.exr, every compression OpenEXR 3 reads, DWAA/DWAB included; scanline or tiled;
-// channels R, G, B as 32-bit floats, or luminance/chroma through Imf::RgbaInputFile; alpha ignored)
-// and Radiance RGBE (.hdr, through stb_image). The format is recognised by the file's magic
-// number, not by its extension. Values are linear radiance in the file's own units (Blender's maps
-// are scene-linear Rec. 709).
-//
-// Direction convention (the one of Blender's "Environment Texture" node with its default
-// equirectangular projection, so the Blender maps of data-cache/hdr light our scenes as they light
-// Blender's; cf. Cycles' direction_to_equirectangular):
-//   +Z is up. A texel (column c, row r counted from the TOP) covers the normalised image coordinates
-//   s in [c/W, (c+1)/W], t in [r/H, (r+1)/H], with
-//       theta = pi * t                  (polar angle from +Z: row 0 touches +Z, the last row -Z)
-//       phi   = pi - 2 pi s             (longitude from +X toward +Y)
-//       w     = (sin theta cos phi, sin theta sin phi, cos theta).
-//   Hence the image centre (s = 1/2, t = 1/2) looks along +X, s = 1/4 along +Y, the left and right
-//   borders along -X, and going right in the image turns clockwise seen from above (a panorama is
-//   seen from inside the sphere).
-//   Texel (c, r) covers the solid angle (2 pi / W) (cos(pi r / H) - cos(pi (r + 1) / H)) exactly
-//   (the sin theta weighting of the latitude-longitude parameterisation); the H W texels tile the
-//   sphere, total 4 pi.
-//
-// Rotation: the map carries a rotation R (world from map, default identity). Every world-frame
-// query (radiance, texelDirection, the SH projection, median_cut_lights.h) sees the map ROTATED BY
-// R: what the file shows in map direction d is seen in world direction R d, i.e.
-//   L_world(w) = L_map(R^T w),
-// the convention of radiance/sh_rotation.h, so that
-//   projectOntoSphericalHarmonics(map with R) = ShRotation(degree, R) applied to the projection of
-//   the map with the identity.
-// rotationAboutZ(a) turns the map by a about the up axis (Blender: the Z rotation of a Mapping node
-// in front of the Environment Texture).
+// HDR environment maps in the equirectangular (latitude-longitude) parameterisation: distant lighting
+// for the virtual acquisition, PRT relighting and the irradiance vector grid. Reads OpenEXR and
+// Radiance RGBE (.hdr), recognised by content; values are linear radiance. Directions follow
+// Blender's "Environment Texture" node, +Z up: texel column c, row r from the TOP covers
+// s in [c/W, (c+1)/W], t in [r/H, (r+1)/H], with theta = pi t (polar angle from +Z) and
+// phi = pi - 2 pi s, so the image centre looks along +X. The map carries a rotation R (world from
+// map): L_world(w) = L_map(R^T w), the convention of radiance/sh_rotation.h.
+// Details: docs/irradiance-vector-grid.md, "`common/lighting/environment_map.h`: how it works".
 #pragma once
 
 #include "errors/error_categories.h"
@@ -116,17 +90,10 @@ Eigen::Matrix3d rotationAboutZ(double radians);
 // `degree` (0..kMaxHarmonicDegree, std::out_of_range otherwise):
 //     c_lm = integral over the sphere of L_world(w) Y_lm(w) dw.
 // Returns kColorChannels * (degree+1)^2 doubles, channel-major (c[ch * K + k]) like the vertex
-// layout of radiance/radiance_field.h.
-// The map is taken as constant over each texel (the box reconstruction whose integral is the sum
-// of texel * solid angle) and each texel's integral of Y_lm is computed exactly up to rounding:
-// the longitude factor cos(m phi) / sin(m phi) analytically, the latitude factor
-// P_l^m(cos theta) sin theta (a trigonometric polynomial of degree <= degree + 1 in theta) by 8-point
-// Gauss-Legendre in theta over pieces of the texel row short enough for that to be exact to
-// rounding. So a constant map C gives C sqrt(4 pi) in Y_00 and zero elsewhere to rounding. The
-// map-frame coefficients are then rotated by ShRotation(R) (exact: rotations map each band onto
-// itself). Cost: O(W H (degree + 1)), about 5 ms for a 1024 x 512 map at degree 10.
-// Note: radiance() interpolates bilinearly, the projection integrates the box reconstruction;
-// the two differ by O(texel size^2) on smooth maps.
+// layout of radiance/radiance_field.h. Exact to rounding for the map taken as constant over each
+// texel (a constant map C gives C sqrt(4 pi) in Y_00 and zero elsewhere), which differs from
+// radiance()'s bilinear interpolation by O(texel size^2); about 5 ms for 1024 x 512 at degree 10.
+// How: docs/irradiance-vector-grid.md, "`common/lighting/environment_map.h`: how it works".
 std::vector<double> projectOntoSphericalHarmonics(const EnvironmentMap& map, int degree);
 
 }  // namespace rad

@@ -1,30 +1,10 @@
 // Indirect light of a diffuse scene by path tracing with Embree: the one estimator behind the
 // irradiance vector grid (irradiance_vector_grid_compute.h) and its CPU reference
-// (render/indirect_light_reference.h), so that both integrate exactly the same quantity.
-//
-// The quantity: L_ind(p <- w), the radiance arriving at p from direction w that has been reflected
-// diffusely at least once after leaving a light, up to B reflections ("bounces"):
-//     L_ind(p <- w) = L_B(x),  x the first surface point hit by the ray p + t w,
-//     L_1(x) = rho(x) / pi * E_d(x),
-//     L_k(x) = rho(x) / pi * (E_d(x) + integral over the hemisphere of n(x) of L_{k-1}(y(x, w')) cos dw'),
-// E_d the direct irradiance at x (directional and point lights, shadow rays). Rays that escape give 0
-// (the sky, i.e. the environment map's own light, is DIRECT light, shaded separately), and so do
-// rays that reach the back of a face (the side opposite to its counter-clockwise normal: the inside of
-// a closed object, or a wall seen from outside the room), which the tracer reports so that callers can
-// tell points inside objects.
-//
-// Estimator (unbiased for the lights given): one path per ray. At the k-th hit x_k (front face, flat
-// face normal n_k, albedo rho_k interpolated from the vertices), the path adds
-//     beta_k * rho_k / pi * E_d(x_k),  beta_1 = 1, beta_{k+1} = beta_k * rho_k,
-// then continues along a cosine-distributed direction around n_k (pdf cos / pi, whose cosine and 1/pi
-// cancel the integral's, leaving the throughput factor rho_k) until k = B or the path escapes.
-// E_d: with at most `lightSamples` lights (or lightSamples = 0), every light with one shadow ray
-// each; with more lights, `lightSamples` lights drawn per hit with probability proportional to their
-// power (luminance of a directional light's irradiance; of a point light's intensity over the squared
-// half-diagonal of the scene), each weighted by 1 / (probability * lightSamples).
-//
-// Rays are traced 16 at a time (Embree packets: intersect16 for the path segments, occluded16 for
-// the shadow rays). Thread-safe: trace() is const; each thread passes its own random generator.
+// (render/indirect_light_reference.h), so that both integrate exactly the same quantity: radiance
+// reflected diffusely at least once after leaving a light, up to B bounces; escaping rays give 0 and
+// rays reaching a back face are reported. Rays go 16 at a time (Embree packets).
+// Thread-safe: trace() is const; each thread passes its own random generator.
+// Details: docs/irradiance-vector-grid.md, "`common/lighting/indirect_light_tracer.h`: how it works".
 #pragma once
 
 #include "errors/error_categories.h"

@@ -1,31 +1,10 @@
-// The irradiance vector grid of Granier et al. 2007 ("Irradiance Vector Grid"): a cache of indirect
-// light for a whole scene. An axis-aligned grid of Ni x Nj x Nk cells stores, at each of its
-// (Ni + 1)(Nj + 1)(Nk + 1) vertices and for each of the six main directions delta = +x, -x, +y, -y,
-// +z, -z, one irradiance vector per colour channel (Arvo 1994):
-//     I_delta(v) = integral over the hemisphere around delta of L(v <- w) w dw.
-// Shading a point p with normal n (Granier et al. 2007, "Irradiance Vector Interpolation"):
-//   1. spatial: for each axis a, the direction +a or -a chosen by the sign of n_a, its vectors
-//      interpolated trilinearly between the eight vertices of p's cell;
-//   2. directional: I_n(p) = I_x(p) n_x^2 + I_y(p) n_y^2 + I_z(p) n_z^2;
-//   3. reflected radiance of a diffuse surface: L_r = rho_d / pi <I_n(p), n>, per channel.
-// For the GPU the paper compresses the three vectors of a (vertex, delta) to one colour and one
-// direction ("Hardware Implementation"): r = |I_r|, g = |I_g|, b = |I_b|, d = normalise(I_r + I_g +
-// I_b), so that I_c ~ c d; gpuCompressed() gives that form and evaluating it on the CPU
-// (reflectedRadianceCompressed) shows what the compression costs.
-//
-// File (.ivg), written atomically by writeIrradianceVectorGrid: an ASCII header of lines
-//     RADIANCE_IVG 1
-//     cells <Ni> <Nj> <Nk>
-//     origin <x> <y> <z>              (world position of vertex (0, 0, 0))
-//     cell_size <sx> <sy> <sz>        (> 0)
-//     bounces <B>                     (metadata: diffuse bounces the vectors contain)
-//     rays <R>                        (metadata: rays per grid vertex and direction)
-//     comment <free text, optional, repeatable>
-//     data float32 little_endian
-//     end_header
-// then (Ni + 1)(Nj + 1)(Nk + 1) * 54 float32 values, little endian: vertices in the order of
-// vertexIndex() (i fastest, then j, then k); per vertex the six directions in the order +x, -x, +y,
-// -y, +z, -z; per direction the channels R, G, B; per channel the vector's x, y, z.
+// The irradiance vector grid of Granier et al. 2007: a cache of indirect light for a whole scene. An
+// axis-aligned grid stores, at each vertex and for each of the six main directions (+x, -x, +y, -y,
+// +z, -z), one irradiance vector per colour channel (Arvo 1994); a diffuse surface point is shaded
+// by the paper's spatial (trilinear) and directional interpolation, or from the paper's GPU
+// compression to one colour and one direction (gpuCompressed, reflectedRadianceCompressed). The
+// `.ivg` file is written atomically; readers throw IrradianceVectorGridError.
+// Details: docs/irradiance-vector-grid.md, "`common/lighting/irradiance_vector_grid.h`: how it works".
 #pragma once
 
 #include "errors/error_categories.h"
@@ -52,7 +31,7 @@ struct IrradianceVectorGrid {
     std::array<float, 3> cellSize{{1, 1, 1}};
     int bounces = 0;
     int raysPerDirection = 0;
-    std::vector<float> vectors;                            // kFloatsPerVertex per vertex, see the file comment
+    std::vector<float> vectors;                            // kFloatsPerVertex per vertex, layout: docs/irradiance-vector-grid.md
 
     // A grid of the given cell counts covering [boxMin, boxMax] (cell sizes from the box), vectors
     // zero. Throws IrradianceVectorGridError for counts < 1, a count product above 2^26 vertices,

@@ -1,29 +1,9 @@
 // Computing the irradiance vector grid of Granier et al. 2007 (storage and interpolation:
-// irradiance_vector_grid.h) for a diffuse scene, by Monte Carlo with Embree.
-//
-// Per grid vertex v and main direction delta (+x, -x, +y, -y, +z, -z), per channel:
-//     I_delta(v) = integral over the hemisphere around delta of L_ind(v <- w) w dw,
-// L_ind the INDIRECT light of indirect_light_tracer.h (at least one diffuse bounce of the direct
-// light, up to B; escaping rays give 0: the direct light is shaded separately). Estimated with R
-// directions uniformly distributed over the hemisphere (pdf 1 / (2 pi)):
-//     I_delta(v) ~ (2 pi / R) sum_i L_ind(v <- w_i) w_i.
-// Uniform rather than cosine-distributed: the vector's tangential components weigh w_i by sin,
-// which a cosine pdf would divide by cos (infinite variance at the horizon). The R directions are a
-// Hammersley set (cell-centred: stratified in cos theta and phi), the same at every vertex, turned
-// by a random rotation about delta per vertex and direction (Cranley-Patterson in phi) so that the
-// grid's error is noise rather than one pattern repeated at every vertex.
-//
-// Vertices inside objects or behind walls: a vertex inside a closed object (or outside a room whose
-// walls face inward) sees back faces (indirect_light_tracer.h). A vertex whose fraction of rays
-// reaching a back face first exceeds `maxBackFaceFraction` is INVALID: its vectors would be dark or
-// meaningless and trilinear interpolation would leak them onto nearby surfaces (a wall lies between
-// vertices inside and outside the room). Invalid vertices are filled from their valid neighbours,
-// wave after wave so that deep ones are reached too (repairInvalidGridVertices below); vertices with
-// no valid vertex in reach (a grid entirely inside an object) keep zero, counted apart.
-//
-// Grid placement: the scene's bounding box padded by `padding` times its longest side on every
-// side, `resolution` cells along the longest axis, the other axes with as many cells as keep the
-// cells closest to cubes (at least 1).
+// irradiance_vector_grid.h) for a diffuse scene, by Monte Carlo with Embree: per grid vertex and
+// direction, the indirect light of indirect_light_tracer.h integrated over the hemisphere with
+// uniformly distributed, randomly rotated Hammersley directions. Vertices inside objects or behind
+// walls (too many rays reaching back faces) are detected and filled from their valid neighbours.
+// Details: docs/irradiance-vector-grid.md, "`common/lighting/irradiance_vector_grid_compute.h`: how it works".
 #pragma once
 
 #include "geometry/triangle_mesh.h"
@@ -73,7 +53,8 @@ struct IrradianceGridReport {
 // irradiance is the map's sphere integral times the scale.
 AnalyticLighting environmentLights(const EnvironmentMap& map, int lightCount, double scale = 1.0);
 
-// The cells of the grid for a box and a resolution (see the file comment), without computing.
+// The cells of the grid for a box and a resolution (docs/irradiance-vector-grid.md, "Grid
+// placement"), without computing.
 // Throws IrradianceVectorGridError for a resolution outside 1..512 or a bad box.
 IrradianceVectorGrid placeIrradianceGrid(const std::array<float, 3>& boxMin, const std::array<float, 3>& boxMax,
                                          int resolution, double padding);

@@ -1,19 +1,10 @@
 // A normal map of a simplified mesh made by streaming the ORIGINAL points through it (Granier et
-// al. 2007, out-of-core part): the simplified triangles are put in a bounding-volume hierarchy
-// (Embree's, through raycast/ray_scene.h's closest-point query: the simplified mesh is small, a
-// million triangles take ~100 MB, and Embree's BVH is already built and tested there), each
-// original point finds its nearest simplified triangle, the point of that triangle whose
-// interpolated normal passes through it (a ray-cast bake's correspondence; the closest point when
-// that leaves the triangle), and its unit normal is added to the texel there. Texels average what
-// they received (then renormalised). Texels of a triangle that received nothing grow from their
-// neighbours of the same triangle; triangles no point reached take the points' normals gathered at
-// the simplified vertices, interpolated; the gutters and the background are filled like an in-core
-// bake (bake/normal_map_bake.h fillBakedMap: pull-push, Gortler et al. 1996, the diffusion of
-// Granier et al.).
-//
-// Unlike the in-core bake (rays from each texel centre), nothing here needs the original mesh in
-// memory: the points come in chunks, in any order, and only the map's accumulators are kept
-// (16 bytes per texel) plus the simplified mesh's hierarchy.
+// al. 2007, out-of-core part): each point finds its nearest simplified triangle (Embree's BVH,
+// raycast/ray_scene.h) and its unit normal is added to the texel there; texels average what they
+// received, and the rest is filled. Unlike the in-core bake, nothing here needs the original mesh in
+// memory: points come in chunks, in any order, and only the map's accumulators (16 bytes per texel)
+// and the simplified mesh's hierarchy are kept.
+// Details: docs/out-of-core.md, "`common/outofcore/streamed_normal_map.h`: how it works".
 #pragma once
 
 #include "geometry/triangle_mesh.h"

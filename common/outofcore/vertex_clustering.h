@@ -1,24 +1,10 @@
-// Simplification by uniform vertex clustering with quadrics (Lindstrom 2000, "Out-of-core
-// simplification of large polygonal models"), the simplification Granier et al. 2007 use for scans
-// that do not fit in memory: one pass over the triangles, in any order, streamed.
-//
-//  - A uniform grid of cubic cells covers the bounding box of the vertices. Its cell size is given,
-//    or chosen from a target triangle count: a closed surface has about twice as many triangles as
-//    vertices, so the grid is refined until about target / 2 cells hold a vertex (counted on the
-//    vertices themselves, at most 4 M of them sampled evenly, before the triangles come).
-//  - Every triangle adds its plane's quadric, weighted by its area, to the cells of its three
-//    vertices (Garland and Heckbert 1997's fundamental quadric, as Lindstrom does).
-//  - A triangle whose three vertices fall in three different cells is kept, as a triangle of those
-//    cells (the same cell triple in the same orientation is kept once); the others collapse.
-//  - Each cell's representative vertex minimises its quadric. The 3 x 3 system is solved through its
-//    eigen-decomposition about the mean of the cell's vertices, dropping directions whose
-//    eigenvalue is below 1e-3 of the largest (Lindstrom 2000, sec. 3.2: the pseudo-inverse keeps the
-//    point at the mean along directions the quadric does not constrain, e.g. along a flat region or
-//    an edge), then clamped to the cell grown by half a cell on every side.
-//
-// Memory model (docs/out-of-core.md): the caller's vertices are kept, 12 bytes each, plus a 4-byte
-// cell id per vertex while the triangles stream; per occupied cell about 120 bytes; per kept
-// triangle about 40 bytes. Triangles are never stored.
+// Simplification by uniform vertex clustering with quadrics (Lindstrom 2000), the simplification
+// Granier et al. 2007 use for scans that do not fit in memory: one pass over the triangles, in any
+// order, streamed. A uniform grid of cubic cells (its size given, or chosen from a target triangle
+// count) accumulates area-weighted plane quadrics per cell; a triangle survives when its vertices
+// fall in three different cells, and each cell's vertex minimises its quadric. The caller's vertices
+// are kept (12 bytes each plus a 4-byte cell id); triangles are never stored.
+// Details: docs/out-of-core.md, "`common/outofcore/vertex_clustering.h`: how it works".
 #pragma once
 
 #include "geometry/triangle_mesh.h"

@@ -1,28 +1,11 @@
 // Adaptive subdivision of a mesh with per-vertex PRT transfer vectors under a triangle budget,
-// Křivánek et al. 2004 sec. 3.2, Fig. 2 and Fig. 3:
-//   - every triangle whose error estimate (transfer_error_estimate.h) exceeds the threshold enters a
-//     max-priority queue;
-//   - while the budget is not reached and the queue is not empty: pop the worst triangle, split it
-//     regularly 1-to-4 at its edge midpoints (Fig. 3a), ray-cast the transfer vectors of the NEW
-//     vertices through the oracle (never interpolated), estimate the four children and push those
-//     above the threshold;
-//   - post-process: T-vertices are removed by splitting each unsplit triangle that has hanging
-//     midpoints on its edges (Fig. 3b: one hanging vertex -> 2 triangles, two -> 3 (the quad cut
-//     along its shorter diagonal), three -> the regular 4), so the output is conforming.
-// Neighbour levels differ by at most one (a triangle whose neighbour across an edge is one level
-// coarser forces that neighbour's split first, "1-irregular" refinement), so every edge carries at
-// most one hanging vertex and the Fig. 3b cases are exhaustive. Forced splits count against the
-// budget like any other.
-// Budget: the face count AFTER T-vertex removal never exceeds the budget (each unsplit triangle
-// contributes 1 + its hanging-vertex count; an operation that would pass the budget is not done
-// and ends the loop).
-// Edges are matched by vertex POSITION (exact equality), not by index, so attribute seams
-// (vertices duplicated with different normals, e.g. the rim of Křivánek et al. 2004's column) are split on
-// both sides and leave no geometric T-junction; a midpoint vertex is created per side (each side's
-// midpoint normal is normalize(n_a + n_b) of that side's end vertices) and the oracle is asked once
-// per created vertex.
-// Positions of midpoints: exact averages, so the surface does not change (flat triangles stay
-// flat); every output face lies inside one input face (originFace) — the evaluation relies on it.
+// Křivánek et al. 2004 sec. 3.2, Fig. 2 and Fig. 3: the worst triangle (by transfer_error_estimate.h)
+// is split 1-to-4 at its edge midpoints until the budget is reached, the new vertices' transfer
+// ray-cast through the oracle (never interpolated); refinement stays 1-irregular and T-vertices are
+// removed afterwards, so the output is conforming and never exceeds the budget. Edges are matched by
+// position, so attribute seams leave no T-junction; midpoints are exact averages, so every output
+// face lies inside one input face (originFace), which the evaluation relies on.
+// Details: docs/prt-subdivision.md, "Refinement rules", "Budget" and "Seams".
 #pragma once
 
 #include "progress/progress_callback.h"

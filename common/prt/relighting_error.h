@@ -1,20 +1,9 @@
-// Relighting error of interpolated PRT (Křivánek et al. 2004 eq. 1, measured instead of estimated): at dense
-// sample points x inside every triangle, the exact shading L(x, l) = <t(x), l> with t(x) ray-cast AT
-// x, against the interpolated shading L_int(x, l) = <sum_i b_i t_vi, l> (b_i the barycentrics of x in
-// the triangle of the evaluated mesh that contains x), over many lightings l.
-//
-// Weber-law normalisation (Křivánek et al. 2004 eq. 1: relative error, "according to the Weber law"):
-//     e(x, l) = |L(x, l) - L_int(x, l)| / max(L(x, l), floor(l)),
-// with floor(l) = kWeberFloorFraction times the area-weighted mean of L(., l) over the samples. The
-// floor stands for the eye's adaptation level: Weber's law holds above it and fails toward black
-// (de Vries-Rose region), where a ratio to a near-zero luminance would only measure noise.
-// Luminance: Rec. 709 Y of the RGB shading (0.2126, 0.7152, 0.0722).
-//
-// Sample points live on the INPUT (unsubdivided) mesh, so the same points judge every
-// subdivision of it (subdivision does not move the surface, adaptive_subdivision.h): per input face,
-// points stratified in area (count proportional to the face's area, at least one; zero-area faces
-// cover no surface and get none), each then located in the subdivided mesh through
-// SubdivisionResult::originFace.
+// Relighting error of interpolated PRT, measured instead of estimated (Křivánek et al. 2004 eq. 1):
+// at dense sample points x inside every triangle, the exact shading <t(x), l> with t(x) ray-cast at
+// x against the shading interpolated from the vertices, over many lightings l, relative to the
+// shading after Weber's law (with a floor: kWeberFloorFraction of the mean), in Rec. 709 luminance.
+// The sample points live on the INPUT mesh, so the same points judge every subdivision of it.
+// Details: docs/prt-subdivision.md, "`common/prt/relighting_error.h`: how it works".
 #pragma once
 
 #include "prt/adaptive_subdivision.h"

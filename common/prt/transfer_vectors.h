@@ -1,41 +1,11 @@
-// Shadowed diffuse transfer vectors of precomputed radiance transfer (PRT):
-//   P.-P. Sloan, J. Kautz, J. Snyder, "Precomputed radiance transfer for real-time rendering in
-//   dynamic, low-frequency lighting environments", SIGGRAPH 2002, sec. 5 ("shadowed diffuse").
-// At a surface point x with unit normal n the transfer vector is
-//     t_k(x) = (1 / pi) * integral over the sphere of V(x, w) max(0, n.w) Y_k(w) dw,
-// k < (degree + 1)^2, Y_k the real spherical harmonics of radiance/spherical_harmonics.h (global
-// frame), V(x, w) = 1 when the ray from x toward w escapes the scene. The exit radiance of a white
-// Lambertian surface under a distant lighting with SH coefficients l_k is then
-//     L(x) = <t(x), l>                          (Křivánek et al. 2004 sec. 3.3, L(x, l) = <t_x | l>)
-// so a constant unit lighting on an unoccluded point gives L = 1. Albedo (per channel) multiplies
-// t; it is applied by the caller (TransferField::channels == 3 then), not here.
-//
-// Křivánek et al. 2004 uses "SH of order 6" = 36 coefficients, i.e. degree 5 in our convention (order =
-// degree + 1): kDefaultTransferDegree.
-//
-// Estimator: N cosine-weighted directions (pdf = max(0, n.w) / pi), so
-//     t_k(x) ~= (1 / N) * sum_i V(x, w_i) Y_k(w_i).
-// The directions are a fixed low-discrepancy set in the vertex's LOCAL frame (Hammersley points
-// mapped by Shirley-Chiu's concentric disc map and lifted to the hemisphere: Malley's method), the
-// same for every point, so neighbouring points with similar normals see correlated sample patterns
-// and the differences of their transfer vectors (what Křivánek et al. 2004's error estimates measure) carry
-// little Monte-Carlo noise. The local frame (tangent, bitangent, normal) is built from n alone by
-// Duff et al., "Building an orthonormal basis, revisited", JCGT 6(1) 2017, listing 3: orthonormal
-// and right-handed for every unit n (no singularity at n = -z, unlike Frisvad's original), smooth
-// on each hemisphere n.z > 0 and n.z < 0 but discontinuous across the plane n.z = 0 (the
-// copysign): two neighbours whose normals straddle it get unrelated sample patterns. Some
-// discontinuity is unavoidable (no continuous tangent field on the sphere); this is where it is.
-// The direction set: the N cell-centred Hammersley points ((i + 1/2) / N, radicalInverse2(i) +
-// 1/(2N)), which keeps every sample off the square's border, so no direction lies exactly on the
-// horizon.
-// Speed: Y_k of the local directions is tabulated once; per point the visible rows are summed in
-// the local frame and the sum is rotated to the global frame once with radiance/sh_rotation.h, so
-// the cost per point is the rays (Embree, 16-wide packets) plus O(N K + degree^3).
-//
-// Rays: origin x + offset * n, tNear = offset (offset = TransferOptions::relativeRayOffset times
-// the scene's bounding-box diagonal): no self-hit on the point's own triangles. Directions below
-// the geometric horizon of a curved surface may hit the point's own neighbourhood: that is
-// self-shadowing, and correct.
+// Shadowed diffuse transfer vectors of precomputed radiance transfer (PRT, Sloan et al. 2002 sec. 5):
+// per surface point, t_k = (1 / pi) * integral over the sphere of V(x, w) max(0, n.w) Y_k(w) dw, in
+// the global-frame real SH of radiance/spherical_harmonics.h, so that a white Lambertian point under
+// a distant lighting with SH coefficients l shines L = <t, l> (Křivánek et al. 2004 sec. 3.3; a
+// constant unit lighting on an unoccluded point gives 1). Albedo is the caller's. Estimated with a
+// fixed low-discrepancy set of cosine-weighted directions in each point's local frame, traced with
+// Embree from just above the surface.
+// Details: docs/prt-subdivision.md, "`common/prt/transfer_vectors.h`: how it works".
 #pragma once
 
 #include "progress/progress_callback.h"

@@ -1,38 +1,10 @@
 // Ground-truth outgoing radiance of an analytic material under analytic lights, for synthetic
-// ("virtually acquired") data whose exact radiance functions the tests know (Vanhoey et al. 2015 sec. 9:
-// "The radiance functions attached to the plane and the spheres (Fig. 6 and 8) are fitted on
-// virtually acquired photographs of a synthetic scene characterized by point light sources and
-// BRDF"; docs data.md: no measured BRDF is packaged, so analytic ones are used).
-//
-// BRDF (per RGB channel), with h = normalize(w_i + w_o):
-//   f(w_i, w_o) = albedo / pi + ks * (e + 8) / (8 pi) * max(0, n.h)^e
-// i.e. Lambert + a normalised Blinn-Phong lobe (the (e+8)/(8 pi) factor of Akenine-Moeller, Haines
-// & Hoffman, "Real-Time Rendering", 3rd ed.: the lobe's directional albedo at normal incidence is
-// ks within 8 % for every e, 2 % for e >= 100; it falls at grazing w_o as Blinn-Phong does).
-// Energy is conserved when albedo + ks <= 1 per channel (up to those few percent).
-//
-// Outgoing radiance at a point p with unit normal n towards unit w_o (pointing away from p):
-//   L(p, n, w_o) = albedo * ambient
-//                + sum over lights of f(w_i, w_o) * E_i * max(0, n.w_i)
-// where, for a directional light, w_i = its unit direction towards the light and E_i its
-// irradiance on a surface facing it; for a point light at q with intensity I,
-// w_i = (q - p) / |q - p| and E_i = I / |q - p|^2 (inverse-square falloff; a light exactly at p
-// contributes nothing).
-// The ambient term is the diffuse response to a uniform, unoccluded environment of radiance
-// `ambient` (pi * albedo/pi * ambient); the lobe ignores it. It does not depend on w_o.
-//
-// No shadows and no interreflection: every light reaches every point whose hemisphere it is in.
-// Cast shadows come with the virtual acquisition (ray casting with Embree), which can weight
-// lightContribution() by a visibility term per light.
-//
-// Below the horizon (w_o.n < 0) a radiance function is undefined; outgoingRadiance() then uses the
-// horizon direction nearest to w_o (w_o with its normal component removed, renormalised; for
-// w_o = -n, an arbitrary tangent), so it stays continuous and finite. The projection code calls
-// it only for w_o.n >= 0: this is a safety net, not data.
-//
-// Spatial stripes (Vanhoey et al. 2015 Fig. 8, "a sphere alternating diffuse and specular materials"): with
-// stripes enabled, the bands floor((p.axis - offset) / bandWidth) alternate between diffuse only
-// (ks = 0) and diffuse + specular; `specularOnOdd` chooses which parity carries the lobe.
+// ("virtually acquired") data whose exact radiance functions the tests know, as Vanhoey et al. 2015
+// fit their plane and spheres on photographs of a synthetic scene. BRDF: Lambert + a normalised
+// Blinn-Phong lobe, optionally in alternating diffuse / glossy stripes (their Fig. 8); directional
+// and point lights plus an ambient term. No shadows and no interreflection (the virtual acquisition
+// adds shadows). Below the horizon the nearest horizon direction is used, so it stays finite.
+// Details: docs/fitting.md, "`common/radiance/analytic_material.h`: how it works".
 #pragma once
 
 #include <Eigen/Core>

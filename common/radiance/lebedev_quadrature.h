@@ -1,19 +1,9 @@
-// Lebedev-Laikov quadrature rules on the unit sphere, and the hemisphere rules derived from them.
-//
-// A rule of precision p integrates every polynomial in (x, y, z) of total degree <= p exactly over
-// the unit sphere (equivalently every spherical harmonic of band <= p, and every product
-// Y_l^m Y_l'^m' with l + l' <= p). Its points are unions of orbits of the octahedral group O_h
-// (48 rotations and reflections that map the coordinate axes onto themselves), which is why a rule
-// needs roughly 3x fewer points than a product (theta, phi) Gauss rule of the same precision.
-//
-// The orbit parameters are those published by
-//   V. I. Lebedev, D. N. Laikov, "A quadrature formula for the sphere of the 131st algebraic order
-//   of accuracy", Doklady Mathematics 59(3), 1999, 477-481,
-// as distributed with D. N. Laikov's reference implementation (16 significant digits). Most of the
-// smaller rules were published earlier (V. I. Lebedev, "Quadratures on a sphere", USSR Comput.
-// Math. Math. Phys. 16(2), 1976, 10-24; Lebedev, Siberian Math. J. 18, 1977, 99-107; Lebedev &
-// Skorokhodov, Russian Acad. Sci. Dokl. Math. 45, 1992, 587-592; Lebedev, ibid. 50, 1995, 283-286).
-// The published weights sum to 1; ours are those times 4 pi.
+// Lebedev-Laikov quadrature rules on the unit sphere (Lebedev and Laikov 1999), and the hemisphere
+// rules derived from them. A rule of precision p integrates every polynomial in (x, y, z) of total
+// degree <= p exactly over the sphere (every product of spherical harmonics of bands l + l' <= p),
+// with roughly 3x fewer points than a product Gauss rule of the same precision. Our weights sum to
+// 4 pi (the published ones to 1). Rules are built once and shared read-only (thread-safe).
+// Details: docs/architecture.md, "`common/radiance/lebedev_quadrature.h`: how it works".
 #pragma once
 
 #include <cstddef>

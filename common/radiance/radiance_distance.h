@@ -1,38 +1,10 @@
-// L2 distance between radiance functions over a hemisphere, Vanhoey et al. 2015
-// sec. 3.5, equations (5) and (6):
-//     d(L1, L2) = || L~1 - L~2 ||_{L2(Omega)},   ||L||_{L2(Omega)} = ( 1/(2 pi) int_Omega L(w)^2 dw )^(1/2)
-// where Omega is the hemisphere around a chosen normal n0 (sec. 4.1: the normal of the vertex where
-// the distance is measured) and L~ are the reflected RF (sec. 3.1). Colours are RGB with the 2-norm
-// (sec. 7 "Color channels"), so L(w)^2 is the sum of the squared channels. The functions are
-// evaluated with the border extension of sec. 7 wherever Omega leaves their own hemisphere
-// (radiance_evaluation.h does it for vertex RF; callables must do it themselves).
-//
-// Numerical integration (sec. 7 "Numerical integration of errors"): a hemisphere rule in the local
-// frame of n0 (frameFromNormal(n0)) rotated into the world. Two families are offered:
-//  - Gauss product (default): Gauss-Legendre in z = cos(theta) on [0, 1] times the uniform rule in
-//    phi. With m z-nodes and q >= p + 1 phi-nodes it integrates EXACTLY every polynomial in
-//    (x, y, z) of total degree p <= 2m - 1 over the hemisphere, whatever its parity in z.
-//  - Lebedev hemisphere (the paper's choice; lebedev_quadrature.h hemisphereRule): exact only for
-//    integrands even in z (e.g. PB functions whose normal is n0); for z-odd parts (any SH, any RF with
-//    another normal) its relative error decays slowly: 2e-3 for int z over 302 sphere points, 5e-4
-//    with 1202 points.
-// Default rule: Gauss product kDefaultDistanceZNodes x kDefaultDistancePhiNodes = 12 x 24 = 288
-// points, exact to degree 23. When every normal involved equals n0 (no border extension inside
-// Omega) the integrand is a polynomial of degree <= 2 * 10 = 20 for every supported basis (PB
-// monomials in (t.w, b.w) are polynomials in w too), so d^2 is exact to rounding. When a normal is
-// tilted from n0, Omega crosses that RF's horizon and the border extension puts a kink (continuous,
-// non-smooth) in the integrand, which caps the convergence of every rule. Measured relative error of
-// d^2 against a 1500 x 3000 midpoint (theta, phi) grid, random RF, worst of 4 (both normals tilted by
-// the angle from n0 about random axes):
-//                     tilt 10 deg          tilt 30 deg
-//     Gauss 8x16      PB4 9e-6  SH6 5e-4   PB4 8e-5  SH6 7e-4     (128 points)
-//     Gauss 12x24     PB4 4e-6  SH6 2e-4   PB4 1e-5  SH6 6e-4     (288 points, default)
-//     Gauss 24x48     PB4 6e-7  SH6 4e-5   PB4 2e-6  SH6 1e-4     (1152 points)
-//     Lebedev 302     PB4 5e-4  SH6 7e-4   PB4 1e-3  SH6 1e-3     (161 points)
-//     Lebedev 1202    PB4 1e-4  SH6 3e-4   PB4 3e-4  SH6 2e-4     (621 points)
-// and with no tilt the Lebedev hemisphere rules still err by 2e-3 (302) / 5e-4 (1202) on SH6 (z-odd
-// integrand) where the Gauss rules are exact. tests/unit/radiance_distance_test.cpp re-checks the
-// default rule against brute force.
+// L2 distance between radiance functions over a hemisphere, Vanhoey et al. 2015 sec. 3.5,
+// eq. (5)-(6): d(L1, L2) = || L~1 - L~2 ||, the norm averaged over the hemisphere Omega(n0) around
+// the normal where the distance is measured, RGB channels summed, the reflected RF border-extended
+// (sec. 7) wherever Omega leaves their own hemisphere. Integrated numerically by a hemisphere rule:
+// Gauss product (default, 12 x 24 points, exact to degree 23) or the paper's Lebedev hemisphere.
+// Rules are immutable; the default one is built once (thread-safe).
+// Details: docs/simplification.md, "`common/radiance/radiance_distance.h`: how it works".
 #pragma once
 
 #include "radiance/radiance_evaluation.h"

@@ -1,23 +1,10 @@
 // Evaluation of per-vertex radiance functions (RF) at world directions, with the border extension
-// of Vanhoey et al. 2015 sec. 7, and conversion between plain and reflected storage
-// (sec. 3.1).
-//
-// Definitions (w: unit world direction, n: vertex normal, R_n(w) = 2 (n.w) n - w):
-//  - L(w):  the RF of the vertex, meaningful on the hemisphere n.w >= 0;
-//  - L~(w) = L(R_n w): the reflected RF (r-RF, sec. 3.1). R_n preserves n.w, so L~ lives on the
-//    same hemisphere and L(w) = L~(R_n w).
-//  - Border extension ("Exceeding hemispheres", sec. 7): for n.w < 0 the RF takes the value of the
-//    hemisphere's border with the same azimuth,
-//        L(w) := L(border(w)),  border(w) = normalize(w - (n.w) n).
-//    At the exact opposite pole (w = -n, where the azimuth is undefined: |w - (n.w) n| < 1e-12)
-//    the border direction is the frame's tangent t. This is the only discontinuity of the
-//    extended RF (the paper notes the opposite pole "is never visible in practice").
-//    Since R_n commutes with border(), extending L and then reflecting equals reflecting and then
-//    extending: L~(w) = L~(border(w)) for n.w < 0 as well.
-//
-// Storage: RadianceField (radiance_field.h) holds, per vertex, kColorChannels blocks of K floats
-// (channel-major) and the frame (t, n). `reflected` says whether the coefficients encode L or L~.
-// PB coefficients are in the local frame (x = t, y = b = n x t, z = n); SH in the global frame.
+// of Vanhoey et al. 2015 sec. 7, and conversion between plain and reflected storage (sec. 3.1).
+// L(w) is meaningful on the hemisphere n.w >= 0; L~(w) = L(R_n w) is the reflected RF. Below the
+// hemisphere an RF takes the value of the border direction with the same azimuth,
+// normalize(w - (n.w) n), and the frame's tangent t at the exact opposite pole. PB coefficients are in
+// the local frame (t, b = n x t, n), SH coefficients in the global frame.
+// Details: docs/architecture.md, "`common/radiance/radiance_evaluation.h`: how it works".
 #pragma once
 
 #include "radiance/basis.h"

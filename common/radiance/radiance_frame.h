@@ -1,29 +1,18 @@
-// Per-vertex orthonormal frames for radiance functions (RF), and the reflection about a normal.
-//
-// Vanhoey et al. 2015:
-//  - sec. 3: the RF of a vertex is defined on the hemisphere centred on the vertex normal n;
-//  - sec. 3.1: the reflected RF (r-RF) is L~(w) = L(R_n w) with the reflection about n
-//        R_n(w) = 2 (n . w) n - w          (a rotation by pi about n; R_n R_n = identity)
-//  - sec. 6: the polynomial basis (PB) lives in a local frame (x = tangent t, y = bitangent b = n x t,
-//    z = normal n); spherical harmonics (SH) live in the global frame.
-//
-// Frame construction from a normal alone (frameFromNormal) follows the closed form of
-// J. R. Frisvad, "Building an orthonormal basis from a 3D unit vector without normalization",
-// JGT 2012, in the numerically robust form of T. Duff et al., "Building an Orthonormal Basis,
-// Revisited", JCGT 6(1) 2017. Duff et al. pick the sign s = sign(n.z), which makes the frame
-// jump across the whole great circle n.z = 0 (i.e. between neighbouring vertices of any closed
-// mesh). We instead use s = +1 (continuous everywhere except at n = -z, where no continuous
-// tangent field can avoid a singularity) and switch to s = -1 only inside a tiny cap around
-// -z (1 + n.z < kFrameSouthCap, an angular radius of ~0.26 degrees), where the s = +1 formula
-// loses precision (error ~ 1e-16 / (1 + n.z)). The result is re-orthonormalised, so every frame
-// is orthonormal to ~1e-15 and right-handed (t x b = n).
+// Per-vertex orthonormal frames for radiance functions (RF), and the reflection about a normal
+// (Vanhoey et al. 2015): an RF lives on the hemisphere around the vertex normal n (sec. 3), the
+// reflected RF is L~(w) = L(R_n w) with R_n(w) = 2 (n.w) n - w (sec. 3.1), PB lives in the local frame
+// (t, b = n x t, n) and SH in the global frame (sec. 6). frameFromNormal is the closed form of Frisvad
+// 2012 in the robust form of Duff et al. 2017, but with the sign s = +1, continuous everywhere except
+// at n = -z, switching to s = -1 only within kFrameSouthCap of -z; frames are orthonormal to ~1e-15
+// and right-handed (t x b = n).
+// Details: docs/architecture.md, "`common/radiance/radiance_frame.h`: how it works".
 #pragma once
 
 #include <Eigen/Core>
 
 namespace rad {
 
-// 1 + n.z below which frameFromNormal uses the s = -1 branch (see above).
+// 1 + n.z below which frameFromNormal uses the s = -1 branch (an angular radius of ~0.26 degrees).
 inline constexpr double kFrameSouthCap = 1e-5;
 
 struct Frame {

@@ -1,29 +1,10 @@
-// Interpolation, gradient and extrapolation of radiance functions (RF) over a triangle,
-// Vanhoey et al. 2015 sec. 3.2-3.4 and 5.
-//
-// Triangle t = (v1, v2, v3) with positions p_i, normals n_i and RF L_i; L~_i(w) = L_i(R_{n_i} w) is
-// the reflected RF (sec. 3.1), border-extended outside its hemisphere (sec. 7,
-// radiance_evaluation.h). Barycentrics alpha = (alpha1, alpha2, alpha3) with p = sum alpha_i p_i.
-//  - eq. (1):  L~_t(p, w) = sum_i alpha_i L~_i(w)                              (r-RF interpolation)
-//  - eq. (2)/(8): L_t(p, w) = sum_i alpha_i L~_i(R_n w) = sum_i alpha_i L_i(R_{n_i} R_n w),
-//              n = normalize(sum_i alpha_i n_i)                                 (RF interpolation)
-//  - eq. (3):  grad_p L~_t(w) = J (J^T J)^{-1} [L~_2(w) - L~_1(w); L~_3(w) - L~_1(w)],
-//              J = [p2 - p1, p3 - p1] (3 x 2), one 3-vector per colour channel (sec. 3.3, 7)
-//  - eq. (4):  L~_t(p, w) = L~_1(w) + grad_p L~_t(w) . (p - p1) for any 3D point p (extrapolation).
-// Eq. (4) is linear in the L~_i: L~_t(p, w) = sum_i beta_i(p) L~_i(w) with beta = (1 - a2 - a3, a2, a3),
-// (a2, a3) = (J^T J)^{-1} J^T (p - p1): the barycentrics of p's orthogonal projection onto the
-// triangle's plane (TriangleGradient::extrapolationWeights). That is how eq. (7) can be evaluated
-// cheaply: d^2(L~_0, sum_i beta_i L~_i) with fixed beta for all directions.
-//
-// Sec. 6: for SH in the global frame "equations on functions translate into equations on
-// coefficients": eq. (1), (3), (4) apply verbatim to the coefficient vectors of the L~_i (the *Sh*
-// functions below). Caveat: the coefficient-level results equal the function-level ones at
-// directions inside every vertex hemisphere; elsewhere the function-level versions border-extend each
-// L~_i about its own normal, whereas a coefficient vector is border-extended about the normal it is
-// finally attached to (e.g. the interpolated one).
-//
-// Degenerate input (zero-area triangle, interpolated normal of zero length, non-finite data) is
-// reported by an empty std::optional / false, never by NaN.
+// Interpolation, gradient and extrapolation of radiance functions (RF) over a triangle, Vanhoey et
+// al. 2015 sec. 3.2-3.4 and 5: eq. (1) r-RF interpolation, eq. (2)/(8) RF interpolation about the
+// interpolated normal, eq. (3) the spatial gradient, eq. (4) extrapolation to any 3D point, which is
+// linear in the vertices' r-RF (extrapolationWeights: what makes eq. 7 cheap). The *Sh* functions do
+// the same on the coefficient vectors of SH in the global frame (sec. 6). Degenerate input (zero-area
+// triangle, zero interpolated normal, non-finite data) gives an empty std::optional / false, never NaN.
+// Details: docs/architecture.md, "`common/radiance/radiance_interpolation.h`: how it works".
 #pragma once
 
 #include "radiance/radiance_evaluation.h"
@@ -49,7 +30,7 @@ public:
     Eigen::Vector3d gradient(double v1, double v2, double v3) const;
     // Eq. (3) for RGB values: row c is the gradient (a 3-vector) of channel c.
     Eigen::Matrix3d gradient(const Eigen::Vector3d& L1, const Eigen::Vector3d& L2, const Eigen::Vector3d& L3) const;
-    // beta(p) such that eq. (4) = sum_i beta_i L~_i (see the file comment). Sums to 1; equals the
+    // beta(p) such that eq. (4) = sum_i beta_i L~_i (docs/architecture.md). Sums to 1; equals the
     // barycentrics for p in the triangle's plane; constant along the triangle's normal.
     Eigen::Vector3d extrapolationWeights(const Eigen::Vector3d& p) const;
 

@@ -44,21 +44,16 @@ struct FitOptions {
 //     sum_j w_j (sum_k a_k B_k(d_j) - y_jc)^2  +  lambda * s * sum_{k >= 1} a_k^2,
 //     s = trace(G) / K,   G = sum_j w_j B(d_j) B(d_j)^T   (the unregularised normal matrix),
 // by an LDLT factorisation of the K x K normal equations (G + lambda s D) a = sum_j w_j y_jc B(d_j)
-// in double precision. d_j is the direction at which the stored function is evaluated to give
-// L(direction_j) (basisDirection of radiance_evaluation.h: local frame for PB, reflected when
-// storeReflected; a sample below the tangent plane is moved to its border direction, consistently
-// with the border extension of Vanhoey et al. 2015 sec. 7). Directions are normalised here.
-// Scaling: s makes lambda invariant to the number of samples (duplicating every sample changes
-// nothing), to a common scale of the weights and to a common scale of the basis functions, so lambda is a fraction of the average data term (1e-3..1e-1
-// are sensible). The constant function (index 0, both bases: PB u^0 v^0 = 1, SH Y_0^0) is NOT
-// penalised (D = diag(0, 1, ..., 1)): as lambda grows the fit tends to the weighted mean colour
-// (the diffuse RF) instead of being pulled towards black.
-// Returns false (out untouched) when there is no sample with positive weight, when an input is
-// not finite, a weight negative or a direction zero, when the system is numerically singular (Eigen's LDLT::rcond() estimate of the
-// reciprocal condition number below 1e-14: lambda = 0 with too few or degenerate samples; note that
-// SH of high degree fitted from one hemisphere only are that ill-conditioned, e.g. SH10 with 300
-// well spread hemisphere samples has rcond ~ 1e-15: use lambda > 0 there) or when the solution is not
-// finite.
+// in double precision, d_j the direction at which the stored function is evaluated
+// (basisDirection of radiance_evaluation.h; below the tangent plane, the border direction);
+// directions are normalised here.
+// lambda is a fraction of the average data term (1e-3..1e-1 are sensible); the constant function
+// is not penalised (D = diag(0, 1, ..., 1)), so a large lambda tends to the weighted mean colour.
+// Returns false (out untouched) when there is no sample with positive weight, an input is not
+// finite, a weight negative or a direction zero, the system is numerically singular (LDLT rcond
+// below 1e-14, e.g. lambda = 0 with too few samples, or high-degree SH from one hemisphere) or the
+// solution is not finite.
+// Details: docs/architecture.md, "`common/radiance/radiance_projection.h`: how it works".
 bool fitRadiance(const BasisSpec& basis, const Frame& frame, const RadianceSample* samples, std::size_t count,
                  const FitOptions& options, double* out);
 inline bool fitRadiance(const BasisSpec& basis, const Frame& frame, const std::vector<RadianceSample>& samples,

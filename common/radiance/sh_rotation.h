@@ -1,24 +1,10 @@
-// Rotation of real spherical-harmonic expansions (spherical_harmonics.h convention: orthonormal,
-// no Condon-Shortley phase, index l*l + l + m).
-//
-// Convention: for a 3x3 rotation R and a function f(w) = sum_k c_k Y_k(w) in the global frame,
-// ShRotation(degree, R).apply(c, c') gives the coefficients of
-//     g(w) = f(R^T w),
-// i.e. f ROTATED BY R: whatever f shows in direction d, g shows in direction R d. Rotations do not
-// mix bands, so the operator is block diagonal, one (2l+1) x (2l+1) orthogonal block D^l per band,
-// and the composition rule is ShRotation(R1 * R2) = ShRotation(R1) o ShRotation(R2)
-// (rotate by R2 first, then by R1).
-//
-// The blocks are built with the recurrences of
-//   J. Ivanic, K. Ruedenberg, "Rotation matrices for real spherical harmonics. Direct determination
-//   by recursion", J. Phys. Chem. 100(15), 1996, 6342-6347, with the corrections of the
-//   "Additions and corrections", J. Phys. Chem. A 102(45), 1998, 9099-9100,
-// which build D^l from D^(l-1) and D^1 (D^1 is R itself with rows/columns reordered to the band-1
-// order (y, z, x), exactly because our band-1 functions are c*(y, z, x) with c > 0). Cost: about
-// 15 flops per block element, ~30k flops for degree 10, no trigonometry, no allocation.
-//
-// Improper orthogonal matrices (det = -1, mirror reflections) are accepted too: Q = -R' with R' a
-// rotation, and Y_l(-w) = (-1)^l Y_l(w), so band l of Q is (-1)^l times band l of R'.
+// Rotation of real spherical-harmonic expansions (spherical_harmonics.h convention). For a 3x3
+// rotation R, ShRotation(degree, R).apply(c, c') gives the coefficients of g(w) = f(R^T w): f ROTATED
+// BY R (what f shows in direction d, g shows in direction R d); ShRotation(R1 * R2) =
+// ShRotation(R1) o ShRotation(R2). Block diagonal, one orthogonal block per band, built by the
+// recurrences of Ivanic and Ruedenberg 1996 (with their 1998 corrections): no trigonometry, no
+// allocation. Mirror reflections (det = -1) are accepted too.
+// Details: docs/architecture.md, "`common/radiance/sh_rotation.h`: how it works".
 #pragma once
 
 #include "radiance/basis.h"

@@ -1,50 +1,11 @@
 // Image-space error between an original radiance mesh and processed versions of it (simplified,
-// directionally reduced, refitted...): both are rendered on the CPU from the same ring of cameras
-// around the object and the renderings are compared pixel by pixel. This is the evaluation of
-// Vanhoey et al. 2015 Fig. 7, which compares mesh simplification against "directional
-// reduction" (a lower RF degree, simplify/directional_reduction.h) at equal memory; the memory
-// figure it uses is defined here too.
-//
-// Protocol (every choice stated so that figures can be reproduced):
-//  - Cameras: makeCameraRig (acquisition/camera_rig.h) around the bounding sphere of the ORIGINAL
-//    mesh (centre: the centre of its axis-aligned bounding box; radius: the largest distance of a
-//    vertex from that centre). Every mesh is rendered from the same cameras, so a mesh that
-//    shrinks or moves is seen doing so. The spiral is not jittered by default (jitter 0): the
-//    views are a fixed, evenly spread set.
-//  - Rendering: MeshRenderer::renderRadiance (render/radiance_renderer.h), per-fragment eq. (8) by
-//    default or per-vertex (sec. 5), NxN supersampling, linear images, background colour
-//    (black by default) wherever a sample misses the mesh.
-//  - Mask: the pixels covered (coverage > 0, i.e. touched by at least one sample) by EITHER
-//    rendering. A silhouette change (a hole, a shrunk border, a lost thin part) is error: the pixel
-//    where one mesh shows the object and the other shows the background counts with the
-//    difference between the object's colour and the background's. Pixels both renderings leave
-//    empty are excluded (they would only dilute the error with exact zeros, making the figure
-//    depend on how much of the frame the object fills).
-//  - Metrics: compareImages (render/image_metrics.h) over that mask, per view, in linear units
-//    (peak 1) and 8-bit sRGB units (peak 255).
-//  - Summary over views: the arithmetic means of the per-view RMSE and of the per-view PSNR (dB),
-//    skipping views whose mask is empty (no pixel covered by either mesh; counted in
-//    emptyViewCount). The mean PSNR is +infinity when one view is identical. Also the pooled RMSE
-//    (all masked pixels of all views together: sqrt(sum_v |M_v| MSE_v / sum_v |M_v|)) and its
-//    PSNR. The worst view is the one with the largest linear RMSE (the first on ties).
-//
-// Memory (radianceMeshMemoryBytes): what a renderer of eq. (8) must hold, in bytes, with 32-bit
-// floats and indices:
-//     V * (12 + 4 * 3 K + frame(basis)) + 12 F
-//   - 12 B per vertex: the position (3 floats);
-//   - 4 B per RF coefficient: 3 colour channels x K coefficients (K = (d+1)(d+2)/2 for PB(d),
-//     (d+1)^2 for SH(d));
-//   - frame(basis): the per-vertex frame the evaluation needs:
-//       PB (plain or reflected): tangent + normal, 2 unit vectors = 24 B (the basis lives in the
-//         local frame, sec. 6);
-//       SH reflected: the normal, 12 B (reflection axis R_n, sec. 3.1, and the interpolated normal
-//         of eq. (8));
-//       SH plain (global frame): the normal, 12 B too (the border extension below the tangent plane,
-//         sec. 7, and the normal of eq. (8));
-//   - 12 B per triangle: 3 vertex indices.
-// A mesh without radiance counts positions and faces only. Nothing else is counted (no vertex
-// colours, no extra blocks, no acceleration structure: those are the same for every method or
-// renderer-specific).
+// directionally reduced, refitted): every mesh is rendered on the CPU (render/radiance_renderer.h)
+// from the same cameras around the ORIGINAL's bounding sphere, and the renderings are compared over
+// the pixels EITHER covers, so silhouette changes count. This is the evaluation of Vanhoey et al.
+// 2015 Fig. 7 (simplification against directional reduction at equal memory), and the memory figure
+// it uses is defined here: V (12 + 12 K + frame) + 12 F bytes, frame 24 B for PB and 12 B for SH.
+// Summaries: means over the views with a non-empty mask, and all masked pixels pooled.
+// Details: docs/simplification.md, "`common/render/image_space_error.h`: how it works".
 #pragma once
 
 #include "acquisition/camera_rig.h"

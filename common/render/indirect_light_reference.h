@@ -1,22 +1,10 @@
 // CPU images of the INDIRECT light of a diffuse scene seen by a camera, to judge the irradiance
 // vector grid (Granier et al. 2007) against a reference and against the alternative a user would
-// pick, per-vertex irradiance on a simplified mesh. Every image is the radiance reflected toward
-// the camera by the indirect light only (direct light excluded), at the same visible points:
-//
-//  - reference: per pixel, rho(x) / pi * E_ind(x) with
-//        E_ind(x) = integral over the hemisphere of n(x) of L_ind(x <- w) cos dw,
-//    L_ind the same quantity the grid stores (lighting/indirect_light_tracer.h, same bounce count),
-//    estimated with N cosine-distributed directions (a Hammersley set turned randomly per pixel):
-//    radiance = rho / N * sum L_ind(x <- w_i);
-//  - grid: rho / pi <I_n(x), n>, the paper's interpolation (reflectedRadiance of
-//    irradiance_vector_grid.h), or its variant with weights |n_a| instead of n_a^2 (exact for a
-//    uniform incident radiance, where the paper's weights give pi L sum |n_a|^3, down to 0.58 pi L
-//    on a diagonal normal);
-//  - per vertex: E_ind computed at the vertices of another mesh (the simplified one) along their
-//    normals, like the reference; at a visible point, the closest point of that mesh gives the face
-//    and barycentrics that interpolate E; radiance rho(x) / pi * E.
-// The visible point, its flat face normal and its albedo come from the full scene (one primary ray
-// through each pixel's centre); pixels that see nothing or a back face are masked out.
+// pick, per-vertex irradiance on a simplified mesh. Every image is the radiance reflected toward the
+// camera by the indirect light only, at the same visible points (one primary ray per pixel centre;
+// pixels that see nothing or a back face are masked out): the reference by path tracing
+// (lighting/indirect_light_tracer.h), the grid's interpolation, and per-vertex irradiance.
+// Details: docs/irradiance-vector-grid.md, "`common/render/indirect_light_reference.h`: how it works".
 #pragma once
 
 #include "camera/pinhole_camera.h"
@@ -39,7 +27,8 @@ struct VisibleSurface {
 
 VisibleSurface traceVisibleSurface(const IndirectLightTracer& tracer, const PinholeCamera& camera);
 
-// The reference image (see the file comment). `raysPerPixel` >= 1.
+// The reference image: per pixel rho / N * sum L_ind(x <- w_i) over N = `raysPerPixel` >= 1
+// cosine-distributed directions.
 ImageF renderIndirectReference(const IndirectLightTracer& tracer, const VisibleSurface& surface, int raysPerPixel,
                                std::uint64_t seed = 1, const ProgressCallback& progress = {}, int threads = 0);
 

@@ -1,28 +1,11 @@
-// CPU rendering of a triangle mesh carrying per-vertex radiance functions (RF), by ray casting
-// with Embree (raycast/ray_scene.h): the reference renderer for image-space comparisons (fitted RF
-// against the photographs, simplified against original meshes).
-//
-// Vanhoey et al. 2015, sec. 5 ("Rendering") describes two ways to shade a triangle
-// (v1, v2, v3) whose vertices carry RF L_i, at a fragment with barycentrics alpha seen from the
-// eye e:
-//  - PerVertex ("Gouraud-like", the vertex-shader approach): every vertex's RF is evaluated toward
-//    the eye, c_i = L_i(normalize(e - p_i)) (border-extended below the tangent plane, sec. 7), and
-//    the fragment gets sum_i alpha_i c_i. Highlights inside large triangles fade (Fig. 6 left).
-//  - PerFragment, eq. (8): with w = normalize(e - p) the direction from the fragment to the eye and
-//    n = normalize(sum_i alpha_i n_i) the interpolated RF normal,
-//        L_t(p, w) = sum_i alpha_i L~_i(R_n w),   L~_i(w) = L_i(R_{n_i} w)  (reflected RF, sec. 3.1)
-//    (radiance/radiance_interpolation.h, interpolateRadiance), whatever the field's storage (plain
-//    or reflected). Highlights are interpolated as Phong shading does (Fig. 6 right). Where n
-//    vanishes (exactly opposite normals) the naive sum_i alpha_i L_i(w) is used.
-//
-// Sampling, as the virtual photographs (acquisition/virtual_photographs.h) so that renderings and
-// photographs compare pixel for pixel: NxN rays per pixel through the sub-pixel centres
-// (c + (i + 0.5)/N, r + (j + 0.5)/N) of the pinhole image coordinates, averaged (box filter).
-// Output: a LINEAR image plus a coverage value per pixel, round(255 * hits / N^2).
-//
-// Cost: PerVertex evaluates all V vertices once per image (OpenMP), then one ray and one
-// barycentric blend per sample; PerFragment evaluates three RF per sample. The scene (Embree BVH)
-// is built once per mesh and reused for every view. Parallel over rows, no allocation per pixel.
+// CPU rendering of a triangle mesh carrying per-vertex radiance functions (RF), by ray casting with
+// Embree (raycast/ray_scene.h): the reference renderer for image-space comparisons (fitted RF against
+// the photographs, simplified against original meshes). Shading as Vanhoey et al. 2015 sec. 5:
+// per vertex (each RF evaluated toward the eye, colours interpolated) or per fragment, eq. (8). N x N
+// rays per pixel, box-filtered as the virtual photographs are, so that renderings and photographs
+// compare pixel for pixel; the output is a linear image plus a coverage value per pixel. The Embree
+// scene is built once per mesh; rendering is parallel over rows.
+// Details: docs/decorate-radiance.md, "`common/render/radiance_renderer.h`: how it works".
 #pragma once
 
 #include "camera/pinhole_camera.h"

@@ -1,22 +1,12 @@
 // From linear radiance to the 8-bit sRGB codes a display (and a screenshot) holds: the tone mapping
-// of the "Radiance Field" decoration (docs/decorate-radiance.md, parameters RadianceExposure and
-// RadianceToneMap), on the CPU so that a reference rendering (render/radiance_renderer.h) can be
-// compared with a screenshot of MeshLab code for code.
-//
-// Per channel, for a linear value L:
-//   1. exposure:  x = 2^stops * L                                   (stops = RadianceExposure)
-//   2. curve:     Clamp:    d = min(max(x, 0), 1)
-//                 Reinhard: d = max(x, 0) / (1 + max(x, 0))         (E. Reinhard et al., "Photographic
-//                           tone reproduction for digital images", SIGGRAPH 2002, eq. 3, applied per
-//                           channel rather than to luminance: the decoration's fragment shader does so)
-//      NaN becomes 0 here, so that one broken value cannot poison a comparison (GLSL leaves
-//      max(NaN, 0) undefined: do not compare pixels whose RF is not finite).
-//   3. encoding:  the IEC 61966-2-1 sRGB curve: 12.92 d for d <= 0.0031308, else 1.055 d^(1/2.4) - 0.055,
-//      then round(255 * code) into the framebuffer's 8 bits.
-// The decoration's GLSL (function displayColor, render_gl/radiance_shaders.cpp) implements exactly
-// these formulas in float; the framebuffer's conversion of [0, 1] to 8 bits is the same rounding
-// (GL spec, "conversion to fixed point": round(255 f)). The two may differ by one code where float
-// and double straddle a rounding boundary.
+// of the "Radiance Field" decoration (parameters RadianceExposure and RadianceToneMap), on the CPU so
+// that a reference rendering can be compared with a screenshot of MeshLab code for code. Per channel:
+//   1. exposure: x = 2^stops * L;
+//   2. curve: Clamp, min(max(x, 0), 1), or Reinhard, max(x, 0) / (1 + max(x, 0)) (Reinhard et al.
+//      2002, per channel as the shader does); NaN becomes 0;
+//   3. encoding: the IEC 61966-2-1 sRGB curve, then round(255 * code).
+// The decoration's GLSL implements the same formulas in float: the two may differ by one code.
+// Details: docs/decorate-radiance.md, "`common/render/tone_mapping.h`: how it works".
 #pragma once
 
 #include "image/rgb_image.h"

@@ -1,38 +1,10 @@
-// The baseline "extended colour QEM": M. Garland and P. S. Heckbert, "Simplifying surfaces with
-// color and texture using quadric error metrics", IEEE Visualization 1998 (GH98;
-// cited by Vanhoey et al. 2010 sec. 2.2.1 as [GH98]). Each vertex is a point v = (p, c) of R^6
-// (position x, y, z and linear RGB colour r, g, b) and each face a 2D affine subspace of R^6, the
-// plane through its three 6D points. GH98: with an orthonormal basis e1, e2 of that plane
-// (Gram-Schmidt on q - p, r - p), the squared distance of v to it is
-//     Q(v) = v^T A v + 2 b.v + c,   A = I - e1 e1^T - e2 e2^T,
-//                                   b = (p.e1) e1 + (p.e2) e2 - p,
-//                                   c = p.p - (p.e1)^2 - (p.e2)^2.
-// Choices made here, with GH98:
-//  - face quadrics are weighted by the triangle's 3D area, as GH98 does (area weighting makes the
-//    error independent of the tessellation); option areaWeighted = false turns it
-//    off. Area is the geometric area in normalised coordinates (below), not the 6D area, so that a
-//    colour discontinuity does not make a face weigh more;
-//  - a vertex's quadric is the sum of its faces' quadrics, and quadrics are ACCUMULATED on collapse
-//    (Q1 += Q0): the error is measured against the planes of every original face the survivor
-//    stands for (the "cumulative" QEM of Vanhoey et al. 2010 sec. 3.1, unlike the memoryless E_G of
-//    quadric_error.h that the engine adds separately);
-//  - geometry is normalised, x' = scale (x - centre) with centre the bounding-box centre and scale
-//    1 / bounding-box diagonal by default, so that positions span about [-0.5, 0.5] like linear RGB
-//    colours span [0, 1]: GH98 notes that the relative scale of position and colour sets the
-//    trade-off between them. The translation changes nothing but rounding (c = p.p stays small).
-//    Costs are therefore in normalised units: area' x (squared 6D distance).
-// The quadric includes the geometric distance too (the 6D plane contains the face's 3D plane), so
-// pure GH98 is obtained with the engine's geometryWeight = 0.
-//
-// Collapses (collapse_metric.h):
-//  - half-edge v0 -> v1: cost (Q0 + Q1)(p1', c1); v1 keeps its colour;
-//  - full (v0, v1) -> position: cost (Q0 + Q1)(x', c*) with c* the colour minimising the quadric for
-//    the fixed position x' (GH98 optimises all 6 coordinates; the engine fixes the position with its
-//    own QEM, so only the colour block is solved): splitting A into blocks [A_pp A_pc; A_cp A_cc] and b
-//    into (b_p, b_c), grad_c Q = 0 gives  A_cc c* = -(A_cp x' + b_c).  A_cc is singular only for
-//    degenerate stars (no area); in the null directions c* takes the edge interpolation
-//    (1 - s) c0 + s c1 (minimum-norm correction from it, see optimalColor).
-// Half-edge collapses (EdgeQuery::halfEdge) keep c1; full ones get c*, even when they land at s == 1.
+// The baseline "extended colour QEM" of Garland and Heckbert 1998 (GH98 below; cited by Vanhoey et
+// al. 2010 sec. 2.2.1): each vertex is a point (position, linear RGB) of R^6, each face the plane
+// through its three 6D points, and a vertex's quadric the area-weighted sum of the squared distances
+// to the planes of every original face it stands for (accumulated on collapse). Positions are
+// normalised by the bounding-box diagonal so that they weigh like colours. The quadric already holds
+// the geometric distance, so pure GH98 is run with the engine's geometryWeight = 0.
+// Details: docs/simplification.md, "`common/simplify/color_quadric.h`: how it works".
 #pragma once
 
 #include "simplify/collapse_metric.h"
@@ -78,7 +50,7 @@ struct ColorQuadric {
     // longer of q - p, r - p, or a zero edge).
     static ColorQuadric triangle(const Vector6d& p, const Vector6d& q, const Vector6d& r);
 
-    // argmin over colours c of Q(x, c) for a fixed position x (see the file comment). Directions in
+    // argmin over colours c of Q(x, c) for a fixed position x: A_cc c = -(A_cp x + b_c). Directions in
     // which A_cc has no curvature (eigenvalue <= 1e-12 times its largest, or all of them when
     // A_cc = 0) keep the component of `fallback`: the result is the minimiser closest to it.
     Eigen::Vector3d optimalColor(const Eigen::Vector3d& x, const Eigen::Vector3d& fallback) const;

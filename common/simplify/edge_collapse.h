@@ -1,38 +1,11 @@
-// Iterative edge-collapse simplification (Hoppe 1996 "Progressive meshes"; Garland & Heckbert 1997)
-// with pluggable pricing (collapse_metric.h), as used by Vanhoey et al. 2015 sec. 4:
-// "build a priority queue of all collapsible edges; until the mesh is simplified enough, collapse
-// the first edge and update the queue".
-//
-// Cost of a collapse = geometryWeight * E_G + attributeWeight * E_A, with E_G the memoryless QEM
-// (quadric_error.h) and E_A the attribute metric (e.g. the radiance error of eq. 7), defaults
-// 1 % / 99 % (sec. 4.4).
-//
-// Queue with lazy invalidation: every vertex has a version counter, bumped whenever its star
-// changes; an entry remembers the versions it was priced with and is dropped when popped stale.
-//  - Half-edge mode: one entry per source vertex v0 holding its cheapest valid target (all targets
-//    of v0 share the star of v0, which is what eq. 7 and the memoryless QEM depend on, so they are
-//    priced together). After v0 -> v1, v1 and its neighbours are re-priced.
-//  - Full mode: one entry per edge, holding where the new vertex goes; after (v0, v1) -> v1 every
-//    edge incident to v1 or to one of its neighbours is re-priced. When the metric's cost depends on
-//    the two ends only (an accumulated quadric, CollapseMetric::costDependsOnEndpointsOnly), only
-//    v1's edges are: the ring's other entries stay queued and are re-validated when popped, and an
-//    edge dropped as invalid is priced again once a collapse changes the star of one of its ends.
-// Re-pricing after a collapse runs in parallel (OpenMP) over the affected vertices/edges (or, with
-// lazyRepricing in half-edge mode, when a touched source reaches the front of the queue). Validity
-// can also change without the star changing (a neighbour's valence, the link of the target), so an
-// entry is re-checked when popped and re-priced if it became invalid.
-//
-// Validity of a collapse (each check can only forbid):
-//  - the edge is manifold (1 or 2 faces) and the link condition holds (Dey et al. 1999: the common
-//    neighbours of v0 and v1 are exactly the apexes of the faces on the edge, and those apexes are
-//    not joined by an edge), which keeps a
-//    2-manifold a 2-manifold and forbids collapsing a tetrahedron;
-//  - boundary: with preserveBoundary, a vertex on a boundary never moves or disappears; without it,
-//    an edge joining two boundary vertices must itself be a boundary edge (no pinching);
-//  - face flip: every face that survives keeps its orientation within maxNormalDeviationDegrees
-//    and does not become degenerate;
-//  - optional valence bounds [minValence, maxValence] (Vanhoey et al. 2010 uses 4..11) on the vertices
-//    whose valence changes.
+// Iterative edge-collapse simplification (Hoppe 1996; Garland & Heckbert 1997) with pluggable pricing
+// (collapse_metric.h), as Vanhoey et al. 2015 sec. 4 use it: a priority queue of collapsible edges,
+// the cheapest collapsed first. Cost = geometryWeight * E_G (the memoryless QEM, quadric_error.h)
+// + attributeWeight * E_A (the metric), 1 % / 99 % by default (sec. 4.4). Half-edge or full
+// collapses; a collapse is done only when it keeps a 2-manifold, the boundary, the faces'
+// orientation and the optional valence bounds. Simplifies in place; the metric prices in parallel
+// (OpenMP), so its price*() must be safe to call concurrently.
+// Details: docs/simplification.md, "`common/simplify/edge_collapse.h`: how it works".
 #pragma once
 
 #include "progress/progress_callback.h"

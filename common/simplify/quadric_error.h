@@ -1,19 +1,9 @@
-// Geometric error of a collapse: the memoryless quadric error metric.
-//
-// Garland & Heckbert 1997 define the quadric of a plane n.x + d = 0 as Q = (n n^T, d n, d^2) so that
-// Q(x) = (n.x + d)^2 is the squared distance to the plane; a vertex's quadric is the sum over its
-// faces. The MEMORYLESS variant (Lindstrom & Turk 1998, the one Vanhoey et al. 2015
-// sec. 4.4 combines with its radiance metric, citing Hoppe 1999) does not accumulate quadrics over
-// the history of collapses: a collapse is priced with the planes of the faces that are around the
-// edge right now. Hence:
-//   - half-edge v0 -> v1:  E_G = sum over the current faces f around v0 of Q_f(p1)
-//     (the faces around v1 only contain p1 already, they contribute 0);
-//   - full collapse (v0, v1) -> p:  E_G = sum over the faces around v0 or v1 of Q_f(p), with the
-//     optimal p = argmin E_G when the 3x3 system is well conditioned, otherwise the best of p0, p1
-//     and the midpoint.
-// Planes are NOT area-weighted: E_G is then a sum of squared lengths (grows as scale^2), like the
-// radiance error of eq. 7 (area x squared colour), so that their linear combination does not depend
-// on the scale of the model (sec. 4.4: "our metric has quadratic growth in the mesh size").
+// Geometric error of a collapse: the memoryless quadric error metric (Garland & Heckbert 1997's plane
+// quadrics, in the memoryless variant of Lindstrom & Turk 1998 that Vanhoey et al. 2015 sec. 4.4
+// combine with their radiance metric): a collapse is priced with the planes of the faces around the
+// edge now, not accumulated over earlier collapses. Planes are not area-weighted, so E_G grows as
+// scale^2 like eq. 7 and the 1 % / 99 % combination does not depend on the model's size.
+// Details: docs/simplification.md, "`common/simplify/quadric_error.h`: how it works".
 #pragma once
 
 #include "simplify/collapse_mesh.h"

@@ -1,37 +1,11 @@
-// The radiance error of a collapse, Vanhoey et al. 2015,
-// sec. 4.1 and 4.3, as a pricing module of the edge-collapse engine (collapse_metric.h).
-//
-// Half-edge collapse v0 -> v1, eq. (7):
-//     E = sum_t Area(t) d^2( L~0, L~_t(p0, .) )   over Omega(n0)
-// t runs over the post-collapse triangles (v1, a, b), one per face (v0, a, b) of v0's star that does
-// not contain v1; Area(t) is the post-collapse area; L~_t(p0, .) is the eq. (4) extrapolation of t's
-// reflected RF (sec. 3.1) to p0, which is the linear combination sum_i beta_{t,i}(p0) L~_i with
-// beta = TriangleGradient(t).extrapolationWeights(p0) (radiance_interpolation.h); d^2 is eq. (5)-(6)
-// squared (RGB channels summed, sec. 7) over the hemisphere Omega(n0) around v0's RF normal n0 (the
-// field frame's n, not a geometric normal). Every L~ is border-extended about its own normal
-// (sec. 7 "Exceeding hemispheres"), exactly as evaluateReflectedRadiance does.
-//
-// Full edge collapse (v0, v1) -> v, sec. 4.3 (SH bases only): v sits at query.position; its r-RF is
-// eq. (1) restricted to the edge at the parameter s of the position's projection,
-// L~v = (1 - s) L~0 + s L~1 on coefficients (sec. 6: SH coefficients of L~ live in the global frame,
-// so the combination of functions is the combination of coefficient vectors), its normal
-// nv = normalize((1 - s) n0 + s n1), and L~v is border-extended about nv. The cost is eq. (7) at p0
-// over the triangles (v, a, b) for the faces (v0, a, b) of star0 (Omega(n0)) plus eq. (7) at p1 over
-// the triangles (v, a, b) for the faces of star1 (Omega(n1)); the two stars exclude the faces that
-// contain the edge (the blue and green triangles of the paper's Fig. 5). PB cannot do this: its
-// coefficients live in a per-vertex tangent frame, and combining two PB functions attached to
-// different frames is not a PB function of any frame (sec. 4.3 asks for a rotation-invariant basis).
-//
-// The kernel evaluates each function of the ring once at the rule's directions and prices every
-// (target, triangle) as a 3 x 3 quadratic form on the Gram matrix of the differences D_j = L~0 - L~_j;
-// docs/simplification.md ("The eq. 7 pricing kernel") derives it and gives the measurements behind the
-// default quadrature rule. It equals the generic squaredDistanceToCombination path to ~1e-15 relative.
-//
-// Degenerate post-collapse triangles (TriangleGradient::create fails: zero area, collinear
-// vertices) contribute nothing: their gradient (eq. 3) is undefined, and the engine forbids such
-// collapses by its own validity checks (flips, degeneracies), so a finite price is harmless and
-// keeps the queue ordered. A collapse that kills every face of the source's star (a one-face
-// corner) sums over no triangle and costs 0, as eq. (7) says; boundary handling is the engine's.
+// The radiance error of a collapse, Vanhoey et al. 2015 sec. 4.1 and 4.3, as a pricing module of the
+// edge-collapse engine (collapse_metric.h): for a half-edge collapse v0 -> v1, eq. (7), the
+// area-weighted squared distance (eq. 5-6, over the hemisphere of v0's RF normal) between v0's
+// reflected RF and the eq. (4) extrapolation to p0 of each post-collapse triangle's RF; for a full
+// collapse (SH only) the same at both ends for the RF interpolated along the edge. Degenerate
+// post-collapse triangles contribute nothing. The field must outlive the metric; full collapses
+// rewrite it.
+// Details: docs/simplification.md, "`common/simplify/radiance_collapse_error.h`: how it works".
 #pragma once
 
 #include "radiance/radiance_distance.h"

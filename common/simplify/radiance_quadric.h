@@ -1,37 +1,11 @@
 // The accumulating radiance quadric: geometry and per-vertex radiance functions (RF) in one quadric
-// per vertex, summed on every collapse, after
-//   H. Hoppe, "New quadric metric for simplifying meshes with appearance attributes", IEEE
-//   Visualization 1999 (cited by Vanhoey et al. 2015), and
-//   M. Garland, P. S. Heckbert, "Simplifying surfaces with color and texture using quadric error
-//   metrics", IEEE Visualization 1998.
-//
-// Each original face t contributes, for a point p and an attribute vector s (m values),
-//     Q_t(p, s) = area_t * [ (n_t.p + d_t)^2 + sum_j (g_tj.p + e_tj - s_j)^2 ]
-// where n_t.p + d_t is the distance to the face's plane and g_tj.p + e_tj the attribute j interpolated
-// linearly over the face (in its plane, Hoppe 1999 sec. 4) and extended to space. A vertex's quadric
-// is the sum over its faces; a collapse adds the two quadrics, so the error is measured against
-// every original face a vertex stands for (Garland & Heckbert's accumulation), not against the
-// current 1-ring only (the memoryless eq. 7 of Vanhoey et al. 2015).
-// Stored in Hoppe 1999's compact form (O(m), not O(m^2)): A = sum a (n n^T + sum_j g_j g_j^T),
-// b = sum a (d n + sum_j e_j g_j), c = sum a (d^2 + sum_j e_j^2), W = sum a, G_j = sum a g_j,
-// E_j = sum a e_j, so that Q(p, s) = p^T A p + 2 b.p + c - 2 sum_j s_j (G_j.p + E_j) + W |s|^2.
-// For a fixed p the best attributes are s*_j = (G_j.p + E_j) / W (the area-weighted average of the
-// faces' attribute planes at p), and Q(p, s*) = p^T A' p + 2 b'.p + c' with A' = A - G G^T / W...:
-// one 3x3 solve gives the optimal position of a full collapse, and s* the new vertex's RF.
-//
-// Attributes are the RFs in one space where the Euclidean distance is an L2 distance between the
-// functions (Vanhoey et al. 2015 eq. 5-6): SH coefficients as they are (orthonormal, global frame).
-// A PB function of degree d lives in its vertex's local frame, but each of its monomials
-// (t.w)^i (b.w)^j is a polynomial of degree <= d in the world direction w, so the function is
-// exactly an SH expansion of degree d in the world frame: PB fields are converted to it (a sphere
-// quadrature exact to degree 2d), so that neighbours with different frames are compared as the
-// functions they are; a full collapse's optimal function is projected back onto PB in the
-// survivor's frame (least squares over its hemisphere, the basis's Gram matrix there).
-//
-// Scale: positions are normalised by the bounding-box diagonal and the attributes by the RMS L2
-// norm of the field's functions, so neither the scan's size nor the radiance's range changes which
-// collapse wins; `radianceWeight` is the one balance between them (the default was chosen once, on
-// the benchmark's meshes, and is documented with its measurements).
+// per vertex, summed on every collapse, after Hoppe 1999 (cited by Vanhoey et al. 2015) and Garland &
+// Heckbert 1998. Unlike the memoryless eq. 7 of Vanhoey et al. 2015, the error is measured against
+// every original face a vertex stands for. The RFs are compared as L2 functions (PB fields converted
+// to world-frame SH), positions and radiance are normalised, and a full collapse gives the new vertex
+// the quadric's optimal RF. The default simplification metric; its weights and their measurements:
+// docs/design-notes.md, "The accumulating radiance quadric".
+// Details: docs/simplification.md, "`common/simplify/radiance_quadric.h`: how it works".
 #pragma once
 
 #include "radiance/radiance_field.h"

@@ -1,21 +1,11 @@
 // One call from a radiance mesh to a progressive (level-of-detail) simplification of it: input
-// checks, the metric of choice plugged into the edge-collapse engine (edge_collapse.h), the
-// collapse sequence recorded (progressive_mesh.h). The MeshLab filter, the tools and the benchmarks
-// all go through here.
-//
-// Metrics:
-//  - RadianceQuadric (default): the accumulating quadric of geometry and RF coefficients after
-//    Hoppe 1999 (radiance_quadric.h); it measures the geometry itself (the engine adds no memoryless
-//    QEM), geometry weight and attribute weight x kRadianceQuadricBalance weigh its two parts;
-//    full collapses place the new vertex and its RF optimally, for PB and SH alike;
-// The others get the memoryless QEM with the geometry weight from the engine:
-//  - Radiance: the radiance error of Vanhoey et al. 2015 eq. 7 (half-edge) / sec. 4.3
-//    (full, SH only), radiance_collapse_error.h; weights 1 % geometry / 99 % radiance (sec. 4.4);
-//  - LightField2010: the earlier metric of Vanhoey et al. 2010 (E_G + lambda (E_L + E_F)),
-//    light_field_quadric.h; attribute weight = lambda;
-//  - ColorQuadric: the extended colour QEM of Garland & Heckbert 1998 on each RF's mean colour over
-//    its hemisphere (color_quadric.h), the paper's colour baseline;
-//  - GeometryOnly: the memoryless QEM alone.
+// checks, the metric of choice plugged into the edge-collapse engine (edge_collapse.h), the collapse
+// sequence recorded (progressive_mesh.h). The MeshLab filter, the tools and the benchmarks all go
+// through here. Metrics: the accumulating radiance quadric (default, radiance_quadric.h), the
+// radiance error of Vanhoey et al. 2015 eq. 7 (radiance_collapse_error.h), the light-field metric of
+// Vanhoey et al. 2010 (light_field_quadric.h), the colour QEM of Garland & Heckbert 1998
+// (color_quadric.h), or geometry alone. Refusals throw SimplificationError (an InputError).
+// Details: docs/simplification.md, "`common/simplify/radiance_simplification.h`: how it works".
 #pragma once
 
 #include "errors/error_categories.h"

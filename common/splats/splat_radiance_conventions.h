@@ -1,24 +1,10 @@
 // From the conventions of a 3D Gaussian Splatting scene (Kerbl et al. 2023, as its reference code
-// writes `point_cloud.ply`) to ours (radiance/spherical_harmonics.h, radiance/view_colors.h).
-//
-// A splat's colour seen from a camera at c is, in the reference rasteriser,
-//     colour(d) = max(0, sum_k g_k Y3dgs_k(d) + 0.5),   d = normalize(mu - c)  (camera -> splat)
-// where Y3dgs are real SH WITH the Condon-Shortley phase (its Y_0^0 = 0.28209479 = SH_C0, its
-// Y_1^-1 = -0.48860251 y, Y_1^0 = +0.48860251 z, Y_1^1 = -0.48860251 x, ...), and the colour is
-// display-referred: the training compared it with the photographs' 8-bit sRGB values divided by 255.
-//
-// Ours: L(w) = sum_k a_k Y_k(w), w = normalize(c - mu) (surface -> viewer), Y without that phase,
-// L linear radiance. Hence, with w = -d:
-//   - direction flip:  Y_l^m(-w) = (-1)^l Y_l^m(w);
-//   - phase:           Y3dgs_l^m = (-1)^m Y_l^m;
-//   so the display-referred colour minus 0.5 is, as a function of our w, the SH with coefficients
-//       a_lm = (-1)^(l+m) g_lm                           (exact; see toViewerShCoefficients);
-//   - colour space:    linear = sRGB decoding (IEC 61966-2-1) of the display colour clamped to [0, 1]
-//     (the rasteriser clamps each splat at 0; the images it was trained on, and those it renders to,
-//     end at 1). The decoding is not linear: it is applied to colours, never to coefficients
-//     (splat_radiance_transfer.h projects the decoded colours onto our basis).
-// A splat's opacity is sigmoid(opacity), its covariance R S S^T R^T with S = diag(exp(scale_i)) and R
-// the rotation of the normalised quaternion (rot_0 = w, rot_1..3 = x, y, z).
+// writes `point_cloud.ply`) to ours (radiance/spherical_harmonics.h, radiance/view_colors.h). Its
+// colour is max(0, SH + 0.5), display-referred, with real SH WITH the Condon-Shortley phase evaluated
+// at the direction camera -> splat; ours are linear radiance, without the phase, at the direction
+// surface -> viewer. Hence coefficients convert exactly by (-1)^(l+m), and the colour by sRGB
+// decoding, applied to colours, never to coefficients.
+// Details: docs/gaussian-splats.md, "Conventions, from the splats' to ours".
 #pragma once
 
 #include <Eigen/Core>

@@ -1,26 +1,10 @@
 // The radiance of a 3D Gaussian Splatting scene (Kerbl et al. 2023) moved onto a mesh's vertices, as
 // one spherical-harmonic radiance function (RF) per vertex of the splats' own degree, in our
-// conventions (global-frame SH without the Condon-Shortley phase, linear radiance; the frame stores the
-// vertex normal: radiance/radiance_field.h).
-//
-// For a vertex p with normal n and footprint h (half the mean length of its edges: the part of the
-// surface the vertex stands for), a splat i (centre mu, covariance S, opacity o) contributes with weight
-//     a_i = o * exp(-m^2 / 2),   m^2 = (p - mu)^T (S + h^2 I)^-1 (p - mu)
-// (its Gaussian, widened by the vertex footprint as in EWA splatting, Zwicker et al. 2001, so that a
-// thin splat lying a little off the mesh still reaches it), and only when it is near and in front:
-//   - near:     m <= supportSigmas (3, the extent the reference rasteriser gives a splat);
-//   - in front: (mu - p) . n >= -frontTolerance * h (a splat whose centre lies deeper than that below
-//               the vertex's tangent plane belongs to another surface: the back of a thin part, the
-//               inside);
-//   - not a background splat: its largest standard deviation is at most maxSplatSize times the
-//               mesh's bounding-box diagonal (huge splats are sky, walls and floaters).
-// The vertex's display colour toward a viewer in direction w (hemisphere n.w >= 0) is the weighted
-// mean of the splats' colours, each clamped at 0 as the rasteriser does,
-//     C(w) = sum_i a_i max(0, S_i(w) + 0.5) / sum_i a_i      (S_i: splat_radiance_conventions.h),
-// its linear radiance L(w) = sRGB-decode(clamp(C(w), 0, 1)), and the RF is the least-squares fit of L
-// over the hemisphere (a Lebedev hemisphere rule of precision 17, quadrature weights; the RF is
-// evaluated border-extended below the horizon, so only the hemisphere matters). A vertex no splat
-// reaches gets the zero RF (black) and is counted.
+// conventions (global-frame SH without the Condon-Shortley phase, linear radiance; the frame stores
+// the vertex normal). Each vertex blends the colours of the splats near it and in front of it,
+// weighted by their Gaussians widened by the vertex footprint (EWA splatting, Zwicker et al. 2001),
+// and fits the result over its hemisphere. A vertex no splat reaches gets the zero RF (counted).
+// Details: docs/gaussian-splats.md, "Weighting: which splats, how much" and the section after it.
 #pragma once
 
 #include "errors/error_categories.h"
