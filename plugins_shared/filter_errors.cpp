@@ -38,9 +38,14 @@ std::string parameterProblem(const RichParameterList& par) {
 // cores write them as sentences), then what the wrapper guarantees.
 std::string withLayersUnchanged(std::string message) {
     while (!message.empty() && std::isspace(static_cast<unsigned char>(message.back()))) message.pop_back();
-    if (message.find("unchanged") != std::string::npos) return message;
+    static const std::string guarantee = "The layers are unchanged.";
+    // A message that already ends with the guarantee (one passed through twice) does not repeat it;
+    // any other mention of "unchanged" is the core's own sentence, followed by the guarantee.
+    if (message.size() >= guarantee.size() &&
+        message.compare(message.size() - guarantee.size(), guarantee.size(), guarantee) == 0)
+        return message;
     if (!message.empty() && std::string(".!?").find(message.back()) == std::string::npos) message += '.';
-    return message + " The layers are unchanged.";
+    return message + " " + guarantee;
 }
 
 std::string outOfMemoryMessage(const Filter& filter) {
