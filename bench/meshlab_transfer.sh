@@ -66,11 +66,13 @@ prepare)
     bash "$REPO/scripts/filter_script.sh" --out "$out/normals.mlx" --filter "Re-Compute Vertex Normals" weightMode=2
     server "$out/normals.log" -i "$scan" -s "$out/normals.mlx" -o "$out/source.ply" -m vn \
         || { cat "$out/normals.log" >&2; die "normals failed"; }
-    # MeshLab's decimation as scripts/meshlab_decimation_filter.sh "$faces" false sets it.
-    bash "$REPO/scripts/filter_script.sh" --out "$out/target.mlx" \
-        --filter "Simplification: Quadric Edge Collapse Decimation" TargetFaceNum="$faces" TargetPerc=0 \
-            PreserveNormal=true PreserveTopology=false OptimalPlacement=true AutoClean=true \
-        --filter "Parametrization: Trivial Per-Triangle" sidedim=0 textdim="$tex" border=2 method=0
+    {
+        echo '<!DOCTYPE FilterScript>'; echo '<FilterScript>'
+        bash "$REPO/scripts/meshlab_decimation_filter.sh" "$faces" false
+        bash "$REPO/scripts/filter_script.sh" --elements-only --out - \
+            --filter "Parametrization: Trivial Per-Triangle" sidedim=0 textdim="$tex" border=2 method=0
+        echo '</FilterScript>'
+    } >"$out/target.mlx"
     server "$out/target.log" -i "$out/source.ply" -s "$out/target.mlx" -o "$out/target.ply" -m wt -o "$out/target.obj" -m wt \
         || { cat "$out/target.log" >&2; die "simplification + parametrization failed"; }
     echo "prepared $out/source.ply (area-weighted vertex normals) and $out/target.ply = $out/target.obj ($faces faces, per-triangle UVs)"

@@ -58,16 +58,19 @@ open(target, "w").write("<!DOCTYPE FilterScript>\n" + ET.tostring(tree.getroot()
 PY
 }
 
-# create_radiance_mlx FILE BASIS(0=PB,1=SH) DEGREE REFLECTED(true|false) SPECULAR STRIPES [LIGHT_X LIGHT_Y LIGHT_Z]
+# create_radiance_mlx FILE BASIS(0=PB,1=SH) DEGREE REFLECTED(true|false) SPECULAR STRIPES [LIGHT_X LIGHT_Y LIGHT_Z
+#                     [--filter OTHER name=value...]...]
 # A script running "Create Radiance Data from Analytic Material": albedo (230, 60, 40) sRGB, white
-# specular colour, directional light of irradiance 3, ambient 0.05, shininess 40, stripes along Y.
+# specular colour, directional light of irradiance 3, ambient 0.05, shininess 40, stripes along Y;
+# then the other filters given after the light.
 create_radiance_mlx() {
     local file="$1" basis="$2" degree="$3" reflected="$4" specular="$5" stripes="$6"
     local lx="${7:-0.5}" ly="${8:-1}" lz="${9:-1}"
+    shift $(( $# < 9 ? $# : 9 ))
     filter_script "$file" "Radiance: Create Radiance Data from Analytic Material" \
         basis="$basis" degree="$degree" reflected="$reflected" albedo=230,60,40,255 specularColor=255,255,255,255 \
         specular="$specular" shininess=40 stripes="$stripes" stripeAxis=1 lightType=0 light="$lx,$ly,$lz" \
-        lightIntensity=3 ambient=0.05 setColor=true
+        lightIntensity=3 ambient=0.05 setColor=true "$@"
 }
 
 # fit_mlx FILE [BASIS(0=PB,1=SH)] [DEGREE] [REFLECTED] [QUALITY(0=count,1=residual)] [VALIDATION] [ROBUST]:

@@ -7,11 +7,8 @@ source "$(dirname "$0")/lib.sh"
 CHECK="python3 $RADIANCE_SOURCE_DIR/tests/integration/check_radiance_ply.py"
 
 "$MAKE_SCENE" sphere --level 3 -o "$WORK/sphere.ply"
-# Our create filter (as create_radiance_mlx: PB degree 3, Lambertian), then MeshLab's own filters.
-bash "$RADIANCE_SOURCE_DIR/scripts/filter_script.sh" --out "$WORK/edit.mlx" \
-    --filter "Radiance: Create Radiance Data from Analytic Material" basis=0 degree=3 reflected=false \
-        albedo=230,60,40,255 specular=0 stripes=0 lightType=0 light=0.5,1,1 lightIntensity=3 ambient=0.05 \
-        setColor=true \
+# Our create filter (PB degree 3, Lambertian), then MeshLab's own filters.
+create_radiance_mlx "$WORK/edit.mlx" 0 3 false 0 0 0.5 1 1 \
     --filter "Conditional Vertex Selection" "condSelect=(x > 0.1)" --filter "Delete Selected Vertices" \
     --filter "Compact vertices" --filter "Compact faces"
 run_meshlabserver "$WORK/edit.log" -i "$WORK/sphere.ply" -o "$WORK/edited.rply" -m vc vn -s "$WORK/edit.mlx" \

@@ -14,6 +14,7 @@ estimate (tests/unit/normal_map_bake_test.cpp with a memory limit), stale tempor
 save (tests/unit/radiance_ply_test.cpp, bench/kill_during_save.sh).
 """
 import os
+import subprocess
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 
@@ -249,33 +250,34 @@ def _assert_no_files(case, inputs):
 # ---------------------------------------------------------------------------------------------------
 # meshlabserver 2020.09
 
-def _base_values(filter_name, work):
-    """The values each filter's case starts from (those of the repository's script writers)."""
-    if filter_name == "Bake Normal Map":
-        return dict(sourceMesh=0, textureSize=256, space=0, bits=1, newAtlas=True, diffuse=False,
-                    outputFile=str(work / "baked.png"))
-    if filter_name == "Radiance: Radiance-Aware Simplification":
-        return dict(metric=0, collapse=0, targetFaces=0, targetPercentage=0.5)
-    if filter_name == "Radiance: Adaptive PRT Subdivision":
-        return dict(budget=0, budgetFactor=2, measure=3, alpha=4, threshold=0)
-    if filter_name == "Radiance: PRT Relighting as Vertex Color":
-        return dict(lighting=1, lightDirection=(0, 0, 1), lightIntensity=3)
-    if filter_name == "Radiance: Create Radiance Data from Analytic Material":
-        return dict(basis=0, degree=4, reflected=False, albedo=(230, 60, 40, 255), specular=0.5, stripes=0,
-                    lightType=0, light=(0.5, 1.0, 1.0), lightIntensity=3, ambient=0.05, setColor=True)
-    if filter_name == "Radiance: Evaluate Radiance toward a Viewpoint as Vertex Color":
-        return dict(viewpoint=(0, 0, 5), exposure=1)
-    if filter_name == "Compute Irradiance Vector Grid":
-        return dict(resolution=4, bounces=1, rays=16, lightSource=1, lightCount=16, lightDirection=(0, 0, 1),
-                    outputFile=str(work / "grid.ivg"))
-    raise AssertionError(f"no script values for {filter_name}")
-
-
 def _script(case, work, inputs):
-    """A complete .mlx for the case: every parameter the filter declares (scripts/filter_script.sh,
-    as meshlabserver 2020.09 requires), then the case's values put in verbatim: the writer would
-    refuse the out-of-range ones, whose refusal by meshlabserver's side is what a case checks."""
-    mlx = h.filter_script(work / "case.mlx", (case.filter, _base_values(case.filter, work)))
+    """A complete .mlx for the case: the repository's script writers (every parameter the filter
+    declares, as meshlabserver 2020.09 requires: scripts/filter_script.sh), then the case's values put
+    in verbatim: the writers would refuse the out-of-range ones, whose refusal by meshlabserver's side
+    is what a case checks."""
+    mlx = work / "case.mlx"
+    scripts = os.path.join(h.REPO, "scripts")
+    if case.filter == "Bake Normal Map":
+        element = subprocess.run(["bash", os.path.join(scripts, "bake_normal_map_filter.sh"), "0", "256", "0", "1",
+                                  "true", "false", str(work / "baked.png")], check=True, stdout=subprocess.PIPE,
+                                 text=True).stdout
+        mlx.write_text("<!DOCTYPE FilterScript>\n<FilterScript>\n" + element + "</FilterScript>\n")
+    elif case.filter == "Radiance: Radiance-Aware Simplification":
+        subprocess.run(["bash", os.path.join(scripts, "write_simplify_mlx.sh"), str(mlx), "0.5"], check=True)
+    elif case.filter == "Radiance: Adaptive PRT Subdivision":
+        subprocess.run(["bash", os.path.join(scripts, "write_prt_mlx.sh"), str(mlx), "adaptive:2"], check=True)
+    elif case.filter == "Radiance: PRT Relighting as Vertex Color":
+        subprocess.run(["bash", os.path.join(scripts, "write_prt_mlx.sh"), str(mlx), "relight-dir:0:0:1"], check=True)
+    elif case.filter == "Radiance: Create Radiance Data from Analytic Material":
+        h.create_mlx(mlx, dict(basis=0, degree=4, reflected=False, specular=0.5, stripes=0, lighttype=0,
+                               light=(0.5, 1.0, 1.0)))
+    elif case.filter == "Radiance: Evaluate Radiance toward a Viewpoint as Vertex Color":
+        h.filter_script(mlx, (case.filter, dict(viewpoint=(0, 0, 5), exposure=1)))
+    elif case.filter == "Compute Irradiance Vector Grid":
+        h.filter_script(mlx, (case.filter, dict(resolution=4, bounces=1, rays=16, lightSource=1, lightCount=16,
+                                                lightDirection=(0, 0, 1), outputFile=work / "grid.ivg")))
+    else:
+        raise AssertionError(f"no script writer for {case.filter}")
     tree = ET.parse(str(mlx))
     params = {p.get("name"): p for p in tree.getroot().iter("Param")}
     for name, value in case.params.items():

@@ -125,10 +125,14 @@ QDomElement parameterElement(const QDomElement& filter, const QString& name) {
                .arg(filter.attribute("name"), name, names.join(", ")));
 }
 
+// The comma-separated numbers of `value`, trimmed.
 QStringList numbers(const QString& value, int minCount, int maxCount, const QString& what) {
-    const QStringList parts = value.split(',');
+    QStringList parts = value.split(',');
     bool ok = parts.size() >= minCount && parts.size() <= maxCount;
-    for (int i = 0; ok && i < parts.size(); ++i) parts[i].trimmed().toDouble(&ok);
+    for (int i = 0; ok && i < parts.size(); ++i) {
+        parts[i] = parts[i].trimmed();
+        parts[i].toDouble(&ok);
+    }
     if (!ok) refuse(QString("'%1' is not %2").arg(value, what));
     return parts;
 }
@@ -162,13 +166,13 @@ void setValue(QDomElement& param, const QString& value) {
         param.setAttribute("value", value);
     } else if (type == "RichPoint3f" || type == "RichDirection") {
         const QStringList xyz = numbers(value, 3, 3, "three numbers 'x,y,z'");
-        param.setAttribute("x", xyz[0].trimmed());
-        param.setAttribute("y", xyz[1].trimmed());
-        param.setAttribute("z", xyz[2].trimmed());
+        param.setAttribute("x", xyz[0]);
+        param.setAttribute("y", xyz[1]);
+        param.setAttribute("z", xyz[2]);
     } else if (type == "RichColor") {
         const QStringList rgba = numbers(value, 3, 4, "a colour 'r,g,b' or 'r,g,b,a' (0..255)");
         const char* channels[] = {"r", "g", "b", "a"};
-        for (int c = 0; c < rgba.size(); ++c) param.setAttribute(channels[c], rgba[c].trimmed());
+        for (int c = 0; c < rgba.size(); ++c) param.setAttribute(channels[c], rgba[c]);
     } else {
         refuseValue("no value from the command line (unsupported type)");
     }
