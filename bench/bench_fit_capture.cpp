@@ -28,6 +28,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <sstream>
@@ -73,6 +74,9 @@ int main(int argc, char** argv) {
         else if (!std::strcmp(argv[i], "--lobe-degree")) sharedOptions.lobeDegree = std::atoi(argv[i + 1]);
         else if (!std::strcmp(argv[i], "--specular-prior")) sharedOptions.specularPrior = std::atof(argv[i + 1]);
         else if (!std::strcmp(argv[i], "--lobe-ridge")) sharedOptions.lobeRidge = std::atof(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--lobe-samples")) sharedOptions.lobeSampleBudget = std::strtoul(argv[i + 1], nullptr, 10);
+        else if (!std::strcmp(argv[i], "--iterations")) sharedOptions.iterations = std::atoi(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--refit-iterations")) sharedOptions.refitIterations = std::atoi(argv[i + 1]);
         else if (!std::strcmp(argv[i], "--basis")) basisName = argv[i + 1];
         else if (!std::strcmp(argv[i], "--models")) models = argv[i + 1];
         else if (!std::strcmp(argv[i], "--meshlab-colors")) meshlabColors = argv[i + 1];

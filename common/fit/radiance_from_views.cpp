@@ -254,12 +254,21 @@ void perVertexFromSet(const RobustRadianceFitter& fitter, const SampleSet& set, 
     loop.finish();
 }
 
+// Optional links of a shared fit to the automatic choice's: the model it starts from (warmStart),
+// and where the fitted model and the vertices that kept d + s * lobe go.
+struct SharedFitLinks {
+    const SharedModel* warmStart = nullptr;
+    SharedModel* model = nullptr;
+    std::vector<std::uint8_t>* keptShared = nullptr;
+};
+
 // The shared fit of fit/shared_radiance_fit.h, written into field / meanColor / ... (samples with use[i]).
 void sharedFromSet(const TriangleMesh& mesh, const VertexAdjacency& adj, const SampleSet& set, const std::uint8_t* use,
                    std::size_t viewCount, const RadianceFromViewsOptions& options, RadianceField& field,
                    std::vector<float>& meanColor, std::vector<float>& sampleCount, std::vector<float>& residual,
                    std::vector<std::uint8_t>& status, SampleFitCounters& counters, const ProgressCallback& progress,
-                   int percentFrom, int percentTo, const RobustRadianceFitter* rejectedFitter) {
+                   int percentFrom, int percentTo, const RobustRadianceFitter* rejectedFitter,
+                   const SharedFitLinks& links = {}) {
     const std::size_t n = set.vertexCount();
     std::vector<float> normals(3 * n);
     for (std::size_t v = 0; v < n; ++v) {
@@ -269,8 +278,8 @@ void sharedFromSet(const TriangleMesh& mesh, const VertexAdjacency& adj, const S
     const int mid = (percentFrom + percentTo) / 2;
     SharedFitOptions shared = options.shared;
     if (options.fit.robustIterations == 0) shared.robustIterations = 0;  // "robust" off: no Huber weights anywhere
-    const SharedModel model =
-        fitSharedModel(normals, adj.offsets, adj.neighbours, set, use, shared, percentRange(progress, percentFrom, mid));
+    SharedModel model = fitSharedModel(normals, adj.offsets, adj.neighbours, set, use, shared,
+                                       percentRange(progress, percentFrom, mid), links.warmStart);
     std::vector<std::uint8_t> kept;
     const int convertTo = rejectedFitter ? (mid + percentTo) / 2 : percentTo;
     const SharedConversionStats stats = writeSharedRadiance(model, set, use, adj.offsets, adj.neighbours, options.fit,
@@ -280,6 +289,7 @@ void sharedFromSet(const TriangleMesh& mesh, const VertexAdjacency& adj, const S
     if (rejectedFitter)  // the vertices the shared function did not win: the per-vertex fit
         perVertexFromSet(*rejectedFitter, set, use, viewCount, field, meanColor, sampleCount, residual, status,
                          rejected, progress, convertTo, percentTo, kept.data());
+    if (links.keptShared) links.keptShared->swap(kept);
     counters.reset(viewCount);
     for (std::size_t v = 0; v < n; ++v) {
         std::size_t m = 0;
@@ -308,6 +318,21 @@ void sharedFromSet(const TriangleMesh& mesh, const VertexAdjacency& adj, const S
         counters.tooFew = stats.tooFew;
         counters.fallbacks = stats.constant + stats.tooFew;
         counters.downweighted = stats.downweighted;
+    }
+    if (links.model) *links.model = std::move(model);
+}
+
+// The vertices the shared fit did not keep take the per-vertex fit's coefficients and mean colour:
+// what sharedFromSet with a rejectedFitter computes, when that per-vertex fit of the same samples
+// already exists.
+void takeRejectedFromPerVertex(const RadianceField& perVertexField, const std::vector<float>& perVertexMean,
+                               const std::vector<std::uint8_t>& keptShared, RadianceField& field,
+                               std::vector<float>& meanColor) {
+    const int stride = field.coefficientsPerVertex();
+    for (std::size_t v = 0; v < keptShared.size(); ++v) {
+        if (keptShared[v]) continue;
+        std::copy_n(perVertexField.vertexCoefficients(v), stride, field.vertexCoefficients(v));
+        std::copy_n(perVertexMean.data() + 3 * v, 3, meanColor.data() + 3 * v);
     }
 }
 
@@ -384,7 +409,7 @@ HeldOutSums heldOutSampleError(const RadianceField& field, const std::vector<flo
 FitModel chooseModelOnLeftOutViews(const TriangleMesh& mesh, const VertexAdjacency& adj, const SampleSet& set,
                                    std::size_t viewCount, const RobustRadianceFitter& fitter,
                                    const RadianceFromViewsOptions& options, const ProgressCallback& progress,
-                                   RadianceFromViewsResult& result) {
+                                   RadianceFromViewsResult& result, SharedModel& sharedCandidate) {
     const std::size_t n = mesh.vertexCount();
     const std::size_t k = static_cast<std::size_t>(options.validationEvery);
     // Every k-th view left out; both candidates fitted on the others, compared on it.
@@ -394,16 +419,21 @@ FitModel chooseModelOnLeftOutViews(const TriangleMesh& mesh, const VertexAdjacen
         train[i] = !heldOut[i];
     }
     result.validationViews = viewCount / k;
-    std::vector<float> mean(3 * n, 0.0f), count(n, 0.0f), residual(n, 0.0f);
+    std::vector<float> perVertexMean(3 * n, 0.0f), count(n, 0.0f), residual(n, 0.0f);
     std::vector<std::uint8_t> status(n, static_cast<std::uint8_t>(FitStatus::Unseen));
     SampleFitCounters scratchCounters;
+    RadianceField perVertexField = framedField(mesh, options.fit);
+    perVertexFromSet(fitter, set, train.data(), viewCount, perVertexField, perVertexMean, count, residual, status,
+                     scratchCounters, progress, 33, 50);
+    const HeldOutSums perVertex = heldOutSampleError(perVertexField, perVertexMean, set, heldOut, viewCount);
     RadianceField candidate = framedField(mesh, options.fit);
-    perVertexFromSet(fitter, set, train.data(), viewCount, candidate, mean, count, residual, status, scratchCounters,
-                     progress, 33, 50);
-    const HeldOutSums perVertex = heldOutSampleError(candidate, mean, set, heldOut, viewCount);
-    candidate = framedField(mesh, options.fit);
+    std::vector<float> mean(3 * n, 0.0f);
+    std::vector<std::uint8_t> keptShared;
     sharedFromSet(mesh, adj, set, train.data(), viewCount, options, candidate, mean, count, residual, status,
-                  scratchCounters, progress, 50, 65, options.sharedRejectedPerVertex ? &fitter : nullptr);
+                  scratchCounters, progress, 50, 65, nullptr, {nullptr, &sharedCandidate, &keptShared});
+    // The rejected vertices' per-vertex fit of these same training samples is the candidate above.
+    if (options.sharedRejectedPerVertex)
+        takeRejectedFromPerVertex(perVertexField, perVertexMean, keptShared, candidate, mean);
     const HeldOutSums shared = heldOutSampleError(candidate, mean, set, heldOut, viewCount);
     result.validationPerVertex = perVertex.rms(perVertex.fitted);
     result.validationConstant = perVertex.rms(perVertex.constant);
@@ -444,14 +474,17 @@ void fitFromSampleSet(const TriangleMesh& mesh, const ViewSampler& sampler, cons
                                   "and the per-vertex fit on left-out rasters (" + std::to_string(2 * k) +
                                   " needed); the per-vertex fit was used.");
     }
+    SharedModel sharedCandidate;  // the automatic choice's shared fit: the final shared fit starts from it
     if (model == FitModel::Automatic)
-        model = chooseModelOnLeftOutViews(mesh, adj, set, viewCount, fitter, options, progress, result);
+        model = chooseModelOnLeftOutViews(mesh, adj, set, viewCount, fitter, options, progress, result,
+                                          sharedCandidate);
     result.modelUsed = model;
     result.field = framedField(mesh, options.fit);
     if (model == FitModel::Shared) {
         sharedFromSet(mesh, adj, set, nullptr, viewCount, options, result.field, result.meanColor, result.sampleCount,
                       result.residual, result.status, counters, progress, 65, kFitEnd,
-                      options.sharedRejectedPerVertex ? &fitter : nullptr);
+                      options.sharedRejectedPerVertex ? &fitter : nullptr,
+                      {result.modelValidated ? &sharedCandidate : nullptr, nullptr, nullptr});
         result.sharedVertices = counters.sharedKept;
     } else {
         perVertexFromSet(fitter, set, nullptr, viewCount, result.field, result.meanColor, result.sampleCount,

@@ -171,6 +171,8 @@ std::string SharedFitOptions::validate() const {
         why << "the weight of the neighbours' specular scale must be finite and >= 0 (got " << specularPrior << ")";
     else if (iterations < 1 || iterations > 50)
         why << "the shared fit's iterations must be in 1..50 (got " << iterations << ")";
+    else if (refitIterations < 1 || refitIterations > 50)
+        why << "the shared fit's refit iterations must be in 1..50 (got " << refitIterations << ")";
     else if (robustIterations < 0 || robustIterations > iterations)
         why << "the shared fit's robust iterations must be in 0..iterations (got " << robustIterations << ")";
     else if (!(huberThreshold > 0.0) || !std::isfinite(huberThreshold))
@@ -296,12 +298,15 @@ void forEachWeightedLobeSample(const SharedFitInput& in, const LobeSubset& subse
 }
 
 // The normal equations of the G step of one chunk: rows sqrt(w) s_c f(n.w) Y(r) against the
-// residual y - d, accumulated by blocks of kBlock rows (rank updates).
+// residual y - d, accumulated by blocks of kBlock rows. Each block's rank update is made in single
+// precision (twice the throughput of the dominant product) and added to the double sums, so the
+// rounding error stays that of one block of kBlock rows, far below the ridge's weight.
 void accumulateLobeChunk(const SharedFitInput& in, const LobeSubset& subset, const SharedModel& model,
                          std::ptrdiff_t chunk, std::array<Eigen::MatrixXd, 3>& A, std::array<Eigen::VectorXd, 3>& b) {
-    constexpr int kBlock = 64;
+    constexpr int kBlock = 128;
     const int M = in.M;
-    Eigen::MatrixXd D[3];
+    Eigen::MatrixXf D[3];
+    Eigen::MatrixXf blockProduct(M, M);
     for (int c = 0; c < 3; ++c) {
         A[c] = Eigen::MatrixXd::Zero(M, M);
         b[c] = Eigen::VectorXd::Zero(M);
@@ -311,7 +316,11 @@ void accumulateLobeChunk(const SharedFitInput& in, const LobeSubset& subset, con
     std::vector<double> Y(M);
     auto flush = [&]() {
         if (filled == 0) return;
-        for (int c = 0; c < 3; ++c) A[c].selfadjointView<Eigen::Lower>().rankUpdate(D[c].leftCols(filled));
+        for (int c = 0; c < 3; ++c) {
+            blockProduct.setZero();
+            blockProduct.selfadjointView<Eigen::Lower>().rankUpdate(D[c].leftCols(filled));
+            A[c].triangularView<Eigen::Lower>() += blockProduct.cast<double>();
+        }
         filled = 0;
     };
     forEachWeightedLobeSample(in, subset, model, chunk,
@@ -323,8 +332,8 @@ void accumulateLobeChunk(const SharedFitInput& in, const LobeSubset& subset, con
         for (int c = 0; c < 3; ++c) {
             const double sc = model.specular[3 * v + c] * cf;
             const double t = s.rgb[c] - model.diffuse[3 * v + c];
-            double* col = D[c].col(filled).data();
-            for (int k = 0; k < M; ++k) col[k] = sw * sc * Y[k];
+            float* col = D[c].col(filled).data();
+            for (int k = 0; k < M; ++k) col[k] = static_cast<float>(sw * sc * Y[k]);
             const double f = w * sc * t;
             for (int k = 0; k < M; ++k) b[c][k] += f * Y[k];
         }
@@ -548,12 +557,32 @@ void updateRobustWeights(const SharedFitInput& in, std::size_t usedSamples, cons
     }
 }
 
+bool warmStartMatches(const SharedModel& warm, const SampleSet& set, const SharedFitOptions& options) {
+    const std::size_t M = std::size_t(options.lobeDegree + 1) * (options.lobeDegree + 1);
+    return warm.lobeDegree == options.lobeDegree && warm.lobe.size() == 3 * M &&
+           warm.specular.size() == 3 * set.vertexCount() && warm.robustWeight.size() == set.samples.size() &&
+           warm.curve.size() == std::size_t(SharedModel::kCurveKnots);
+}
+
+// What a warm start keeps: the lobe, the factor curve, the scales (vertices the earlier fit did not
+// see have 1, the cold start's value) and the robust weights (samples it did not use have 1). The
+// diffuse colours stay the initial means: the first per-vertex step refits them.
+void takeWarmStart(const SharedModel& warm, SharedModel& model) {
+    model.lobe = warm.lobe;
+    if (model.cosineFactor && warm.cosineFactor) model.curve = warm.curve;
+    model.specular = warm.specular;
+    model.robustWeight = warm.robustWeight;
+}
+
 }  // namespace
 
 SharedModel fitSharedModel(const std::vector<float>& normals, const std::vector<std::size_t>& off,
                            const std::vector<std::uint32_t>& adj, const SampleSet& set, const std::uint8_t* use,
-                           const SharedFitOptions& options, const ProgressCallback& progress) {
+                           const SharedFitOptions& options, const ProgressCallback& progress,
+                           const SharedModel* warmStart) {
     validateSharedFitInput(normals, off, set, options);
+    if (warmStart && !warmStartMatches(*warmStart, set, options))
+        throw std::invalid_argument("fitSharedModel: the warm start was fitted with another lobe degree or sample set");
     const int degree = options.lobeDegree;
     const SharedFitInput in{normals, off, adj, set, use, options, degree, (degree + 1) * (degree + 1)};
     const std::size_t n = set.vertexCount();
@@ -565,17 +594,19 @@ SharedModel fitSharedModel(const std::vector<float>& normals, const std::vector<
     subset.stride = std::max<std::size_t>(1, (usedSamples + options.lobeSampleBudget - 1) / options.lobeSampleBudget);
     subset.count = static_cast<std::ptrdiff_t>((n + subset.stride - 1) / subset.stride);
     std::vector<float> residualNorm(set.samples.size(), 0.0f);
-    const int robustStart = std::max(1, options.iterations - options.robustIterations);
+    if (warmStart) takeWarmStart(*warmStart, model);
+    const int iterations = warmStart ? options.refitIterations : options.iterations;
+    const int robustStart = std::max(1, iterations - options.robustIterations);
     std::vector<double> prior(3 * n, 1.0);
 
-    for (int it = 0; it < options.iterations; ++it) {
-        if (progress && !progress(double(it) / options.iterations, kStageLobe)) throw OperationCancelled();
-        fitLobe(in, subset, model);
+    for (int it = 0; it < iterations; ++it) {
+        if (progress && !progress(double(it) / iterations, kStageLobe)) throw OperationCancelled();
+        if (!(warmStart && it == 0)) fitLobe(in, subset, model);  // a warm start enters at the vertex step
         measureLobeEnergy(in, subset, model);
         const LobeTable table(model, options.octahedralResolution);
         fitVertexPairs(in, table, seen, prior, model, residualNorm);
         if (options.cosineFactor && options.fitFactorCurve) fitFactorCurve(in, subset, table, model);
-        if (it + 1 >= robustStart && it + 1 < options.iterations)
+        if (it + 1 >= robustStart && it + 1 < iterations)
             updateRobustWeights(in, usedSamples, residualNorm, model);
     }
     if (progress && !progress(1.0, kStageLobe)) throw OperationCancelled();

@@ -34,6 +34,7 @@ struct SharedFitOptions {
     int lobeDegree = 8;              // SH degree of G, 1..kMaxHarmonicDegree
     double specularPrior = 3.0;      // >= 0: weight of the neighbours' scale, in the vertex's sample mass
     int iterations = 6;              // alternations, 1..50
+    int refitIterations = 3;         // alternations of a fit started from an earlier model, 1..50
     int robustIterations = 4;        // of them, the last ones use Huber weights (0: none)
     double huberThreshold = 3.0;     // > 0, in robust standard deviations
     double lobeRidge = 0.03;         // >= 0: Tikhonov weight of G (times 1 + l(l+1), relative to trace / M)
@@ -70,11 +71,14 @@ struct SharedModel {
 // use: per sample of `set`, 1 when the sample may be used (nullptr: all) - the caller's held-out split.
 // normals: unit per-vertex normals (3 per vertex; the frames' normals). adjacency: as
 // buildVertexAdjacency of radiance_from_views.h (empty offsets: no neighbour prior, s pulled to 1).
+// warmStart (optional): a model fitted earlier from these samples or a subset of them (the same set,
+// e.g. the automatic choice's fit without its left-out views); the fit starts from its lobe, curve,
+// scales and robust weights at the per-vertex step and makes refitIterations alternations.
 // Throws std::invalid_argument on invalid options or sizes, OperationCancelled when progress asks.
 SharedModel fitSharedModel(const std::vector<float>& normals, const std::vector<std::size_t>& adjacencyOffsets,
                            const std::vector<std::uint32_t>& adjacency, const SampleSet& set,
                            const std::uint8_t* use, const SharedFitOptions& options,
-                           const ProgressCallback& progress = {});
+                           const ProgressCallback& progress = {}, const SharedModel* warmStart = nullptr);
 
 struct SharedConversionStats {
     std::size_t shared = 0;      // vertices given d + s * lobe

@@ -234,12 +234,68 @@ TEST(SharedRadianceFit, MatteNoisyFieldFallsBackToTheConstantAtMostVertices) {
     EXPECT_LT(worst, 0.1);
 }
 
+TEST(SharedRadianceFit, WarmStartFromAFitWithoutSomeViewsReachesTheColdFit) {
+    // What the automatic choice does: a fit without every 4th view, then the fit of all views started
+    // from it. Exact model data, so both fits must approach the truth; the warm one in fewer steps.
+    std::mt19937 rng(13);
+    const std::size_t n = 400;
+    Field f = makeField(n, rng, 1.0);
+    rad::SampleSet set;
+    set.offsets.push_back(0);
+    std::vector<std::uint8_t> withoutEvery4th;
+    for (std::size_t v = 0; v < n; ++v) {
+        const Vector3d nv(f.normals[3 * v], f.normals[3 * v + 1], f.normals[3 * v + 2]);
+        for (std::uint32_t j = 0; j < 12; ++j) {
+            const Vector3d w = randomAbove(rng, nv);
+            addSample(set, w, f.value(v, w), j);
+            withoutEvery4th.push_back((j + 1) % 4 != 0);
+        }
+        set.offsets.push_back(set.samples.size());
+    }
+    rad::SharedFitOptions options;
+    options.lobeDegree = 6;
+    options.lobeRidge = 0.0;
+    options.robustIterations = 0;
+    options.specularPrior = 0.0;
+    options.cosineFactor = false;
+    auto rmsError = [&](const rad::SharedModel& model) {
+        std::mt19937 check(3);
+        double sum = 0.0;
+        for (std::size_t v = 0; v < n; ++v) {
+            const Vector3d nv(f.normals[3 * v], f.normals[3 * v + 1], f.normals[3 * v + 2]);
+            const Vector3d w = randomAbove(check, nv);
+            double rgb[3];
+            model.evaluate(v, f.normals.data() + 3 * v, w.data(), rgb);
+            sum += (Vector3d(rgb[0], rgb[1], rgb[2]) - f.value(v, w)).squaredNorm();
+        }
+        return std::sqrt(sum / (3.0 * n));
+    };
+    options.iterations = 3;
+    const rad::SharedModel partial = rad::fitSharedModel(f.normals, {}, {}, set, withoutEvery4th.data(), options);
+    const rad::SharedModel cold = rad::fitSharedModel(f.normals, {}, {}, set, nullptr, options);
+    options.refitIterations = 3;
+    const rad::SharedModel warm = rad::fitSharedModel(f.normals, {}, {}, set, nullptr, options, {}, &partial);
+    const double ePartial = rmsError(partial), eCold = rmsError(cold), eWarm = rmsError(warm);
+    // Three more alternations from the partial fit continue its convergence (six in all): better than
+    // where they started and than three from scratch.
+    EXPECT_LT(eWarm, 0.7 * ePartial) << eWarm << " vs the start " << ePartial;
+    EXPECT_LT(eWarm, 0.7 * eCold) << eWarm << " vs three cold alternations " << eCold;
+
+    // A start fitted with another lobe degree is refused, not reinterpreted.
+    rad::SharedFitOptions other = options;
+    other.lobeDegree = 4;
+    EXPECT_THROW(rad::fitSharedModel(f.normals, {}, {}, set, nullptr, other, {}, &partial), std::invalid_argument);
+}
+
 TEST(SharedRadianceFit, InvalidOptionsAreRefused) {
     rad::SharedFitOptions options;
     options.lobeDegree = 0;
     EXPECT_FALSE(options.validate().empty());
     options = {};
     options.robustIterations = options.iterations + 1;
+    EXPECT_FALSE(options.validate().empty());
+    options = {};
+    options.refitIterations = 0;
     EXPECT_FALSE(options.validate().empty());
     EXPECT_TRUE(rad::SharedFitOptions().validate().empty());
     rad::SampleSet set;
