@@ -2,9 +2,11 @@
 
 #include <Eigen/LU>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace rad {
 
@@ -31,12 +33,43 @@ struct Bands {
     }
 };
 
+// The coefficients u, v, w of the recurrence (Ivanic & Ruedenberg 1996, Table 1, corrected) depend
+// on (l, m, m') only: computed once, laid out like the blocks, so that building a rotation per vertex
+// takes no square root.
+struct RecurrenceCoefficients {
+    double u, v, w;
+};
+
+const std::vector<RecurrenceCoefficients>& recurrenceCoefficients() {
+    static const std::vector<RecurrenceCoefficients> table = [] {
+        std::vector<RecurrenceCoefficients> t(detail::shRotationBlockOffset(kMaxHarmonicDegree + 1));
+        for (int l = 2; l <= kMaxHarmonicDegree; ++l)
+            for (int m = -l; m <= l; ++m) {
+                const int am = m < 0 ? -m : m;
+                const double delta0 = m == 0 ? 1.0 : 0.0;
+                for (int mp = -l; mp <= l; ++mp) {
+                    const int amp = mp < 0 ? -mp : mp;
+                    const double denom = amp == l ? double(2 * l) * (2 * l - 1) : double(l + mp) * (l - mp);
+                    RecurrenceCoefficients& c =
+                        t[detail::shRotationBlockOffset(l) + (m + l) * (2 * l + 1) + (mp + l)];
+                    c.u = std::sqrt(double(l + m) * (l - m) / denom);
+                    c.v = 0.5 * std::sqrt((1.0 + delta0) * (l + am - 1) * (l + am) / denom) * (1.0 - 2.0 * delta0);
+                    c.w = -0.5 * std::sqrt(double(l - am - 1) * (l - am) / denom) * (1.0 - delta0);
+                }
+            }
+        return t;
+    }();
+    return table;
+}
+
 }  // namespace
 
 ShRotation::ShRotation(int degree) : degree_(degree) {
     if (degree < 0 || degree > kMaxHarmonicDegree)
         throw std::out_of_range("ShRotation: degree " + std::to_string(degree) + " outside [0, " +
                                 std::to_string(kMaxHarmonicDegree) + "]");
+    // Only the bands up to the degree are used (and read): the rest of the storage stays unset.
+    std::fill(blocks_.begin(), blocks_.begin() + offset(degree_ + 1), 0.0);
     for (int l = 0; l <= degree_; ++l)
         for (int m = 0; m < 2 * l + 1; ++m) blocks_[offset(l) + m * (2 * l + 1) + m] = 1.0;
 }
@@ -53,19 +86,16 @@ ShRotation::ShRotation(int degree, const Eigen::Matrix3d& R) : ShRotation(degree
     for (int m = -1; m <= 1; ++m)
         for (int mp = -1; mp <= 1; ++mp) d1[(m + 1) * 3 + (mp + 1)] = rot(kAxisOfBand1[m + 1], kAxisOfBand1[mp + 1]);
 
+    const std::vector<RecurrenceCoefficients>& coefficients = recurrenceCoefficients();
+    constexpr double kSqrt2 = 1.41421356237309504880;
     for (int l = 2; l <= degree_; ++l) {
         const Bands bands{d1, blocks_.data() + offset(l - 1), l - 1};
         double* dl = blocks_.data() + offset(l);
+        const RecurrenceCoefficients* band = coefficients.data() + offset(l);
         for (int m = -l; m <= l; ++m) {
-            const int am = m < 0 ? -m : m;
-            const double delta0 = m == 0 ? 1.0 : 0.0;
             for (int mp = -l; mp <= l; ++mp) {
-                const int amp = mp < 0 ? -mp : mp;
-                const double denom = amp == l ? double(2 * l) * (2 * l - 1) : double(l + mp) * (l - mp);
-                // Coefficients u, v, w of the recurrence (Ivanic & Ruedenberg 1996, Table 1, corrected).
-                const double u = std::sqrt(double(l + m) * (l - m) / denom);
-                const double v = 0.5 * std::sqrt((1.0 + delta0) * (l + am - 1) * (l + am) / denom) * (1.0 - 2.0 * delta0);
-                const double w = -0.5 * std::sqrt(double(l - am - 1) * (l - am) / denom) * (1.0 - delta0);
+                const RecurrenceCoefficients& c = band[(m + l) * (2 * l + 1) + (mp + l)];
+                const double u = c.u, v = c.v, w = c.w;
 
                 double value = 0.0;
                 // Each term is only formed when its coefficient is nonzero: there its indices are
@@ -76,11 +106,11 @@ ShRotation::ShRotation(int degree, const Eigen::Matrix3d& R) : ShRotation(degree
                     if (m == 0) {
                         V = bands.P(1, l, 1, mp) + bands.P(-1, l, -1, mp);
                     } else if (m > 0) {
-                        const double d = m == 1 ? 1.0 : 0.0;
-                        V = bands.P(1, l, m - 1, mp) * std::sqrt(1.0 + d) - bands.P(-1, l, -m + 1, mp) * (1.0 - d);
+                        V = m == 1 ? bands.P(1, l, 0, mp) * kSqrt2
+                                   : bands.P(1, l, m - 1, mp) - bands.P(-1, l, -m + 1, mp);
                     } else {
-                        const double d = m == -1 ? 1.0 : 0.0;
-                        V = bands.P(1, l, m + 1, mp) * (1.0 - d) + bands.P(-1, l, -m - 1, mp) * std::sqrt(1.0 + d);
+                        V = m == -1 ? bands.P(-1, l, 0, mp) * kSqrt2
+                                    : bands.P(1, l, m + 1, mp) + bands.P(-1, l, -m - 1, mp);
                     }
                     value += v * V;
                 }

@@ -48,7 +48,7 @@ private:
     int degree_ = 0;
     // Fixed storage (about 14 KB at degree 10) so that building one per vertex in a parallel loop
     // does not touch the heap.
-    std::array<double, kStorage> blocks_{};
+    std::array<double, kStorage> blocks_;  // bands 0..degree_ set; the rest unused
 
     template <typename Real>
     void applyImpl(const Real* in, Real* out) const;

@@ -3,6 +3,7 @@
 #include "radiance/material_radiance.h"
 #include "radiance/radiance_distance.h"
 #include "radiance/radiance_frame.h"
+#include "radiance/sh_rotation.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
@@ -92,34 +93,11 @@ RadianceQuadricMetric::RadianceQuadricMetric(const CollapseMesh& mesh, RadianceF
     k_ = field.coefficientsPerChannel();
     const std::size_t nv = mesh.vertexCount();
     if (field.basis.usesLocalFrame()) {
-        // PB(d) -> SH(d) in the world frame: a Gauss product rule on the sphere exact to degree 2d.
+        // PB(d) -> SH(d): the projection is exact in any frame, so it is made once in the local
+        // frame (a constant matrix) and each vertex only rotates the result to the world frame.
         convertsFrames_ = true;
-        const int d = field.basis.degree;
-        const BasisSpec sh{BasisKind::SphericalHarmonics, d};
-        kSh_ = sh.coefficientCount();
-        const int zNodes = d + 1, phiNodes = 2 * d + 2;
-        std::vector<double> z, wz;
-        gaussLegendre(zNodes, -1.0, 1.0, z, wz);
-        const double pi = 3.14159265358979323846;
-        for (int i = 0; i < zNodes; ++i)
-            for (int j = 0; j < phiNodes; ++j) {
-                const double phi = 2.0 * pi * (j + 0.5) / phiNodes, r = std::sqrt(std::max(0.0, 1.0 - z[i] * z[i]));
-                spherePoints_.emplace_back(r * std::cos(phi), r * std::sin(phi), z[i]);
-                sphereWeights_.push_back(wz[i] * 2.0 * pi / phiNodes);
-            }
-        sphereSh_.resize(spherePoints_.size() * kSh_);
-        for (std::size_t i = 0; i < spherePoints_.size(); ++i)
-            evaluateBasis(sh, spherePoints_[i].x(), spherePoints_[i].y(), spherePoints_[i].z(), &sphereSh_[i * kSh_]);
-        const HemisphereIntegrator hemisphere = HemisphereIntegrator::gaussProduct(d + 1, 2 * d + 2);
-        hemispherePoints_ = hemisphere.localPoints();
-        hemisphereWeights_ = hemisphere.weights();
-        const std::vector<double> g = hemisphereGramMatrix(field.basis);
-        const Eigen::MatrixXd gram =
-            Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(g.data(), k_, k_);
-        const Eigen::MatrixXd inverse = gram.inverse();
-        gramInverse_.resize(std::size_t(k_) * k_);
-        for (int r = 0; r < k_; ++r)
-            for (int c = 0; c < k_; ++c) gramInverse_[r * k_ + c] = inverse(r, c);
+        kSh_ = BasisSpec{BasisKind::SphericalHarmonics, field.basis.degree}.coefficientCount();
+        buildFrameConversions(field.basis);
         m_ = kColorChannels * kSh_;
     } else {
         kSh_ = k_;
@@ -257,30 +235,66 @@ std::size_t RadianceQuadricMetric::bytes() const {
     return (geometric_.size() + gradients_.size()) * sizeof(double) + attributes_.size() * sizeof(float);
 }
 
+// The two constant matrices of the PB <-> SH conversion, in the local frame of every vertex:
+// pbToSh_ (kSh x K): the SH coefficients of each PB monomial over the whole sphere, by a Gauss product
+// rule exact to degree 2d; shToPb_ (K x kSh): least squares over the hemisphere, M^-1 int B Y (M the
+// PB Gram matrix, weights / 2 pi as M's), by a hemisphere rule exact for those products.
+void RadianceQuadricMetric::buildFrameConversions(const BasisSpec& pb) {
+    const int d = pb.degree;
+    const BasisSpec sh{BasisKind::SphericalHarmonics, d};
+    std::vector<double> b(k_), y(kSh_);
+    pbToSh_.assign(std::size_t(kSh_) * k_, 0.0);
+    std::vector<double> z, wz;
+    gaussLegendre(d + 1, -1.0, 1.0, z, wz);
+    const double pi = 3.14159265358979323846;
+    const int phiNodes = 2 * d + 2;
+    for (std::size_t i = 0; i < z.size(); ++i)
+        for (int j = 0; j < phiNodes; ++j) {
+            const double phi = 2.0 * pi * (j + 0.5) / phiNodes, r = std::sqrt(std::max(0.0, 1.0 - z[i] * z[i]));
+            const Eigen::Vector3d w(r * std::cos(phi), r * std::sin(phi), z[i]);
+            const double weight = wz[i] * 2.0 * pi / phiNodes;
+            evaluateBasis(pb, w.x(), w.y(), w.z(), b.data());
+            evaluateBasis(sh, w.x(), w.y(), w.z(), y.data());
+            for (int k = 0; k < kSh_; ++k)
+                for (int p = 0; p < k_; ++p) pbToSh_[std::size_t(k) * k_ + p] += weight * y[k] * b[p];
+        }
+    const HemisphereIntegrator hemisphere = HemisphereIntegrator::gaussProduct(d + 1, 2 * d + 2);
+    Eigen::MatrixXd hemisphereProducts = Eigen::MatrixXd::Zero(k_, kSh_);
+    for (std::size_t i = 0; i < hemisphere.size(); ++i) {
+        const Eigen::Vector3d& l = hemisphere.localPoints()[i];
+        evaluateBasis(pb, l.x(), l.y(), l.z(), b.data());
+        evaluateBasis(sh, l.x(), l.y(), l.z(), y.data());
+        for (int p = 0; p < k_; ++p)
+            for (int k = 0; k < kSh_; ++k) hemisphereProducts(p, k) += hemisphere.weights()[i] * b[p] * y[k];
+    }
+    const std::vector<double> g = hemisphereGramMatrix(pb);
+    const Eigen::MatrixXd gram =
+        Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(g.data(), k_, k_);
+    const Eigen::MatrixXd leastSquares = gram.inverse() * hemisphereProducts;
+    shToPb_.resize(std::size_t(k_) * kSh_);
+    for (int p = 0; p < k_; ++p)
+        for (int k = 0; k < kSh_; ++k) shToPb_[std::size_t(p) * kSh_ + k] = leastSquares(p, k);
+}
+
 void RadianceQuadricMetric::toMetric(std::size_t v, const float* coefficients, float* attributes) const {
     if (!convertsFrames_) {
         std::copy(coefficients, coefficients + m_, attributes);
         return;
     }
-    // (1/4pi-free) projection of the PB function, a polynomial of the world direction, on world SH.
-    const Frame frame = frameFromStored(field_.frame(v));
-    thread_local std::vector<double> pb, sh;
-    pb.resize(k_);
-    sh.assign(m_, 0.0);
-    for (std::size_t i = 0; i < spherePoints_.size(); ++i) {
-        const Eigen::Vector3d local = frame.toLocal(spherePoints_[i]);
-        evaluateBasis(field_.basis, local.x(), local.y(), local.z(), pb.data());
-        const double* y = &sphereSh_[i * kSh_];
-        for (int c = 0; c < kColorChannels; ++c) {
-            const float* coefficient = coefficients + c * k_;
-            double value = 0.0;
-            for (int k = 0; k < k_; ++k) value += coefficient[k] * pb[k];
-            value *= sphereWeights_[i];
-            double* out = &sh[c * kSh_];
-            for (int k = 0; k < kSh_; ++k) out[k] += value * y[k];
+    // f_world(w) = f_local(R w), R = the frame's rotation (local = R world): SH rotated by R^T.
+    const ShRotation toWorld(field_.basis.degree, frameFromStored(field_.frame(v)).rotation().transpose());
+    double local[kMaxMetricSh], world[kMaxMetricSh];
+    for (int c = 0; c < kColorChannels; ++c) {
+        const float* coefficient = coefficients + c * k_;
+        for (int k = 0; k < kSh_; ++k) {
+            const double* row = pbToSh_.data() + std::size_t(k) * k_;
+            double sum = 0.0;
+            for (int p = 0; p < k_; ++p) sum += row[p] * coefficient[p];
+            local[k] = sum;
         }
+        toWorld.apply(local, world);
+        for (int k = 0; k < kSh_; ++k) attributes[c * kSh_ + k] = static_cast<float>(world[k]);
     }
-    for (int j = 0; j < m_; ++j) attributes[j] = static_cast<float>(sh[j]);
 }
 
 void RadianceQuadricMetric::fromMetric(std::size_t v, const double* attributes, float* coefficients) const {
@@ -288,31 +302,19 @@ void RadianceQuadricMetric::fromMetric(std::size_t v, const double* attributes, 
         for (int j = 0; j < m_; ++j) coefficients[j] = static_cast<float>(attributes[j] / attributeScale_);
         return;
     }
-    // Least squares over the survivor's hemisphere: c = M^-1 int B(w) f(w) dw (weights / 2pi as M's).
-    const Frame frame = frameFromStored(field_.frame(v));
-    const BasisSpec sh{BasisKind::SphericalHarmonics, field_.basis.degree};
-    thread_local std::vector<double> pb, y, rhs;
-    pb.resize(k_);
-    y.resize(kSh_);
-    rhs.assign(std::size_t(kColorChannels) * k_, 0.0);
-    for (std::size_t i = 0; i < hemispherePoints_.size(); ++i) {
-        const Eigen::Vector3d& local = hemispherePoints_[i];
-        const Eigen::Vector3d world = frame.toWorld(local);
-        evaluateBasis(field_.basis, local.x(), local.y(), local.z(), pb.data());
-        evaluateBasis(sh, world.x(), world.y(), world.z(), y.data());
-        for (int c = 0; c < kColorChannels; ++c) {
-            double value = 0.0;
-            for (int k = 0; k < kSh_; ++k) value += attributes[c * kSh_ + k] * y[k];
-            value *= hemisphereWeights_[i] / attributeScale_;
-            for (int k = 0; k < k_; ++k) rhs[c * k_ + k] += value * pb[k];
+    // The world function seen in the survivor's local frame (SH rotated by R), then least squares
+    // over its hemisphere.
+    const ShRotation toLocal(field_.basis.degree, frameFromStored(field_.frame(v)).rotation());
+    double local[kMaxMetricSh];
+    for (int c = 0; c < kColorChannels; ++c) {
+        toLocal.apply(attributes + c * kSh_, local);
+        for (int p = 0; p < k_; ++p) {
+            const double* row = shToPb_.data() + std::size_t(p) * kSh_;
+            double sum = 0.0;
+            for (int k = 0; k < kSh_; ++k) sum += row[k] * local[k];
+            coefficients[c * k_ + p] = static_cast<float>(sum / attributeScale_);
         }
     }
-    for (int c = 0; c < kColorChannels; ++c)
-        for (int r = 0; r < k_; ++r) {
-            double sum = 0.0;
-            for (int k = 0; k < k_; ++k) sum += gramInverse_[r * k_ + k] * rhs[c * k_ + k];
-            coefficients[c * k_ + r] = static_cast<float>(sum);
-        }
 }
 
 void RadianceQuadricMetric::attributes(std::uint32_t v, double* out) const {

@@ -95,14 +95,14 @@ private:
     int k_ = 0, m_ = 0;  // coefficients per channel of the field; attributes per vertex (3 x the metric's)
     Eigen::Vector3d centre_ = Eigen::Vector3d::Zero();
     double positionScale_ = 1.0, attributeScale_ = 1.0;
-    // PB fields: the world SH of degree d (kSh functions) at the points of a sphere rule, and a
-    // hemisphere rule with the PB Gram matrix's inverse for the way back.
+    // PB fields are compared as world SH of the same degree d (kSh functions per channel): PB -> SH
+    // and back in the local frame (constant matrices), and an SH rotation per vertex.
+    static constexpr int kMaxMetricSh = (kMaxPolynomialDegree + 1) * (kMaxPolynomialDegree + 1);
+    void buildFrameConversions(const BasisSpec& pb);
     bool convertsFrames_ = false;
     int kSh_ = 0;
-    std::vector<Eigen::Vector3d> spherePoints_, hemispherePoints_;
-    std::vector<double> sphereWeights_, hemisphereWeights_;
-    std::vector<double> sphereSh_;           // kSh per sphere point
-    std::vector<double> gramInverse_;        // K x K, PB over the hemisphere
+    std::vector<double> pbToSh_;             // kSh x K, row major
+    std::vector<double> shToPb_;             // K x kSh, row major
     // Per vertex: the geometric block A (6, upper triangle), b (3), c, W in doubles...
     std::vector<double> geometric_;              // kGeometric per vertex
     // ...and G (3 m) then E (m), in doubles too: the cost subtracts nearly equal sums (c and the
