@@ -62,7 +62,8 @@ public:
     virtual bool ownsGeometry() const { return false; }
     // True when a full collapse's placement and cost depend only on the metric's state of its two
     // ends and their positions (an accumulated quadric), not on their stars: the engine then
-    // re-prices only the survivor's edges after a collapse, instead of its whole ring's.
+    // re-prices only the survivor's edges after a collapse, instead of its whole ring's, and its
+    // priceEdge queries carry no stars (star0Size = star1Size = 0).
     virtual bool costDependsOnEndpointsOnly() const { return false; }
     // Full collapse: where the new vertex goes. Return false to let the engine place it (the
     // memoryless QEM's optimum); true with `position` set to choose it.
