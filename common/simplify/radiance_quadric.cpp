@@ -83,6 +83,11 @@ struct RadianceQuadricMetric::Sum {
     const double* grad1;
 };
 
+// One vertex's (or face's) attribute planes G_j.p + E_j: 4 m doubles, one array per component.
+RadianceQuadricMetric::GradientBlock RadianceQuadricMetric::gradientBlock(const double* block) const {
+    return {block, block + m_, block + 2 * m_, block + 3 * m_};
+}
+
 RadianceQuadricMetric::RadianceQuadricMetric(const CollapseMesh& mesh, RadianceField& field, RadianceQuadricOptions options)
     : field_(field), options_(options) {
     if (field.vertexCount() != mesh.vertexCount() || !field.validate().empty())
@@ -225,7 +230,7 @@ bool RadianceQuadricMetric::faceQuadric(const CollapseMesh& mesh, const std::uin
             offset = s0[j] - grad.dot(p0);
         }
         addSquaredLinear(q + kA, weight, grad, offset);
-        for (int i = 0; i < 3; ++i) gradients[3 * j + i] = weight * grad[i];
+        for (int i = 0; i < 3; ++i) gradients[i * m_ + j] = weight * grad[i];
         gradients[3 * m_ + j] = weight * offset;
     }
     return true;
@@ -334,14 +339,11 @@ void RadianceQuadricMetric::sumOf(std::uint32_t v0, std::uint32_t v1, Sum& out) 
 double RadianceQuadricMetric::evaluateSum(const Sum& q, const Eigen::Vector3d& p, const float* s) const {
     const double* g = q.g;
     double value = evaluateQuadratic(g + kA, p);
-    const double* G0 = q.grad0;
-    const double* G1 = q.grad1;
-    const double* E0 = G0 + 3 * m_;
-    const double* E1 = G1 + 3 * m_;
+    const GradientBlock a = gradientBlock(q.grad0), b = gradientBlock(q.grad1);
     double cross = 0.0, norm[3] = {0.0, 0.0, 0.0};
     for (int j = 0; j < m_; ++j) {
-        const double plane = (double(G0[3 * j]) + G1[3 * j]) * p.x() + (double(G0[3 * j + 1]) + G1[3 * j + 1]) * p.y() +
-                             (double(G0[3 * j + 2]) + G1[3 * j + 2]) * p.z() + (double(E0[j]) + E1[j]);
+        const double plane = (a.x[j] + b.x[j]) * p.x() + (a.y[j] + b.y[j]) * p.y() + (a.z[j] + b.z[j]) * p.z() +
+                             (a.e[j] + b.e[j]);
         cross += s[j] * plane;
         norm[j / kSh_] += double(s[j]) * s[j];
     }
@@ -355,18 +357,29 @@ double RadianceQuadricMetric::evaluateSum(const Sum& q, const Eigen::Vector3d& p
 // it prices every candidate position in O(1).
 void RadianceQuadricMetric::reduce(const Sum& q, double* reduced) const {
     std::copy(q.g + kA, q.g + kA + 10, reduced);
-    const double* G0 = q.grad0;
-    const double* G1 = q.grad1;
-    const double* E0 = G0 + 3 * m_;
-    const double* E1 = G1 + 3 * m_;
+    const GradientBlock a = gradientBlock(q.grad0), b = gradientBlock(q.grad1);
     for (int c = 0; c < kColorChannels; ++c) {
         const double w = q.g[kW + c];
         if (!(w > 0.0)) continue;
-        double channel[10] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-        for (int j = c * kSh_; j < (c + 1) * kSh_; ++j) {
-            const Eigen::Vector3d gradient(G0[3 * j] + G1[3 * j], G0[3 * j + 1] + G1[3 * j + 1], G0[3 * j + 2] + G1[3 * j + 2]);
-            addSquaredLinear(channel, 1.0, gradient, E0[j] + E1[j]);
+        // sum_j (G_j.p + E_j)^2 as a block A, b, c: ten sums over the channel's attributes, laid
+        // out one array per component so that they vectorise.
+        double xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0, ex = 0, ey = 0, ez = 0, ee = 0;
+        const int begin = c * kSh_, end = (c + 1) * kSh_;
+#pragma omp simd reduction(+ : xx, xy, xz, yy, yz, zz, ex, ey, ez, ee)
+        for (int j = begin; j < end; ++j) {
+            const double gx = a.x[j] + b.x[j], gy = a.y[j] + b.y[j], gz = a.z[j] + b.z[j], e = a.e[j] + b.e[j];
+            xx += gx * gx;
+            xy += gx * gy;
+            xz += gx * gz;
+            yy += gy * gy;
+            yz += gy * gz;
+            zz += gz * gz;
+            ex += e * gx;
+            ey += e * gy;
+            ez += e * gz;
+            ee += e * e;
         }
+        const double channel[10] = {xx, xy, xz, yy, yz, zz, ex, ey, ez, ee};
         for (int i = 0; i < 10; ++i) reduced[i] -= channel[i] / w;
     }
 }
@@ -469,10 +482,10 @@ void RadianceQuadricMetric::onCollapse(const CollapseMesh& mesh, const EdgeQuery
     const float* a0 = attributes_.data() + std::size_t(v0) * m_;
     thread_local std::vector<double> optimal;
     optimal.resize(m_);
-    const double* e1 = g1 + 3 * m_;
+    const GradientBlock g = gradientBlock(g1);
     for (int j = 0; j < m_; ++j) {
         const double w = q1[kW + j / kSh_];
-        optimal[j] = w > 0.0 ? (g1[3 * j] * p.x() + g1[3 * j + 1] * p.y() + g1[3 * j + 2] * p.z() + e1[j]) / w
+        optimal[j] = w > 0.0 ? (g.x[j] * p.x() + g.y[j] * p.y() + g.z[j] * p.z() + g.e[j]) / w
                              : (1.0 - query.s) * a0[j] + query.s * a1[j];
     }
     for (int j = 0; j < m_; ++j) a1[j] = static_cast<float>(optimal[j]);

@@ -64,6 +64,10 @@ public:
 
 private:
     struct Sum;  // Q_v0 + Q_v1, unpacked for repeated evaluation
+    struct GradientBlock {
+        const double *x, *y, *z, *e;
+    };
+    GradientBlock gradientBlock(const double* block) const;
     struct Placement {
         const RadianceQuadricMetric* metric = nullptr;
         std::uint64_t collapses = 0;  // the metric's state it was computed in
@@ -105,7 +109,7 @@ private:
     std::vector<double> shToPb_;             // K x kSh, row major
     // Per vertex: the geometric block A (6, upper triangle), b (3), c, W in doubles...
     std::vector<double> geometric_;              // kGeometric per vertex
-    // ...and G (3 m) then E (m), in doubles too: the cost subtracts nearly equal sums (c and the
+    // ...and G_x, G_y, G_z then E (m each), in doubles too: the cost subtracts nearly equal sums (c and the
     // squared attribute planes), which float storage turns into noise as large as real costs.
     std::vector<double> gradients_;
     std::vector<float> attributes_;              // m per vertex: the current RF in the metric's space
