@@ -622,12 +622,14 @@ constexpr const char* kStageConversion = "writing the shared fit into the basis"
 struct BasisProjector {
     std::vector<double> dirs;    // 3 x Nd: local frame
     int Nd = 0, K = 0;
-    Eigen::MatrixXd P;           // K x Nd: (B^T B + eps I)^-1 B^T
+    Eigen::MatrixXd P;           // K x Nd: (B^T B + eps I)^-1 B^T, columns times the lobe's factor there
     std::vector<double> sign;    // K: the local reflection (x, y, z) -> (-x, -y, z) of each function
     double constantValue = 1.0;  // value of the constant basis function
 };
 
-BasisProjector buildBasisProjector(const BasisSpec& basis) {
+// factor: the model's factor of n.w (SharedModel::factor); n.w of a local direction is its z, the
+// same at every vertex, so the factor is folded into the projection once.
+BasisProjector buildBasisProjector(const BasisSpec& basis, const SharedModel& factor) {
     BasisProjector proj;
     const int K = proj.K = basis.coefficientCount();
     proj.dirs = fibonacciHemisphere(112, 0.5);
@@ -647,6 +649,7 @@ BasisProjector buildBasisProjector(const BasisSpec& basis) {
     Eigen::MatrixXd BtB = B.transpose() * B;
     BtB.diagonal().array() += 1e-6 * BtB.trace() / K;
     proj.P = BtB.ldlt().solve(B.transpose());
+    for (int i = 0; i < Nd; ++i) proj.P.col(i) *= factor.factor(dirs[3 * i + 2]);
     std::vector<double> at(K), atReflected(K);
     const double x = 0.3141, y = 0.4718, z = std::sqrt(1.0 - x * x - y * y);
     evaluateBasis(basis, x, y, z, at.data());
@@ -704,10 +707,10 @@ void projectLobe(const ConversionInput& in, const Frame& frame, ConversionScratc
         const double d2 = 2.0 * (nv[0] * w.x() + nv[1] * w.y() + nv[2] * w.z());
         double gv[3];
         in.table.lookup(d2 * nv[0] - w.x(), d2 * nv[1] - w.y(), d2 * nv[2] - w.z(), gv);
-        const double cf = in.model.factor(dirs[3 * i + 2]);  // local z = n.w
-        for (int c = 0; c < 3; ++c) scratch.V(i, c) = cf * gv[c];
+        for (int c = 0; c < 3; ++c) scratch.V(i, c) = gv[c];
     }
-    scratch.C.noalias() = in.proj.P * scratch.V;
+    // A coefficient-wise product: at K x 136 x 3 the general product's packing costs more than it saves.
+    scratch.C.noalias() = in.proj.P.lazyProduct(scratch.V);
 }
 
 // The projected lobe at the vertex's samples (g), their values (y) and weights (a, raw), and the
@@ -877,7 +880,7 @@ SharedConversionStats writeSharedRadiance(const SharedModel& model, const Sample
     if (field.vertexCount() != n || field.basis != fit.basis || meanColor.size() != 3 * n || residual.size() != n ||
         status.size() != n || model.diffuse.size() != 3 * n || model.robustWeight.size() != set.samples.size())
         throw std::invalid_argument("writeSharedRadiance: inconsistent sizes");
-    const BasisProjector proj = buildBasisProjector(fit.basis);
+    const BasisProjector proj = buildBasisProjector(fit.basis, model);
     const LobeTable table(model, options.octahedralResolution);
     std::vector<std::uint8_t> seen(n, 0);
     for (std::size_t v = 0; v < n; ++v)

@@ -1,5 +1,7 @@
 #include "simplify/edge_collapse.h"
 
+#include "simplify/cost_queue.h"
+
 #include "simplify/quadric_error.h"
 
 #include <omp.h>
@@ -54,15 +56,6 @@ struct QueueEntry {
     // Full mode: where the new vertex goes. Placement depends only on state that bumps a's or b's
     // version when it changes, so a non-stale entry's position is the one placing would give now.
     double position[3];
-};
-
-// Min-heap on cost; ties by indices so runs are deterministic whatever the thread count.
-struct CostsMore {
-    bool operator()(const QueueEntry& x, const QueueEntry& y) const {
-        if (x.cost != y.cost) return x.cost > y.cost;
-        if (x.a != y.a) return x.a > y.a;
-        return x.b > y.b;
-    }
 };
 
 // Per-thread buffers of one pricing.
@@ -343,8 +336,7 @@ private:
 
     void push(const QueueEntry& e) {
         if (e.cost == kInfinity) return;
-        heap_.push_back(e);
-        std::push_heap(heap_.begin(), heap_.end(), CostsMore());
+        queue_.push(e.cost, e.a, e);  // equal costs: by source (half-edge) or first end (full)
     }
 
     // Geometry-only pricing of a handful of vertices costs less than waking the thread team, and so
@@ -361,7 +353,7 @@ private:
     CollapseMetric* metric_;
     EdgeCollapseOptions options_;
     std::vector<std::uint32_t> version_;
-    std::vector<QueueEntry> heap_;
+    CostQueue<QueueEntry> queue_;  // pushes in an order independent of the thread count: deterministic
     std::vector<QueueEntry> priced_;
     std::vector<std::pair<std::uint32_t, std::uint32_t>> edges_;
     std::vector<std::uint32_t> around_;
@@ -416,8 +408,8 @@ EdgeCollapseResult Simplifier::run(const std::function<void(const CollapseStep&)
 
     std::vector<std::uint32_t> all(mesh_.vertexCount());
     for (std::size_t v = 0; v < all.size(); ++v) all[v] = static_cast<std::uint32_t>(v);
-    heap_.clear();
-    heap_.reserve(options_.kind == CollapseKind::HalfEdge ? all.size() : 3 * all.size());
+    queue_.clear();
+    queue_.reserve(options_.kind == CollapseKind::HalfEdge ? all.size() : 3 * all.size());
     reprice(all);
 
     const double work = static_cast<double>(startFaces - target);
@@ -427,13 +419,11 @@ EdgeCollapseResult Simplifier::run(const std::function<void(const CollapseStep&)
     std::vector<std::uint32_t> ring;
 
     while (mesh_.aliveFaceCount() > target) {
-        if (heap_.empty()) {
+        if (queue_.empty()) {
             result.stop = StopReason::NoValidCollapse;
             break;
         }
-        std::pop_heap(heap_.begin(), heap_.end(), CostsMore());
-        const QueueEntry top = heap_.back();
-        heap_.pop_back();
+        const QueueEntry top = queue_.pop().second;
         if (stale(top)) {
             ++result.staleEntries;
             continue;
@@ -518,8 +508,7 @@ EdgeCollapseResult Simplifier::run(const std::function<void(const CollapseStep&)
             // mesh coarsens) and price it only when it reaches the front.
             for (std::uint32_t v : affected) {
                 const double guess = lastCost_[v] < kInfinity ? lastCost_[v] : top.cost;
-                heap_.push_back({guess, v, v, version_[v], 1, {0.0, 0.0, 0.0}});
-                std::push_heap(heap_.begin(), heap_.end(), CostsMore());
+                queue_.push(guess, v, {guess, v, v, version_[v], 1, {0.0, 0.0, 0.0}});
             }
         } else {
             reprice(affected);
