@@ -80,6 +80,41 @@ rad::RadianceField framedField(const Field& f, const rad::RobustFitOptions& fit)
     return field;
 }
 
+// Options under which the model represents the field exactly: no ridge, no prior, no robust weights.
+rad::SharedFitOptions exactOptions() {
+    rad::SharedFitOptions options;
+    options.lobeDegree = 6;
+    options.lobeRidge = 0.0;
+    options.robustIterations = 0;
+    options.specularPrior = 0.0;
+    return options;
+}
+
+// The model's error against the field at perVertex random directions above each vertex (the same
+// directions for every model): the worst channel error and the RMS.
+struct PredictionError {
+    double worst = 0.0, rms = 0.0;
+};
+PredictionError predictionError(const Field& f, const rad::SharedModel& model, int perVertex) {
+    std::mt19937 check(3);
+    PredictionError e;
+    double sum = 0.0;
+    const std::size_t n = f.diffuse.size();
+    for (std::size_t v = 0; v < n; ++v) {
+        const Vector3d nv(f.normals[3 * v], f.normals[3 * v + 1], f.normals[3 * v + 2]);
+        for (int j = 0; j < perVertex; ++j) {
+            const Vector3d w = randomAbove(check, nv);
+            double rgb[3];
+            model.evaluate(v, f.normals.data() + 3 * v, w.data(), rgb);
+            const Vector3d error = Vector3d(rgb[0], rgb[1], rgb[2]) - f.value(v, w);
+            e.worst = std::max(e.worst, error.cwiseAbs().maxCoeff());
+            sum += error.squaredNorm();
+        }
+    }
+    e.rms = std::sqrt(sum / (3.0 * n * perVertex));
+    return e;
+}
+
 }  // namespace
 
 TEST(SharedRadianceFit, RecoversAFieldTheModelRepresentsExactly) {
@@ -102,28 +137,10 @@ TEST(SharedRadianceFit, RecoversAFieldTheModelRepresentsExactly) {
         }
         set.offsets.push_back(set.samples.size());
     }
-    rad::SharedFitOptions options;
-    options.lobeDegree = 6;
-    options.lobeRidge = 0.0;
-    options.robustIterations = 0;
-    options.specularPrior = 0.0;
+    rad::SharedFitOptions options = exactOptions();
     options.iterations = 50;
     options.cosineFactor = cosine;
-    auto worstError = [&](const rad::SharedModel& model) {
-        std::mt19937 check(3);
-        double worst = 0.0;
-        for (std::size_t v = 0; v < n; ++v) {
-            const Vector3d nv(f.normals[3 * v], f.normals[3 * v + 1], f.normals[3 * v + 2]);
-            for (int j = 0; j < 5; ++j) {
-                const Vector3d w = randomAbove(check, nv);
-                double rgb[3];
-                model.evaluate(v, f.normals.data() + 3 * v, w.data(), rgb);
-                const Vector3d truth = f.value(v, w);
-                for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(rgb[c] - truth[c]));
-            }
-        }
-        return worst;
-    };
+    auto worstError = [&](const rad::SharedModel& model) { return predictionError(f, model, 5).worst; };
     const rad::SharedModel model = rad::fitSharedModel(f.normals, {}, {}, set, nullptr, options);
     const double worst = worstError(model);
     if (h0 <= 0.0) {
@@ -252,24 +269,9 @@ TEST(SharedRadianceFit, WarmStartFromAFitWithoutSomeViewsReachesTheColdFit) {
         }
         set.offsets.push_back(set.samples.size());
     }
-    rad::SharedFitOptions options;
-    options.lobeDegree = 6;
-    options.lobeRidge = 0.0;
-    options.robustIterations = 0;
-    options.specularPrior = 0.0;
+    rad::SharedFitOptions options = exactOptions();
     options.cosineFactor = false;
-    auto rmsError = [&](const rad::SharedModel& model) {
-        std::mt19937 check(3);
-        double sum = 0.0;
-        for (std::size_t v = 0; v < n; ++v) {
-            const Vector3d nv(f.normals[3 * v], f.normals[3 * v + 1], f.normals[3 * v + 2]);
-            const Vector3d w = randomAbove(check, nv);
-            double rgb[3];
-            model.evaluate(v, f.normals.data() + 3 * v, w.data(), rgb);
-            sum += (Vector3d(rgb[0], rgb[1], rgb[2]) - f.value(v, w)).squaredNorm();
-        }
-        return std::sqrt(sum / (3.0 * n));
-    };
+    auto rmsError = [&](const rad::SharedModel& model) { return predictionError(f, model, 1).rms; };
     options.iterations = 3;
     const rad::SharedModel partial = rad::fitSharedModel(f.normals, {}, {}, set, withoutEvery4th.data(), options);
     const rad::SharedModel cold = rad::fitSharedModel(f.normals, {}, {}, set, nullptr, options);
