@@ -259,40 +259,30 @@ private:
         return {p, edgeParameter(e.a, e.b, p), 0.0};
     }
 
-    // Full mode: the cost of collapsing edge (v0, v1) into slot v1, +inf when not allowed.
+    // Full mode: the cost of collapsing edge (v0, v1) into slot v1, +inf when not allowed. With a
+    // cost that depends on the two ends only (localCosts_), the edge is priced without its stars and
+    // its validity is checked once, when it is popped (stillAllowed): most priced edges are priced
+    // again before they reach the front, so checking them at every pricing (both stars, the link
+    // condition, the flips) was most of the work.
     QueueEntry priceEdge(std::uint32_t v0, std::uint32_t v1) const {
         QueueEntry entry{kInfinity, v0, v1, version_[v0], version_[v1], {0.0, 0.0, 0.0}};
         if (!mesh_.vertexAlive(v0) || !mesh_.vertexAlive(v1)) return entry;
-        if (localCosts_) return priceEdgeByItsEnds(entry);
-        Workspace& w = workspace();
-        mesh_.star(v0, w.star0);
-        neighboursFromStar(w.star0, w.neighbours0);
-        const bool open0 = CollapseMesh::isOpenStar(w.star0);
         const Placement place = placeEdge(v0, v1);
         for (int k = 0; k < 3; ++k) entry.position[k] = place.position[k];
-        if (!collapseAllowed(v0, v1, open0, place.position, true, w)) return entry;
-        double cost = geometryWeight_ * place.geometricError;
-        if (useMetric_) {
-            EdgeQuery query = edgeQuery(v0, v1, place, w);
-            cost += options_.attributeWeight * metric_->priceEdge(mesh_, query);
-        }
-        entry.cost = std::isfinite(cost) ? cost : kInfinity;
-        return entry;
-    }
-
-    // Full mode with a cost that depends on the two ends only: the placement and the cost, without
-    // the stars. Validity is checked once, when the entry is popped (stillAllowed): most priced
-    // edges are priced again before they reach the front, so checking them at every pricing
-    // (both stars, the link condition, the flips) was most of the work.
-    QueueEntry priceEdgeByItsEnds(QueueEntry entry) const {
-        const Placement place = placeEdge(entry.a, entry.b);
-        for (int k = 0; k < 3; ++k) entry.position[k] = place.position[k];
-        EdgeQuery query;
-        query.v0 = entry.a;
-        query.v1 = entry.b;
+        EdgeQuery query;  // no stars: what a metric whose cost depends on the two ends only gets
+        query.v0 = v0;
+        query.v1 = v1;
         query.position = place.position;
         query.s = place.s;
-        const double cost = options_.attributeWeight * metric_->priceEdge(mesh_, query);
+        if (!localCosts_) {
+            Workspace& w = workspace();
+            mesh_.star(v0, w.star0);
+            neighboursFromStar(w.star0, w.neighbours0);
+            if (!collapseAllowed(v0, v1, CollapseMesh::isOpenStar(w.star0), place.position, true, w)) return entry;
+            query = edgeQuery(v0, v1, place, w);
+        }
+        double cost = geometryWeight_ * place.geometricError;
+        if (useMetric_) cost += options_.attributeWeight * metric_->priceEdge(mesh_, query);
         entry.cost = std::isfinite(cost) ? cost : kInfinity;
         return entry;
     }
