@@ -92,7 +92,7 @@ public:
         par.addParam(RichFloat("attributeWeight", float(defaults.attributeWeight), "Metric weight",
                                "Weight of the chosen metric (lambda of the 2010 light-field metric). For the radiance "
                                "quadric, its radiance term (normalised by the field's RMS radiance) weighs "
-                               "attributeWeight x 1.25e-5 against geometryWeight: at the defaults, 0.12 % of the geometry's, "
+                               "attributeWeight x 1.5e-6 against geometryWeight: at the defaults, 0.015 % of the geometry's, "
                                "the balance measured best in images (docs/design-notes.md)."));
         par.addParam(RichBool("preserveBoundary", defaults.preserveBoundary, "Preserve boundary",
                               "Never move or remove a vertex on a mesh boundary."));

@@ -22,9 +22,10 @@ namespace rad {
 enum class SimplificationMetric { Radiance, LightField2010, ColorQuadric, GeometryOnly, RadianceQuadric };
 
 // The radiance quadric's radiance term weighs attributeWeight x kRadianceQuadricBalance against its
-// plane terms' geometryWeight: at the default weights (0.01 / 0.99) 0.99 x 1.25e-5 / 0.01 ~ 0.12 % in
-// normalised units, the balance the image-error benchmark measured best (docs/design-notes.md).
-inline constexpr double kRadianceQuadricBalance = 1.25e-5;
+// plane terms' geometryWeight: at the default weights (0.01 / 0.99) 0.99 x 1.5e-6 / 0.01 ~ 0.015 % in
+// normalised units, the balance the image-error benchmark measured best over analytic fields and
+// fields fitted from path-traced photographs (docs/design-notes.md, "Re-choosing the balance").
+inline constexpr double kRadianceQuadricBalance = 1.5e-6;
 inline constexpr double kRadianceQuadricPerceptualExponent = 0.5;
 std::string describe(SimplificationMetric metric);
 
