@@ -13,8 +13,8 @@
 //   - attributes = the lowest coefficients: the largest complete degree with at most 30 floats
 //     (PB(3) = 3 x 10 for a PB field, SH(2) = 3 x 9 for an SH field);
 //   each with several attribute weights (--weights).
-// Ours: simplifyRadianceMesh with the filter's default settings (radiance metric, half-edge, lazy
-// re-pricing), 2 threads unless --threads; meshoptimizer is single-threaded.
+// Ours: simplifyRadianceMesh with the filter's default settings (the accumulating radiance quadric,
+// full collapses), 2 threads unless --threads; meshoptimizer is single-threaded.
 //
 // Meshes:
 //   bunny:   the main job's fitted bunny, rebuilt in-process: the scan bunny00.off photographed
@@ -24,8 +24,9 @@
 //   elephant: a real scan (refined_elephant.off) with a glossy SH(6) field with cast shadows;
 //   sphere:  the striped sphere of bench_simplify_quality (icosphere level 5, PB(4), 8 bands);
 //   armadillo: armadillo.off midpoint-subdivided 3 times (1.66M vertices, interpolated normals),
-//            glossy PB(4) without shadows: time at 10 % (ours vs meshoptimizer with 3 and 30
-//            attribute floats and positions only), image error too unless --armadillo-error 0.
+//            glossy PB(4) without shadows: time at 10 % (ours on 1 and on --threads threads vs
+//            meshoptimizer with 3 and 30 attribute floats and positions only) and each run's peak
+//            resident memory above the process's before it, image error too unless --armadillo-error 0.
 //
 //   bench_vs_meshoptimizer [--data DIR (data-cache)] [--only bunny,elephant,sphere,armadillo]
 //                          [--quick] [--weights 0.1,0.5,2,8,32] [--threads 2] [--views 16] [--size 512]
@@ -52,6 +53,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -206,7 +208,29 @@ struct Candidate {
     std::string setting;
     rad::RadianceMesh mesh;
     double seconds = 0.0;
+    double extraPeakMb = -1.0;  // armadillo: peak resident memory above the process's before the run
 };
+
+// A field of /proc/self/status in MB (VmRSS, VmHWM); -1 where it cannot be read.
+double statusMb(const std::string& field) {
+    std::ifstream in("/proc/self/status");
+    std::string line;
+    while (std::getline(in, line))
+        if (line.rfind(field + ":", 0) == 0) return std::strtod(line.c_str() + field.size() + 1, nullptr) / 1024.0;
+    return -1.0;
+}
+
+// Runs `run` and returns how far the resident memory rose above what the process held before it:
+// the kernel's high-water mark is reset first (writing 5 to /proc/self/clear_refs, Linux 4.0+), so
+// runs in one process are measured apart. -1 where the mark cannot be reset or read.
+template <class Run>
+double extraPeakMemoryMb(Run&& run) {
+    const bool reset = static_cast<bool>(std::ofstream("/proc/self/clear_refs") << "5");
+    const double before = statusMb("VmRSS");
+    run();
+    const double peak = statusMb("VmHWM");
+    return reset && before >= 0.0 && peak >= 0.0 ? peak - before : -1.0;
+}
 
 Candidate runMeshopt(const rad::RadianceMesh& mesh, std::size_t targetFaces, const Attributes* attributes, float weight) {
     Candidate c;
@@ -322,30 +346,51 @@ void armadilloTime(const std::string& data) {
                 original.vertexCount(), original.faceCount(), secondsSince(tm));
     const std::size_t target = static_cast<std::size_t>(0.10 * original.faceCount());
     const std::vector<Attributes> sets = attributeSets(original);
-    const auto t0 = Clock::now();
-    const rad::RadianceSimplificationResult ours = runOurs(original, target);
-    const double oursSeconds = secondsSince(t0);
     std::vector<Candidate> candidates;
-    Candidate mine;
-    mine.setting = "ours, " + std::to_string(ourThreads) + " threads";
-    mine.mesh = ours.progressive.extract(ours.progressive.stepsForFaceCount(target));
-    mine.seconds = oursSeconds;
-    candidates.push_back(std::move(mine));
-    candidates.push_back(runMeshopt(original, target, nullptr, 0.0f));
-    for (const Attributes& a : sets) candidates.push_back(runMeshopt(original, target, &a, 0.5f));
+    std::vector<int> threadCounts = {1};
+    if (ourThreads != 1) threadCounts.push_back(ourThreads);
+    for (int threads : threadCounts) {
+        Candidate mine;
+        const int keep = ourThreads;
+        ourThreads = threads;
+        mine.extraPeakMb = extraPeakMemoryMb([&] {
+            const auto t0 = Clock::now();
+            const rad::RadianceSimplificationResult ours = runOurs(original, target);
+            mine.seconds = secondsSince(t0);
+            mine.mesh = ours.progressive.extract(ours.progressive.stepsForFaceCount(target));
+        });
+        ourThreads = keep;
+        mine.setting = "ours, " + std::to_string(threads) + (threads == 1 ? " thread" : " threads");
+        candidates.push_back(std::move(mine));
+    }
+    const std::size_t oursCount = candidates.size();
+    const auto meshopt = [&](const Attributes* a, float weight) {
+        Candidate c;
+        const double extra = extraPeakMemoryMb([&] { c = runMeshopt(original, target, a, weight); });
+        c.extraPeakMb = extra;
+        candidates.push_back(std::move(c));
+    };
+    meshopt(nullptr, 0.0f);
+    for (const Attributes& a : sets) meshopt(&a, 0.5f);
     std::vector<rad::ImageSpaceError> errors(candidates.size());
     if (armadilloError) {
         std::vector<const rad::RadianceMesh*> others;
         for (const Candidate& c : candidates) others.push_back(&c.mesh);
         errors = rad::compareRadianceMeshes(original, others, imageOptions);
     }
-    std::printf("  %-40s %8s %10s %8s %10s\n", "method (1 thread for meshopt)", "faces", "RMSE lin", "RMSE 8b", "time s");
+    std::printf("  %-40s %8s %10s %8s %10s %14s\n", "method (1 thread for meshopt)", "faces", "RMSE lin", "RMSE 8b", "time s",
+                "peak +MB");
     for (std::size_t i = 0; i < candidates.size(); ++i)
-        std::printf("  %-40s %8zu %10.5f %8.3f %10.2f\n", candidates[i].setting.c_str(), candidates[i].mesh.faceCount(),
-                    errors[i].meanRmseLinear, errors[i].meanRmseSrgb8, candidates[i].seconds);
-    const double thirty = candidates.back().seconds;
-    std::printf("  SUMMARY armadillo time: ours %.2f s / meshopt with %d attribute floats %.2f s = %.2fx (target <= 2): %s\n",
-                oursSeconds, sets.back().count, thirty, oursSeconds / thirty, oursSeconds <= 2.0 * thirty ? "MET" : "MISSED");
+        std::printf("  %-40s %8zu %10.5f %8.3f %10.2f %14.0f\n", candidates[i].setting.c_str(), candidates[i].mesh.faceCount(),
+                    errors[i].meanRmseLinear, errors[i].meanRmseSrgb8, candidates[i].seconds, candidates[i].extraPeakMb);
+    const Candidate& thirty = candidates.back();
+    for (std::size_t i = 0; i < oursCount; ++i)
+        std::printf("  SUMMARY armadillo time: %s %.2f s / meshopt with %d attribute floats %.2f s = %.2fx (target <= 1 on 1 "
+                    "thread, < 1 on 2): %s; peak memory above the input %.0f MB vs %.0f MB\n",
+                    candidates[i].setting.c_str(), candidates[i].seconds, sets.back().count, thirty.seconds,
+                    candidates[i].seconds / thirty.seconds,
+                    candidates[i].seconds <= thirty.seconds && (i == 0 || candidates[i].seconds < thirty.seconds) ? "MET" : "MISSED",
+                    candidates[i].extraPeakMb, thirty.extraPeakMb);
 }
 
 std::vector<float> parseList(const std::string& s) {
