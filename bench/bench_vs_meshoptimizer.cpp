@@ -30,7 +30,8 @@
 //
 //   bench_vs_meshoptimizer [--data DIR (data-cache)] [--only bunny,elephant,sphere,armadillo]
 //                          [--quick] [--weights 0.1,0.5,2,8,32] [--threads 2] [--views 16] [--size 512]
-//                          [--lazy 0|1] [--geometry-weight W] (experiments away from the defaults)
+//                          [--lazy 0|1] [--geometry-weight W] [--pass-fraction F (0: the global queue)]
+//                          (experiments away from the defaults)
 #include "acquisition/camera_rig.h"
 #include "acquisition/sample_scene_radiance_mesh.h"
 #include "acquisition/virtual_photographs.h"
@@ -78,6 +79,7 @@ int metricOverride = -1;        // rad::SimplificationMetric value
 int kindOverride = -1;          // 0 half-edge, 1 full
 double attributeWeightOverride = -1.0;
 double perceptualOverride = -1.0;
+double passFractionOverride = -1.0;
 std::vector<std::string> rplyInputs;  // extra meshes: radiance PLY files (e.g. fitted from rendered photographs)
 bool quick = false;
 bool armadilloError = true;
@@ -268,6 +270,7 @@ rad::RadianceSimplificationResult runOurs(const rad::RadianceMesh& mesh, std::si
     }
     if (attributeWeightOverride >= 0.0) options.collapse.attributeWeight = attributeWeightOverride;
     if (perceptualOverride >= 0.0) options.perceptualExponent = perceptualOverride;
+    if (passFractionOverride >= 0.0) options.collapse.passFraction = passFractionOverride;
     if (metricOverride >= 0) options.metric = static_cast<rad::SimplificationMetric>(metricOverride);
     if (kindOverride >= 0) options.collapse.kind = kindOverride ? rad::CollapseKind::Full : rad::CollapseKind::HalfEdge;
     return rad::simplifyRadianceMesh(mesh, options);
@@ -432,6 +435,7 @@ int main(int argc, char** argv) {
         else if (a == "--kind") kindOverride = std::atoi(v.c_str());
         else if (a == "--perceptual") perceptualOverride = std::atof(v.c_str());
         else if (a == "--attribute-weight") attributeWeightOverride = std::atof(v.c_str());
+        else if (a == "--pass-fraction") passFractionOverride = std::atof(v.c_str());
         else if (a == "--rply") rplyInputs.push_back(v);
         else {
             std::fprintf(stderr, "unknown option %s\n", a.c_str());

@@ -39,6 +39,8 @@ void usage(std::ostream& out) {
            "  --valence MIN,MAX        valence bounds, e.g. 4,11 (Vanhoey et al. 2010) [none]\n"
            "  --free-boundary          let boundary vertices move and disappear\n"
            "  --eager                  re-price touched vertices at once instead of lazily\n"
+           "  --pass-fraction F        full collapses under the radiance quadric: passes of at most this\n"
+           "                           fraction of the edges (after meshoptimizer); 0: one global queue [0.3]\n"
            "  --max-normal-change DEG  largest rotation of a face's normal by a collapse [90]\n"
            "  --progressive OUT.rpm    also write the progressive mesh (and OUT_base.rply beside it)\n"
            "  --threads N              worker threads [all]\n"
@@ -91,6 +93,7 @@ int run(int argc, char** argv) {
         else if (a == "--attribute-weight") options.collapse.attributeWeight = toNumber(a, v);
         else if (a == "--max-normal-change") options.collapse.maxNormalDeviationDegrees = toNumber(a, v);
         else if (a == "--threads") options.collapse.threads = toInt(a, v);
+        else if (a == "--pass-fraction") options.collapse.passFraction = toNumber(a, v);
         else if (a == "--progressive") progressivePath = v;
         else if (a == "--reduce") reduceTo = v;
         else if (a == "--valence") {

@@ -32,6 +32,9 @@ std::string EdgeCollapseOptions::validate() const {
     if (std::isnan(maxError) || maxError < 0.0)
         return "The largest collapse error must be >= 0 or infinite (it is " + text(maxError) + ").";
     if (threads < 0) return "The thread count must be 0 (all cores) or more.";
+    if (!(passFraction >= 0.0 && passFraction <= 1.0))
+        return "The fraction of the edges a pass may collapse must be in [0, 1] (it is " + text(passFraction) +
+               "): use e.g. 0.15, or 0 for one global queue.";
     return {};
 }
 
@@ -336,8 +339,19 @@ private:
     // a hemisphere per vertex) are worth it.
     bool parallelWorth(long n) const { return n > 256 || (useMetric_ && !localCosts_ && n > 2); }
 
-    // Prices `vertices` (half-edge) or every edge incident to them (full) in parallel, pushes.
-    void reprice(const std::vector<std::uint32_t>& vertices);
+    // Prices `vertices` (half-edge) or every edge incident to them (full) in parallel into priced_.
+    void price(const std::vector<std::uint32_t>& vertices);
+    // price(), then pushes what it priced.
+    void reprice(const std::vector<std::uint32_t>& vertices) {
+        price(vertices);
+        for (const QueueEntry& e : priced_) push(e);
+    }
+    // Applies a popped, valid collapse: the mesh, the metric, the step callback, the versions.
+    // Returns in `affected` the vertices whose edges must be priced again.
+    void applyCollapse(const QueueEntry& top, EdgeCollapseResult& result,
+                       const std::function<void(const CollapseStep&)>& onStep, std::vector<std::uint32_t>& affected);
+    // Full collapses under costs that depend on the two ends only (localCosts_), in passes.
+    EdgeCollapseResult runInPasses(const std::function<void(const CollapseStep&)>& onStep);
 
     CollapseMesh& mesh_;
     CollapseMetric* metric_;
@@ -347,6 +361,7 @@ private:
     std::vector<QueueEntry> priced_;
     std::vector<std::pair<std::uint32_t, std::uint32_t>> edges_;
     std::vector<std::uint32_t> around_;
+    std::vector<std::uint32_t> ring_;  // applyCollapse's scratch
     std::vector<double> lastCost_;  // half-edge: each source's cost when last priced
     double minNormalCosine_ = 0.0;
     double geometryWeight_ = 0.0;
@@ -356,7 +371,7 @@ private:
     std::size_t pricings_ = 0;
 };
 
-void Simplifier::reprice(const std::vector<std::uint32_t>& vertices) {
+void Simplifier::price(const std::vector<std::uint32_t>& vertices) {
     const int threads = options_.threads > 0 ? options_.threads : omp_get_max_threads();
     if (options_.kind == CollapseKind::HalfEdge) {
         priced_.resize(vertices.size());
@@ -382,7 +397,156 @@ void Simplifier::reprice(const std::vector<std::uint32_t>& vertices) {
         for (long i = 0; i < n; ++i) priced_[i] = priceEdge(edges_[i].first, edges_[i].second);
         pricings_ += edges_.size();
     }
-    for (const QueueEntry& e : priced_) push(e);
+}
+
+void Simplifier::applyCollapse(const QueueEntry& top, EdgeCollapseResult& result,
+                               const std::function<void(const CollapseStep&)>& onStep,
+                               std::vector<std::uint32_t>& affected) {
+    const std::uint32_t v0 = top.a, v1 = top.b;
+    // Half-edge: only v1 and the neighbours of v0 see their star change (v1 does not move, so
+    // the faces of v1's other neighbours are untouched). Full: v1 moves, its whole new ring.
+    if (options_.kind == CollapseKind::HalfEdge) mesh_.neighbours(v0, ring_);
+    EdgeQuery applied;
+    applied.v0 = v0;
+    applied.v1 = v1;
+    if (options_.kind == CollapseKind::HalfEdge) {
+        applied.position = mesh_.position(v1);
+        applied.s = 1.0;
+        applied.halfEdge = true;
+        mesh_.collapse(v0, v1);
+    } else {
+        Workspace& w = workspace();
+        const Placement place = storedPlacement(top);
+        mesh_.star(v0, w.star0);
+        mesh_.star(v1, w.star1);
+        applied = edgeQuery(v0, v1, place, w);
+        mesh_.setPosition(v1, place.position);
+        mesh_.collapse(v0, v1);
+    }
+    if (metric_) metric_->onCollapse(mesh_, applied);
+
+    ++result.collapses;
+    result.lastCost = top.cost;
+    result.maxCost = std::max(result.maxCost, top.cost);
+    if (onStep) {
+        CollapseStep step;
+        step.removed = v0;
+        step.survivor = v1;
+        for (int k = 0; k < 3; ++k) step.position[k] = static_cast<float>(applied.position[k]);
+        step.cost = static_cast<float>(top.cost);
+        onStep(step);
+    }
+
+    ++version_[v0];
+    if (options_.kind == CollapseKind::Full) mesh_.neighbours(v1, ring_);
+    affected.assign(1, v1);
+    if (localCosts_) {
+        // Only the survivor's edges changed cost; the ring's other edges keep their entries and
+        // are re-validated when popped. Those found invalid then are priced again once a
+        // collapse next to them may have made them valid.
+        for (std::uint32_t v : ring_)
+            if (v != v1 && dormant_[v]) {
+                dormant_[v] = 0;
+                affected.push_back(v);
+            }
+    } else {
+        for (std::uint32_t v : ring_)
+            if (v != v1) affected.push_back(v);
+    }
+    for (std::uint32_t v : affected) ++version_[v];
+}
+
+// Full collapses under costs that depend on the two ends only, in passes after meshoptimizer's
+// simplifier (rank, sort, perform, update): each pass sorts the cheapest priced edges, collapses them
+// in that order while their entries are current (a collapse makes its ends' entries stale) and still
+// valid, then prices the touched vertices' edges at once, in parallel, for the next pass. Against
+// the global queue, a survivor's new edges wait for the next pass instead of competing at once; a
+// pass takes at most passFraction of the priced edges so that it does not run far ahead of the
+// greedy order. No stale entry is ever sifted through a heap.
+EdgeCollapseResult Simplifier::runInPasses(const std::function<void(const CollapseStep&)>& onStep) {
+    EdgeCollapseResult result;
+    const std::size_t startFaces = mesh_.aliveFaceCount();
+    const std::size_t target = options_.targetFaceCount;
+    result.stop = StopReason::TargetReached;
+    std::vector<std::uint32_t> all(mesh_.vertexCount());
+    for (std::size_t v = 0; v < all.size(); ++v) all[v] = static_cast<std::uint32_t>(v);
+    price(all);
+    std::vector<QueueEntry> entries;
+    entries.reserve(priced_.size());
+    for (const QueueEntry& e : priced_)
+        if (e.cost < kInfinity) entries.push_back(e);
+
+    const double work = static_cast<double>(std::max<std::size_t>(1, startFaces - std::min(startFaces, target)));
+    std::size_t nextReport = 0;
+    const std::size_t reportStep = std::max<std::size_t>(1, static_cast<std::size_t>(work / 100.0));
+    const auto cheaper = [](const QueueEntry& x, const QueueEntry& y) {
+        if (x.cost != y.cost) return x.cost < y.cost;
+        return x.a != y.a ? x.a < y.a : x.b < y.b;
+    };
+    std::vector<std::uint32_t> affected, touched;
+    std::vector<std::uint8_t> marked(mesh_.vertexCount(), 0);
+    bool stopped = false;
+    while (!stopped && mesh_.aliveFaceCount() > target) {
+        // Rank: drop the entries made stale or found invalid, select and sort the cheapest.
+        entries.erase(std::remove_if(entries.begin(), entries.end(),
+                                     [&](const QueueEntry& e) { return e.cost == kInfinity || stale(e); }),
+                      entries.end());
+        if (entries.empty()) {
+            result.stop = StopReason::NoValidCollapse;
+            break;
+        }
+        const std::size_t needed = (mesh_.aliveFaceCount() - target + 1) / 2;
+        const std::size_t share = static_cast<std::size_t>(options_.passFraction * static_cast<double>(entries.size()));
+        const std::size_t take = std::min(entries.size(), std::max<std::size_t>(64, std::min(needed, share)));
+        std::nth_element(entries.begin(), entries.begin() + (take - 1), entries.end(), cheaper);
+        std::sort(entries.begin(), entries.begin() + take, cheaper);
+        // Perform in order.
+        touched.clear();
+        std::size_t performed = 0;
+        for (std::size_t i = 0; i < take && mesh_.aliveFaceCount() > target; ++i) {
+            QueueEntry& e = entries[i];
+            if (stale(e)) {
+                ++result.staleEntries;
+                continue;
+            }
+            if (!stillAllowed(e)) {
+                ++result.staleEntries;
+                dormant_[e.a] = dormant_[e.b] = 1;
+                e.cost = kInfinity;  // dropped; priced again when a collapse touches an end
+                continue;
+            }
+            if (e.cost > options_.maxError) {
+                // The rest of this pass costs more; the edges its collapses made may not: stop only
+                // when a pass cannot start below the bound.
+                if (performed == 0) {
+                    result.stop = StopReason::MaxErrorReached;
+                    stopped = true;
+                }
+                break;
+            }
+            applyCollapse(e, result, onStep, affected);
+            ++performed;
+            for (std::uint32_t v : affected)
+                if (!marked[v]) {
+                    marked[v] = 1;
+                    touched.push_back(v);
+                }
+            const std::size_t done = startFaces - mesh_.aliveFaceCount();
+            if (options_.progress && done >= nextReport) {
+                nextReport = done + reportStep;
+                reportProgress(options_.progress, std::min(1.0, static_cast<double>(done) / work), "collapsing edges");
+            }
+        }
+        // Update: the touched vertices' edges, priced in parallel.
+        for (std::uint32_t v : touched) marked[v] = 0;
+        price(touched);
+        for (const QueueEntry& e : priced_)
+            if (e.cost < kInfinity) entries.push_back(e);
+    }
+    result.finalFaceCount = mesh_.aliveFaceCount();
+    result.finalVertexCount = mesh_.aliveVertexCount();
+    result.repricedVertices = pricings_;
+    return result;
 }
 
 EdgeCollapseResult Simplifier::run(const std::function<void(const CollapseStep&)>& onStep) {
@@ -395,6 +559,7 @@ EdgeCollapseResult Simplifier::run(const std::function<void(const CollapseStep&)
         result.finalVertexCount = mesh_.aliveVertexCount();
         return result;
     }
+    if (localCosts_ && options_.passFraction > 0.0) return runInPasses(onStep);
 
     std::vector<std::uint32_t> all(mesh_.vertexCount());
     for (std::size_t v = 0; v < all.size(); ++v) all[v] = static_cast<std::uint32_t>(v);
@@ -406,7 +571,6 @@ EdgeCollapseResult Simplifier::run(const std::function<void(const CollapseStep&)
     std::size_t nextReport = 0;
     const std::size_t reportStep = std::max<std::size_t>(1, static_cast<std::size_t>(work / 100.0));
     std::vector<std::uint32_t> affected;
-    std::vector<std::uint32_t> ring;
 
     while (mesh_.aliveFaceCount() > target) {
         if (queue_.empty()) {
@@ -441,58 +605,7 @@ EdgeCollapseResult Simplifier::run(const std::function<void(const CollapseStep&)
             break;
         }
 
-        const std::uint32_t v0 = top.a, v1 = top.b;
-        // Half-edge: only v1 and the neighbours of v0 see their star change (v1 does not move, so
-        // the faces of v1's other neighbours are untouched). Full: v1 moves, its whole new ring.
-        if (options_.kind == CollapseKind::HalfEdge) mesh_.neighbours(v0, ring);
-        EdgeQuery applied;
-        applied.v0 = v0;
-        applied.v1 = v1;
-        if (options_.kind == CollapseKind::HalfEdge) {
-            applied.position = mesh_.position(v1);
-            applied.s = 1.0;
-            applied.halfEdge = true;
-            mesh_.collapse(v0, v1);
-        } else {
-            Workspace& w = workspace();
-            const Placement place = storedPlacement(top);
-            mesh_.star(v0, w.star0);
-            mesh_.star(v1, w.star1);
-            applied = edgeQuery(v0, v1, place, w);
-            mesh_.setPosition(v1, place.position);
-            mesh_.collapse(v0, v1);
-        }
-        if (metric_) metric_->onCollapse(mesh_, applied);
-
-        ++result.collapses;
-        result.lastCost = top.cost;
-        result.maxCost = std::max(result.maxCost, top.cost);
-        if (onStep) {
-            CollapseStep step;
-            step.removed = v0;
-            step.survivor = v1;
-            for (int k = 0; k < 3; ++k) step.position[k] = static_cast<float>(applied.position[k]);
-            step.cost = static_cast<float>(top.cost);
-            onStep(step);
-        }
-
-        ++version_[v0];
-        if (options_.kind == CollapseKind::Full) mesh_.neighbours(v1, ring);
-        affected.assign(1, v1);
-        if (localCosts_) {
-            // Only the survivor's edges changed cost; the ring's other edges keep their entries and
-            // are re-validated when popped. Those found invalid then are priced again once a
-            // collapse next to them may have made them valid.
-            for (std::uint32_t v : ring)
-                if (v != v1 && dormant_[v]) {
-                    dormant_[v] = 0;
-                    affected.push_back(v);
-                }
-        } else {
-            for (std::uint32_t v : ring)
-                if (v != v1) affected.push_back(v);
-        }
-        for (std::uint32_t v : affected) ++version_[v];
+        applyCollapse(top, result, onStep, affected);
         if (options_.kind == CollapseKind::HalfEdge && options_.lazyRepricing) {
             // Queue each affected source at its previous cost (a guess: costs mostly grow as the
             // mesh coarsens) and price it only when it reaches the front.

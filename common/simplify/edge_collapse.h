@@ -1,6 +1,7 @@
 // Iterative edge-collapse simplification (Hoppe 1996; Garland & Heckbert 1997) with pluggable pricing
 // (collapse_metric.h), as Vanhoey et al. 2015 sec. 4 use it: a priority queue of collapsible edges,
-// the cheapest collapsed first. Cost = geometryWeight * E_G (the memoryless QEM, quadric_error.h)
+// the cheapest collapsed first (or, for an accumulated quadric, passes of sorted edges after
+// meshoptimizer's simplifier: passFraction). Cost = geometryWeight * E_G (the memoryless QEM, quadric_error.h)
 // + attributeWeight * E_A (the metric), 1 % / 99 % by default (sec. 4.4). Half-edge or full
 // collapses; a collapse is done only when it keeps a 2-manifold, the boundary, the faces'
 // orientation and the optional valence bounds. Simplifies in place; the metric prices in parallel
@@ -41,6 +42,11 @@ struct EdgeCollapseOptions {
     // are touched several times before they are collapsed, so this saves most pricings; the
     // order can differ from the eager one where a cost decreased.
     bool lazyRepricing = true;
+    // Full mode with a cost that depends on the two ends only (an accumulated quadric): > 0 collapses
+    // in passes of at most this fraction of the priced edges, sorted once per pass and re-priced in
+    // parallel between passes (after meshoptimizer's simplifier), instead of one global queue; 0: the
+    // queue. Other modes always use the queue. Measured: docs/design-notes.md, "Passes".
+    double passFraction = 0.3;
     int threads = 0;                          // 0: OpenMP default
     // Called about every 1 % of the work (progress/progress_callback.h); a stop request makes
     // simplify() throw OperationCancelled.

@@ -1,11 +1,15 @@
 #include "simplify/edge_collapse.h"
 
 #include "geometry/primitive_meshes.h"
+#include "radiance/radiance_field.h"
+#include "radiance/radiance_frame.h"
+#include "simplify/radiance_quadric.h"
 #include "test_support.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <set>
 #include <utility>
@@ -226,6 +230,76 @@ TEST(EdgeCollapse, ProgressCanCancel) {
     EXPECT_EQ(calls, 5);
 }
 
+// An icosphere with an SH(2) field that varies smoothly over it, simplified to a tenth of its faces
+// under the accumulating radiance quadric (full collapses, costs of the two ends only).
+struct QuadricRun {
+    rad::EdgeCollapseResult result;
+    std::vector<float> positions;
+    std::vector<std::uint32_t> faces;
+    std::vector<float> costs;  // of each collapse, in order
+};
+QuadricRun simplifyShSphere(double passFraction, int threads, double maxError = INFINITY) {
+    const rad::TriangleMesh sphere = rad::makeIcosphere(4);  // 5120 faces
+    rad::RadianceField field({rad::BasisKind::SphericalHarmonics, 2}, sphere.vertexCount());
+    for (std::size_t v = 0; v < sphere.vertexCount(); ++v) {
+        const float* p = sphere.positions.data() + 3 * v;
+        for (int j = 0; j < field.coefficientsPerVertex(); ++j)
+            field.vertexCoefficients(v)[j] = 0.5f + 0.3f * std::sin(3.0f * p[0] + 2.0f * p[1] * p[2] + 0.7f * j);
+        rad::storeFrame(rad::frameFromNormal(Eigen::Vector3d(p[0], p[1], p[2]).normalized()), field.frame(v));
+    }
+    CollapseMesh mesh = toCollapseMesh(sphere);
+    rad::RadianceQuadricMetric metric(mesh, field);
+    EdgeCollapseOptions options;
+    options.kind = CollapseKind::Full;
+    options.targetFaceCount = 512;
+    options.maxError = maxError;
+    options.passFraction = passFraction;
+    options.threads = threads;
+    QuadricRun run;
+    run.result = rad::simplifyByEdgeCollapse(mesh, &metric, options,
+                                             [&](const rad::CollapseStep& s) { run.costs.push_back(s.cost); });
+    std::vector<std::uint32_t> map;
+    mesh.compact(run.positions, run.faces, map);
+    return run;
+}
+
+TEST(EdgeCollapse, PassesReachTheTargetAsAClosedManifoldAtTheQueuesCost) {
+    const QuadricRun queue = simplifyShSphere(0.0, 1), passes = simplifyShSphere(0.15, 1);
+    EXPECT_EQ(passes.result.stop, rad::StopReason::TargetReached);
+    EXPECT_EQ(passes.result.finalFaceCount, queue.result.finalFaceCount);
+    const Topology t = topology(passes.faces, passes.positions.size() / 3);
+    EXPECT_EQ(t.nonManifoldEdges, 0u);
+    EXPECT_EQ(t.boundaryEdges, 0u);
+    EXPECT_EQ(t.duplicateFaces, 0u);
+    EXPECT_EQ(static_cast<long>(t.vertices) - static_cast<long>(t.edges) + static_cast<long>(t.faces), 2);
+    // Passes take the cheapest edges in order, as the queue does: the sum of the costs paid stays
+    // close to the queue's (an order that ignored the costs pays many times more).
+    double queueSum = 0.0, passSum = 0.0;
+    for (float c : queue.costs) queueSum += c;
+    for (float c : passes.costs) passSum += c;
+    EXPECT_GT(queueSum, 0.0);
+    EXPECT_LT(passSum, 1.1 * queueSum);
+    EXPECT_LT(passes.result.maxCost, 1.5 * queue.result.maxCost);
+    // And they leave few stale entries: each pass drops them before sorting.
+    EXPECT_LT(passes.result.staleEntries, queue.result.staleEntries);
+}
+
+TEST(EdgeCollapse, PassesGiveTheSameMeshOnOneAndTwoThreads) {
+    const QuadricRun one = simplifyShSphere(0.15, 1), two = simplifyShSphere(0.15, 2);
+    EXPECT_EQ(one.faces, two.faces);
+    EXPECT_EQ(one.positions, two.positions);
+    EXPECT_EQ(one.costs, two.costs);
+}
+
+TEST(EdgeCollapse, PassesStopAtTheLargestError) {
+    const QuadricRun full = simplifyShSphere(0.15, 1);
+    const double limit = full.result.maxCost / 10.0;
+    const QuadricRun bounded = simplifyShSphere(0.15, 1, limit);
+    EXPECT_EQ(bounded.result.stop, rad::StopReason::MaxErrorReached);
+    EXPECT_LE(bounded.result.maxCost, limit);
+    EXPECT_GT(bounded.result.finalFaceCount, full.result.finalFaceCount);
+}
+
 TEST(EdgeCollapse, RefusesInconsistentOptions) {
     CollapseMesh mesh = toCollapseMesh(rad::makeIcosphere(1));
     ProtectingMetric metric({});
@@ -236,6 +310,11 @@ TEST(EdgeCollapse, RefusesInconsistentOptions) {
     options.minValence = 8;
     options.maxValence = 4;
     EXPECT_THROW(rad::simplifyByEdgeCollapse(mesh, &metric, options), std::invalid_argument);
+    options.minValence = options.maxValence = 0;
+    for (double fraction : {-0.1, 1.5, double(NAN)}) {
+        options.passFraction = fraction;
+        EXPECT_THROW(rad::simplifyByEdgeCollapse(mesh, &metric, options), std::invalid_argument) << fraction;
+    }
 }
 
 }  // namespace
