@@ -25,7 +25,7 @@ MESH = re.compile(r"^== (.+?): \d+ vertices")
 
 
 def parse(path):
-    """{mesh: {'ours' | 'meshopt best' | 'meshopt positions only': [(faces, lin, 8bit)]}}"""
+    """{mesh: {'ours' | 'meshopt best' | 'meshopt positions only': {level: (faces, lin, 8bit)}}}"""
     meshes = defaultdict(lambda: defaultdict(dict))
     mesh = None
     for line in open(path):
@@ -36,16 +36,17 @@ def parse(path):
         m = ROW.match(line)
         if not (m and mesh):
             continue
-        faces, lin, bit8 = int(m.group(3)), float(m.group(4)), float(m.group(5))
+        # Keyed by the level: meshoptimizer's settings may stop a few faces apart at one level.
+        level, faces, lin, bit8 = int(m.group(1)), int(m.group(3)), float(m.group(4)), float(m.group(5))
         method = m.group(2).strip()
         levels = meshes[mesh]
         if method == "ours":
-            levels["ours"][faces] = (lin, bit8)
+            levels["ours"][level] = (faces, lin, bit8)
         else:
             if method == "meshopt positions only":
-                levels["meshopt positions only"][faces] = (lin, bit8)
-            best = levels["meshopt best"].get(faces, (float("inf"), float("inf")))
-            levels["meshopt best"][faces] = (min(best[0], lin), min(best[1], bit8))
+                levels["meshopt positions only"][level] = (faces, lin, bit8)
+            best = levels["meshopt best"].get(level, (faces, float("inf"), float("inf")))
+            levels["meshopt best"][level] = (best[0], min(best[1], lin), min(best[2], bit8))
     return meshes
 
 
@@ -67,9 +68,9 @@ def main():
         for row, label in enumerate(("linear RMSE", "8-bit sRGB RMSE")):
             ax = axes[row][col]
             for method, style in styles.items():
-                points = sorted(meshes[name].get(method, {}).items())
+                points = sorted(meshes[name].get(method, {}).values())
                 if points:
-                    ax.plot([f for f, _ in points], [e[row] for _, e in points], label=method, **style)
+                    ax.plot([p[0] for p in points], [p[1 + row] for p in points], label=method, **style)
             ax.set_xscale("log")
             ax.set_yscale("log")
             ax.xaxis.set_minor_formatter(NullFormatter())
