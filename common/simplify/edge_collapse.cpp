@@ -352,6 +352,24 @@ private:
                        const std::function<void(const CollapseStep&)>& onStep, std::vector<std::uint32_t>& affected);
     // Full collapses under costs that depend on the two ends only (localCosts_), in passes.
     EdgeCollapseResult runInPasses(const std::function<void(const CollapseStep&)>& onStep);
+    // What one pass hands the next.
+    struct PassState {
+        std::vector<QueueEntry> entries;  // priced edges; stale ones are dropped when ranking
+        std::vector<std::uint32_t> affected, touched;
+        std::vector<std::uint8_t> marked;  // in touched
+        std::size_t startFaces = 0, nextReport = 0, reportStep = 1;
+        double work = 1.0;
+    };
+    // Appends the finite entries of priced_.
+    void keepPriced(std::vector<QueueEntry>& entries) const;
+    // Rank: drops stale and dropped entries, sorts the cheapest to the front; returns how many.
+    std::size_t rankPass(std::vector<QueueEntry>& entries) const;
+    // Perform: the ranked entries in order while current and valid; false when the largest error
+    // stops the run.
+    bool performPass(PassState& state, std::size_t take, EdgeCollapseResult& result,
+                     const std::function<void(const CollapseStep&)>& onStep);
+    // Update: prices the touched vertices' edges, in parallel, for the next pass.
+    void updatePass(PassState& state);
 
     CollapseMesh& mesh_;
     CollapseMetric* metric_;
@@ -465,88 +483,97 @@ void Simplifier::applyCollapse(const QueueEntry& top, EdgeCollapseResult& result
 // greedy order. No stale entry is ever sifted through a heap.
 EdgeCollapseResult Simplifier::runInPasses(const std::function<void(const CollapseStep&)>& onStep) {
     EdgeCollapseResult result;
-    const std::size_t startFaces = mesh_.aliveFaceCount();
-    const std::size_t target = options_.targetFaceCount;
     result.stop = StopReason::TargetReached;
+    PassState state;
+    state.startFaces = mesh_.aliveFaceCount();
+    state.work = static_cast<double>(std::max<std::size_t>(1, state.startFaces - std::min(state.startFaces, options_.targetFaceCount)));
+    state.reportStep = std::max<std::size_t>(1, static_cast<std::size_t>(state.work / 100.0));
+    state.marked.assign(mesh_.vertexCount(), 0);
     std::vector<std::uint32_t> all(mesh_.vertexCount());
     for (std::size_t v = 0; v < all.size(); ++v) all[v] = static_cast<std::uint32_t>(v);
     price(all);
-    std::vector<QueueEntry> entries;
-    entries.reserve(priced_.size());
-    for (const QueueEntry& e : priced_)
-        if (e.cost < kInfinity) entries.push_back(e);
-
-    const double work = static_cast<double>(std::max<std::size_t>(1, startFaces - std::min(startFaces, target)));
-    std::size_t nextReport = 0;
-    const std::size_t reportStep = std::max<std::size_t>(1, static_cast<std::size_t>(work / 100.0));
-    const auto cheaper = [](const QueueEntry& x, const QueueEntry& y) {
-        if (x.cost != y.cost) return x.cost < y.cost;
-        return x.a != y.a ? x.a < y.a : x.b < y.b;
-    };
-    std::vector<std::uint32_t> affected, touched;
-    std::vector<std::uint8_t> marked(mesh_.vertexCount(), 0);
-    bool stopped = false;
-    while (!stopped && mesh_.aliveFaceCount() > target) {
-        // Rank: drop the entries made stale or found invalid, select and sort the cheapest.
-        entries.erase(std::remove_if(entries.begin(), entries.end(),
-                                     [&](const QueueEntry& e) { return e.cost == kInfinity || stale(e); }),
-                      entries.end());
-        if (entries.empty()) {
+    keepPriced(state.entries);
+    while (mesh_.aliveFaceCount() > options_.targetFaceCount) {
+        const std::size_t take = rankPass(state.entries);
+        if (take == 0) {
             result.stop = StopReason::NoValidCollapse;
             break;
         }
-        const std::size_t needed = (mesh_.aliveFaceCount() - target + 1) / 2;
-        const std::size_t share = static_cast<std::size_t>(options_.passFraction * static_cast<double>(entries.size()));
-        const std::size_t take = std::min(entries.size(), std::max<std::size_t>(64, std::min(needed, share)));
-        std::nth_element(entries.begin(), entries.begin() + (take - 1), entries.end(), cheaper);
-        std::sort(entries.begin(), entries.begin() + take, cheaper);
-        // Perform in order.
-        touched.clear();
-        std::size_t performed = 0;
-        for (std::size_t i = 0; i < take && mesh_.aliveFaceCount() > target; ++i) {
-            QueueEntry& e = entries[i];
-            if (stale(e)) {
-                ++result.staleEntries;
-                continue;
-            }
-            if (!stillAllowed(e)) {
-                ++result.staleEntries;
-                dormant_[e.a] = dormant_[e.b] = 1;
-                e.cost = kInfinity;  // dropped; priced again when a collapse touches an end
-                continue;
-            }
-            if (e.cost > options_.maxError) {
-                // The rest of this pass costs more; the edges its collapses made may not: stop only
-                // when a pass cannot start below the bound.
-                if (performed == 0) {
-                    result.stop = StopReason::MaxErrorReached;
-                    stopped = true;
-                }
-                break;
-            }
-            applyCollapse(e, result, onStep, affected);
-            ++performed;
-            for (std::uint32_t v : affected)
-                if (!marked[v]) {
-                    marked[v] = 1;
-                    touched.push_back(v);
-                }
-            const std::size_t done = startFaces - mesh_.aliveFaceCount();
-            if (options_.progress && done >= nextReport) {
-                nextReport = done + reportStep;
-                reportProgress(options_.progress, std::min(1.0, static_cast<double>(done) / work), "collapsing edges");
-            }
-        }
-        // Update: the touched vertices' edges, priced in parallel.
-        for (std::uint32_t v : touched) marked[v] = 0;
-        price(touched);
-        for (const QueueEntry& e : priced_)
-            if (e.cost < kInfinity) entries.push_back(e);
+        if (!performPass(state, take, result, onStep)) break;
+        updatePass(state);
     }
     result.finalFaceCount = mesh_.aliveFaceCount();
     result.finalVertexCount = mesh_.aliveVertexCount();
     result.repricedVertices = pricings_;
     return result;
+}
+
+void Simplifier::keepPriced(std::vector<QueueEntry>& entries) const {
+    for (const QueueEntry& e : priced_)
+        if (e.cost < kInfinity) entries.push_back(e);
+}
+
+std::size_t Simplifier::rankPass(std::vector<QueueEntry>& entries) const {
+    entries.erase(std::remove_if(entries.begin(), entries.end(),
+                                 [&](const QueueEntry& e) { return e.cost == kInfinity || stale(e); }),
+                  entries.end());
+    if (entries.empty()) return 0;
+    const std::size_t needed = (mesh_.aliveFaceCount() - options_.targetFaceCount + 1) / 2;
+    const std::size_t share = static_cast<std::size_t>(options_.passFraction * static_cast<double>(entries.size()));
+    const std::size_t take = std::min(entries.size(), std::max<std::size_t>(64, std::min(needed, share)));
+    // (cost, first end, second end): a total order, the same on any thread count.
+    const auto cheaper = [](const QueueEntry& x, const QueueEntry& y) {
+        if (x.cost != y.cost) return x.cost < y.cost;
+        return x.a != y.a ? x.a < y.a : x.b < y.b;
+    };
+    std::nth_element(entries.begin(), entries.begin() + (take - 1), entries.end(), cheaper);
+    std::sort(entries.begin(), entries.begin() + take, cheaper);
+    return take;
+}
+
+bool Simplifier::performPass(PassState& state, std::size_t take, EdgeCollapseResult& result,
+                             const std::function<void(const CollapseStep&)>& onStep) {
+    state.touched.clear();
+    std::size_t performed = 0;
+    for (std::size_t i = 0; i < take && mesh_.aliveFaceCount() > options_.targetFaceCount; ++i) {
+        QueueEntry& e = state.entries[i];
+        if (stale(e)) {
+            ++result.staleEntries;
+            continue;
+        }
+        if (!stillAllowed(e)) {
+            ++result.staleEntries;
+            dormant_[e.a] = dormant_[e.b] = 1;
+            e.cost = kInfinity;  // dropped; priced again when a collapse touches an end
+            continue;
+        }
+        if (e.cost > options_.maxError) {
+            // The rest of this pass costs more, but the edges its collapses made may not: the run
+            // stops only when a pass cannot start below the bound.
+            if (performed > 0) return true;
+            result.stop = StopReason::MaxErrorReached;
+            return false;
+        }
+        applyCollapse(e, result, onStep, state.affected);
+        ++performed;
+        for (std::uint32_t v : state.affected)
+            if (!state.marked[v]) {
+                state.marked[v] = 1;
+                state.touched.push_back(v);
+            }
+        const std::size_t done = state.startFaces - mesh_.aliveFaceCount();
+        if (options_.progress && done >= state.nextReport) {
+            state.nextReport = done + state.reportStep;
+            reportProgress(options_.progress, std::min(1.0, static_cast<double>(done) / state.work), "collapsing edges");
+        }
+    }
+    return true;
+}
+
+void Simplifier::updatePass(PassState& state) {
+    for (std::uint32_t v : state.touched) state.marked[v] = 0;
+    price(state.touched);
+    keepPriced(state.entries);
 }
 
 EdgeCollapseResult Simplifier::run(const std::function<void(const CollapseStep&)>& onStep) {
