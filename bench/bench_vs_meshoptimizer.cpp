@@ -259,10 +259,10 @@ Candidate runMeshopt(const rad::RadianceMesh& mesh, std::size_t targetFaces, con
     return c;
 }
 
-rad::RadianceSimplificationResult runOurs(const rad::RadianceMesh& mesh, std::size_t targetFaces) {
+rad::RadianceSimplificationResult runOurs(const rad::RadianceMesh& mesh, std::size_t targetFaces, int threads = ourThreads) {
     rad::RadianceSimplificationOptions options;  // the filter's defaults
     options.collapse.targetFaceCount = targetFaces;
-    options.collapse.threads = ourThreads;
+    options.collapse.threads = threads;
     if (lazyOverride >= 0) options.collapse.lazyRepricing = lazyOverride != 0;
     if (geometryWeightOverride >= 0.0) {
         options.collapse.geometryWeight = geometryWeightOverride;
@@ -354,15 +354,12 @@ void armadilloTime(const std::string& data) {
     if (ourThreads != 1) threadCounts.push_back(ourThreads);
     for (int threads : threadCounts) {
         Candidate mine;
-        const int keep = ourThreads;
-        ourThreads = threads;
         mine.extraPeakMb = extraPeakMemoryMb([&] {
             const auto t0 = Clock::now();
-            const rad::RadianceSimplificationResult ours = runOurs(original, target);
+            const rad::RadianceSimplificationResult ours = runOurs(original, target, threads);
             mine.seconds = secondsSince(t0);
             mine.mesh = ours.progressive.extract(ours.progressive.stepsForFaceCount(target));
         });
-        ourThreads = keep;
         mine.setting = "ours, " + std::to_string(threads) + (threads == 1 ? " thread" : " threads");
         candidates.push_back(std::move(mine));
     }

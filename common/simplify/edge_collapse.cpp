@@ -350,15 +350,19 @@ private:
     // Returns in `affected` the vertices whose edges must be priced again.
     void applyCollapse(const QueueEntry& top, EdgeCollapseResult& result,
                        const std::function<void(const CollapseStep&)>& onStep, std::vector<std::uint32_t>& affected);
+    // The collapse loop of one global queue (every mode).
+    void runQueue(EdgeCollapseResult& result, const std::function<void(const CollapseStep&)>& onStep);
     // Full collapses under costs that depend on the two ends only (localCosts_), in passes.
-    EdgeCollapseResult runInPasses(const std::function<void(const CollapseStep&)>& onStep);
+    void runInPasses(EdgeCollapseResult& result, const std::function<void(const CollapseStep&)>& onStep);
+    // 0, 1, ..., the vertex count - 1: what the first pricing covers.
+    std::vector<std::uint32_t> allVertices() const;
+    // Reports the faces removed so far, about every 1 % of the work (throws when cancelled).
+    void reportCollapseProgress();
     // What one pass hands the next.
     struct PassState {
         std::vector<QueueEntry> entries;  // priced edges; stale ones are dropped when ranking
         std::vector<std::uint32_t> affected, touched;
         std::vector<std::uint8_t> marked;  // in touched
-        std::size_t startFaces = 0, nextReport = 0, reportStep = 1;
-        double work = 1.0;
     };
     // Appends the finite entries of priced_.
     void keepPriced(std::vector<QueueEntry>& entries) const;
@@ -380,6 +384,9 @@ private:
     std::vector<std::pair<std::uint32_t, std::uint32_t>> edges_;
     std::vector<std::uint32_t> around_;
     std::vector<std::uint32_t> ring_;  // applyCollapse's scratch
+    // Progress of one run: faces at its start, faces to remove, the next report's count and step.
+    std::size_t startFaces_ = 0, nextReport_ = 0, reportStep_ = 1;
+    double work_ = 1.0;
     std::vector<double> lastCost_;  // half-edge: each source's cost when last priced
     double minNormalCosine_ = 0.0;
     double geometryWeight_ = 0.0;
@@ -481,17 +488,10 @@ void Simplifier::applyCollapse(const QueueEntry& top, EdgeCollapseResult& result
 // the global queue, a survivor's new edges wait for the next pass instead of competing at once; a
 // pass takes at most passFraction of the priced edges so that it does not run far ahead of the
 // greedy order. No stale entry is ever sifted through a heap.
-EdgeCollapseResult Simplifier::runInPasses(const std::function<void(const CollapseStep&)>& onStep) {
-    EdgeCollapseResult result;
-    result.stop = StopReason::TargetReached;
+void Simplifier::runInPasses(EdgeCollapseResult& result, const std::function<void(const CollapseStep&)>& onStep) {
     PassState state;
-    state.startFaces = mesh_.aliveFaceCount();
-    state.work = static_cast<double>(std::max<std::size_t>(1, state.startFaces - std::min(state.startFaces, options_.targetFaceCount)));
-    state.reportStep = std::max<std::size_t>(1, static_cast<std::size_t>(state.work / 100.0));
     state.marked.assign(mesh_.vertexCount(), 0);
-    std::vector<std::uint32_t> all(mesh_.vertexCount());
-    for (std::size_t v = 0; v < all.size(); ++v) all[v] = static_cast<std::uint32_t>(v);
-    price(all);
+    price(allVertices());
     keepPriced(state.entries);
     while (mesh_.aliveFaceCount() > options_.targetFaceCount) {
         const std::size_t take = rankPass(state.entries);
@@ -502,10 +502,19 @@ EdgeCollapseResult Simplifier::runInPasses(const std::function<void(const Collap
         if (!performPass(state, take, result, onStep)) break;
         updatePass(state);
     }
-    result.finalFaceCount = mesh_.aliveFaceCount();
-    result.finalVertexCount = mesh_.aliveVertexCount();
-    result.repricedVertices = pricings_;
-    return result;
+}
+
+std::vector<std::uint32_t> Simplifier::allVertices() const {
+    std::vector<std::uint32_t> all(mesh_.vertexCount());
+    for (std::size_t v = 0; v < all.size(); ++v) all[v] = static_cast<std::uint32_t>(v);
+    return all;
+}
+
+void Simplifier::reportCollapseProgress() {
+    const std::size_t done = startFaces_ - mesh_.aliveFaceCount();
+    if (!options_.progress || done < nextReport_) return;
+    nextReport_ = done + reportStep_;
+    reportProgress(options_.progress, std::min(1.0, static_cast<double>(done) / work_), "collapsing edges");
 }
 
 void Simplifier::keepPriced(std::vector<QueueEntry>& entries) const {
@@ -561,11 +570,7 @@ bool Simplifier::performPass(PassState& state, std::size_t take, EdgeCollapseRes
                 state.marked[v] = 1;
                 state.touched.push_back(v);
             }
-        const std::size_t done = state.startFaces - mesh_.aliveFaceCount();
-        if (options_.progress && done >= state.nextReport) {
-            state.nextReport = done + state.reportStep;
-            reportProgress(options_.progress, std::min(1.0, static_cast<double>(done) / state.work), "collapsing edges");
-        }
+        reportCollapseProgress();
     }
     return true;
 }
@@ -578,28 +583,28 @@ void Simplifier::updatePass(PassState& state) {
 
 EdgeCollapseResult Simplifier::run(const std::function<void(const CollapseStep&)>& onStep) {
     EdgeCollapseResult result;
-    const std::size_t startFaces = mesh_.aliveFaceCount();
-    const std::size_t target = options_.targetFaceCount;
     result.stop = StopReason::TargetReached;
-    if (startFaces <= target) {
-        result.finalFaceCount = startFaces;
-        result.finalVertexCount = mesh_.aliveVertexCount();
-        return result;
+    startFaces_ = mesh_.aliveFaceCount();
+    if (startFaces_ > options_.targetFaceCount) {
+        work_ = static_cast<double>(startFaces_ - options_.targetFaceCount);
+        nextReport_ = 0;
+        reportStep_ = std::max<std::size_t>(1, static_cast<std::size_t>(work_ / 100.0));
+        if (localCosts_ && options_.passFraction > 0.0) runInPasses(result, onStep);
+        else runQueue(result, onStep);
     }
-    if (localCosts_ && options_.passFraction > 0.0) return runInPasses(onStep);
+    result.finalFaceCount = mesh_.aliveFaceCount();
+    result.finalVertexCount = mesh_.aliveVertexCount();
+    result.repricedVertices = pricings_;
+    return result;
+}
 
-    std::vector<std::uint32_t> all(mesh_.vertexCount());
-    for (std::size_t v = 0; v < all.size(); ++v) all[v] = static_cast<std::uint32_t>(v);
+void Simplifier::runQueue(EdgeCollapseResult& result, const std::function<void(const CollapseStep&)>& onStep) {
+    const std::vector<std::uint32_t> all = allVertices();
     queue_.clear();
     queue_.reserve(options_.kind == CollapseKind::HalfEdge ? all.size() : 3 * all.size());
     reprice(all);
-
-    const double work = static_cast<double>(startFaces - target);
-    std::size_t nextReport = 0;
-    const std::size_t reportStep = std::max<std::size_t>(1, static_cast<std::size_t>(work / 100.0));
     std::vector<std::uint32_t> affected;
-
-    while (mesh_.aliveFaceCount() > target) {
+    while (mesh_.aliveFaceCount() > options_.targetFaceCount) {
         if (queue_.empty()) {
             result.stop = StopReason::NoValidCollapse;
             break;
@@ -643,17 +648,8 @@ EdgeCollapseResult Simplifier::run(const std::function<void(const CollapseStep&)
         } else {
             reprice(affected);
         }
-
-        const std::size_t done = startFaces - mesh_.aliveFaceCount();
-        if (options_.progress && done >= nextReport) {
-            nextReport = done + reportStep;
-            reportProgress(options_.progress, std::min(1.0, static_cast<double>(done) / work), "collapsing edges");
-        }
+        reportCollapseProgress();
     }
-    result.finalFaceCount = mesh_.aliveFaceCount();
-    result.finalVertexCount = mesh_.aliveVertexCount();
-    result.repricedVertices = pricings_;
-    return result;
 }
 
 }  // namespace
