@@ -1,9 +1,7 @@
 #include "simplify/radiance_quadric.h"
 
 #include "radiance/material_radiance.h"
-#include "radiance/radiance_distance.h"
-#include "radiance/radiance_frame.h"
-#include "radiance/sh_rotation.h"
+#include "radiance/radiance_evaluation.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
@@ -61,21 +59,6 @@ Eigen::Matrix3d symmetric(const double* a) {
 
 }  // namespace
 
-std::vector<double> hemisphereGramMatrix(const BasisSpec& basis) {
-    const int k = basis.coefficientCount();
-    std::vector<double> gram(static_cast<std::size_t>(k) * k, 0.0);
-    // A Gauss product rule exact for the products of two basis functions (degree <= 2 * 10).
-    const HemisphereIntegrator rule = HemisphereIntegrator::gaussProduct(12, 24);
-    std::vector<double> values(k);
-    for (std::size_t i = 0; i < rule.size(); ++i) {
-        const Eigen::Vector3d& w = rule.localPoints()[i];
-        evaluateBasis(basis, w.x(), w.y(), w.z(), values.data());
-        for (int r = 0; r < k; ++r)
-            for (int c = 0; c < k; ++c) gram[r * k + c] += rule.weights()[i] * values[r] * values[c];
-    }
-    return gram;
-}
-
 // Q_v0 + Q_v1 unpacked: the geometric block and pointers to both vertices' gradients.
 struct RadianceQuadricMetric::Sum {
     double g[kGeometric];
@@ -89,7 +72,7 @@ RadianceQuadricMetric::GradientBlock RadianceQuadricMetric::gradientBlock(const 
 }
 
 RadianceQuadricMetric::RadianceQuadricMetric(const CollapseMesh& mesh, RadianceField& field, RadianceQuadricOptions options)
-    : field_(field), options_(options) {
+    : field_(field), options_(options), conversion_(field.basis) {
     if (field.vertexCount() != mesh.vertexCount() || !field.validate().empty())
         throw std::invalid_argument("the radiance field does not match the mesh (one radiance function per vertex)");
     if (!(options.geometryWeight >= 0.0 && std::isfinite(options.geometryWeight)) ||
@@ -97,17 +80,8 @@ RadianceQuadricMetric::RadianceQuadricMetric(const CollapseMesh& mesh, RadianceF
         throw std::invalid_argument("the radiance quadric's weights must be finite and >= 0");
     k_ = field.coefficientsPerChannel();
     const std::size_t nv = mesh.vertexCount();
-    if (field.basis.usesLocalFrame()) {
-        // PB(d) -> SH(d): the projection is exact in any frame, so it is made once in the local
-        // frame (a constant matrix) and each vertex only rotates the result to the world frame.
-        convertsFrames_ = true;
-        kSh_ = BasisSpec{BasisKind::SphericalHarmonics, field.basis.degree}.coefficientCount();
-        buildFrameConversions(field.basis);
-        m_ = kColorChannels * kSh_;
-    } else {
-        kSh_ = k_;
-        m_ = field.coefficientsPerVertex();
-    }
+    kSh_ = conversion_.worldPerChannel();
+    m_ = conversion_.worldPerVertex();
 
     // Normalised positions: the bounding box of the alive vertices, diagonal 1.
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
@@ -128,7 +102,7 @@ RadianceQuadricMetric::RadianceQuadricMetric(const CollapseMesh& mesh, RadianceF
     std::size_t counted = 0;
     for (std::size_t v = 0; v < nv; ++v) {
         float* a = attributes_.data() + v * m_;
-        toMetric(v, field.vertexCoefficients(v), a);
+        toMetric(v, a);
         if (!mesh.vertexAlive(static_cast<std::uint32_t>(v))) continue;
         for (int j = 0; j < m_; ++j) sumSquares += double(a[j]) * a[j];
         ++counted;
@@ -240,86 +214,10 @@ std::size_t RadianceQuadricMetric::bytes() const {
     return (geometric_.size() + gradients_.size()) * sizeof(double) + attributes_.size() * sizeof(float);
 }
 
-// The two constant matrices of the PB <-> SH conversion, in the local frame of every vertex:
-// pbToSh_ (kSh x K): the SH coefficients of each PB monomial over the whole sphere, by a Gauss product
-// rule exact to degree 2d; shToPb_ (K x kSh): least squares over the hemisphere, M^-1 int B Y (M the
-// PB Gram matrix, weights / 2 pi as M's), by a hemisphere rule exact for those products.
-void RadianceQuadricMetric::buildFrameConversions(const BasisSpec& pb) {
-    const int d = pb.degree;
-    const BasisSpec sh{BasisKind::SphericalHarmonics, d};
-    std::vector<double> b(k_), y(kSh_);
-    pbToSh_.assign(std::size_t(kSh_) * k_, 0.0);
-    std::vector<double> z, wz;
-    gaussLegendre(d + 1, -1.0, 1.0, z, wz);
-    const double pi = 3.14159265358979323846;
-    const int phiNodes = 2 * d + 2;
-    for (std::size_t i = 0; i < z.size(); ++i)
-        for (int j = 0; j < phiNodes; ++j) {
-            const double phi = 2.0 * pi * (j + 0.5) / phiNodes, r = std::sqrt(std::max(0.0, 1.0 - z[i] * z[i]));
-            const Eigen::Vector3d w(r * std::cos(phi), r * std::sin(phi), z[i]);
-            const double weight = wz[i] * 2.0 * pi / phiNodes;
-            evaluateBasis(pb, w.x(), w.y(), w.z(), b.data());
-            evaluateBasis(sh, w.x(), w.y(), w.z(), y.data());
-            for (int k = 0; k < kSh_; ++k)
-                for (int p = 0; p < k_; ++p) pbToSh_[std::size_t(k) * k_ + p] += weight * y[k] * b[p];
-        }
-    const HemisphereIntegrator hemisphere = HemisphereIntegrator::gaussProduct(d + 1, 2 * d + 2);
-    Eigen::MatrixXd hemisphereProducts = Eigen::MatrixXd::Zero(k_, kSh_);
-    for (std::size_t i = 0; i < hemisphere.size(); ++i) {
-        const Eigen::Vector3d& l = hemisphere.localPoints()[i];
-        evaluateBasis(pb, l.x(), l.y(), l.z(), b.data());
-        evaluateBasis(sh, l.x(), l.y(), l.z(), y.data());
-        for (int p = 0; p < k_; ++p)
-            for (int k = 0; k < kSh_; ++k) hemisphereProducts(p, k) += hemisphere.weights()[i] * b[p] * y[k];
-    }
-    const std::vector<double> g = hemisphereGramMatrix(pb);
-    const Eigen::MatrixXd gram =
-        Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(g.data(), k_, k_);
-    const Eigen::MatrixXd leastSquares = gram.inverse() * hemisphereProducts;
-    shToPb_.resize(std::size_t(k_) * kSh_);
-    for (int p = 0; p < k_; ++p)
-        for (int k = 0; k < kSh_; ++k) shToPb_[std::size_t(p) * kSh_ + k] = leastSquares(p, k);
-}
-
-void RadianceQuadricMetric::toMetric(std::size_t v, const float* coefficients, float* attributes) const {
-    if (!convertsFrames_) {
-        std::copy(coefficients, coefficients + m_, attributes);
-        return;
-    }
-    // f_world(w) = f_local(R w), R = the frame's rotation (local = R world): SH rotated by R^T.
-    const ShRotation toWorld(field_.basis.degree, frameFromStored(field_.frame(v)).rotation().transpose());
-    double local[kMaxMetricSh], world[kMaxMetricSh];
-    for (int c = 0; c < kColorChannels; ++c) {
-        const float* coefficient = coefficients + c * k_;
-        for (int k = 0; k < kSh_; ++k) {
-            const double* row = pbToSh_.data() + std::size_t(k) * k_;
-            double sum = 0.0;
-            for (int p = 0; p < k_; ++p) sum += row[p] * coefficient[p];
-            local[k] = sum;
-        }
-        toWorld.apply(local, world);
-        for (int k = 0; k < kSh_; ++k) attributes[c * kSh_ + k] = static_cast<float>(world[k]);
-    }
-}
-
-void RadianceQuadricMetric::fromMetric(std::size_t v, const double* attributes, float* coefficients) const {
-    if (!convertsFrames_) {
-        for (int j = 0; j < m_; ++j) coefficients[j] = static_cast<float>(attributes[j] / attributeScale_);
-        return;
-    }
-    // The world function seen in the survivor's local frame (SH rotated by R), then least squares
-    // over its hemisphere.
-    const ShRotation toLocal(field_.basis.degree, frameFromStored(field_.frame(v)).rotation());
-    double local[kMaxMetricSh];
-    for (int c = 0; c < kColorChannels; ++c) {
-        toLocal.apply(attributes + c * kSh_, local);
-        for (int p = 0; p < k_; ++p) {
-            const double* row = shToPb_.data() + std::size_t(p) * kSh_;
-            double sum = 0.0;
-            for (int k = 0; k < kSh_; ++k) sum += row[k] * local[k];
-            coefficients[c * k_ + p] = static_cast<float>(sum / attributeScale_);
-        }
-    }
+void RadianceQuadricMetric::toMetric(std::size_t v, float* attributes) const {
+    double world[kColorChannels * kMaxCoefficientsPerChannel];
+    conversion_.toWorld(field_.vertexCoefficients(v), field_.frame(v), world);
+    for (int j = 0; j < m_; ++j) attributes[j] = static_cast<float>(world[j]);
 }
 
 void RadianceQuadricMetric::attributes(std::uint32_t v, double* out) const {
@@ -489,7 +387,7 @@ void RadianceQuadricMetric::onCollapse(const CollapseMesh& mesh, const EdgeQuery
                              : (1.0 - query.s) * a0[j] + query.s * a1[j];
     }
     for (int j = 0; j < m_; ++j) a1[j] = static_cast<float>(optimal[j]);
-    fromMetric(v1, optimal.data(), field_.vertexCoefficients(v1));
+    conversion_.fromWorld(optimal.data(), field_.frame(v1), field_.vertexCoefficients(v1), attributeScale_);
 }
 
 }  // namespace rad

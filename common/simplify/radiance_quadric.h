@@ -9,6 +9,7 @@
 #pragma once
 
 #include "radiance/radiance_field.h"
+#include "radiance/world_sh_conversion.h"
 #include "simplify/collapse_metric.h"
 
 #include <Eigen/Core>
@@ -29,10 +30,6 @@ struct RadianceQuadricOptions {
     double perceptualExponent = 0.0;
     int threads = 0;               // building the quadrics; 0: OpenMP default
 };
-
-// The basis's Gram matrix over the hemisphere z >= 0 (integrals divided by 2 pi), K x K, row major:
-// what makes sum_k c_k B_k an element of L2 with |f|^2 = c^T M c.
-std::vector<double> hemisphereGramMatrix(const BasisSpec& basis);
 
 class RadianceQuadricMetric : public CollapseMetric {
 public:
@@ -90,8 +87,7 @@ private:
     void reduce(const Sum& q, double* reduced) const;  // min over s of Q(p, s), a quadric in p: 10 values
     static double evaluateOptimal(const double* reduced, const Eigen::Vector3d& normalised);
     Eigen::Vector3d normalise(const Eigen::Vector3d& world) const { return positionScale_ * (world - centre_); }
-    void toMetric(std::size_t v, const float* coefficients, float* attributes) const;
-    void fromMetric(std::size_t v, const double* attributes, float* coefficients) const;
+    void toMetric(std::size_t v, float* attributes) const;
 
     RadianceField& field_;
     std::uint64_t collapses_ = 0;  // onCollapse calls: tells a cached placement's state apart
@@ -99,14 +95,9 @@ private:
     int k_ = 0, m_ = 0;  // coefficients per channel of the field; attributes per vertex (3 x the metric's)
     Eigen::Vector3d centre_ = Eigen::Vector3d::Zero();
     double positionScale_ = 1.0, attributeScale_ = 1.0;
-    // PB fields are compared as world SH of the same degree d (kSh functions per channel): PB -> SH
-    // and back in the local frame (constant matrices), and an SH rotation per vertex.
-    static constexpr int kMaxMetricSh = (kMaxPolynomialDegree + 1) * (kMaxPolynomialDegree + 1);
-    void buildFrameConversions(const BasisSpec& pb);
-    bool convertsFrames_ = false;
+    // PB fields are compared as world SH of the same degree (kSh_ functions per channel).
+    WorldShConversion conversion_;
     int kSh_ = 0;
-    std::vector<double> pbToSh_;             // kSh x K, row major
-    std::vector<double> shToPb_;             // K x kSh, row major
     // Per vertex: the geometric block A (6, upper triangle), b (3), c, W in doubles...
     std::vector<double> geometric_;              // kGeometric per vertex
     // ...and G_x, G_y, G_z then E (m each), in doubles too: the cost subtracts nearly equal sums (c and the

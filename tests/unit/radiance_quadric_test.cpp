@@ -66,25 +66,6 @@ double halfEdgeCost(const rad::RadianceQuadricMetric& metric, const rad::Collaps
     return cost;
 }
 
-TEST(HemisphereGramMatrix, MatchesHandComputedIntegrals) {
-    // PB1: 1, u, v with (u, v) = (x, y) of the local frame. (1/2pi) int over the hemisphere of
-    // 1 = 1, of x^2 = y^2 = 1/3, of x = y = xy = 0.
-    const std::vector<double> g = rad::hemisphereGramMatrix({rad::BasisKind::HemisphericalPolynomial, 1});
-    ASSERT_EQ(g.size(), 9u);
-    EXPECT_NEAR(g[0], 1.0, 1e-12);
-    EXPECT_NEAR(g[4], 1.0 / 3.0, 1e-12);
-    EXPECT_NEAR(g[8], 1.0 / 3.0, 1e-12);
-    EXPECT_NEAR(g[1], 0.0, 1e-12);
-    EXPECT_NEAR(g[5], 0.0, 1e-12);
-    // PB2 adds x^2: (1/2pi) int x^4 = 1/5, and x^2 y^2 = 1/15.
-    const std::vector<double> g2 = rad::hemisphereGramMatrix({rad::BasisKind::HemisphericalPolynomial, 2});
-    const int k = 6;
-    const int xx = rad::polynomialIndex(2, 0), yy = rad::polynomialIndex(0, 2);
-    EXPECT_NEAR(g2[xx * k + xx], 1.0 / 5.0, 1e-12);
-    EXPECT_NEAR(g2[xx * k + yy], 1.0 / 15.0, 1e-12);
-    EXPECT_NEAR(g2[0 * k + xx], 1.0 / 3.0, 1e-12);
-}
-
 TEST(RadianceQuadric, AffineRadianceOnAPlaneCostsNothing) {
     const Grid grid(5);
     rad::CollapseMesh mesh = grid.mesh();
