@@ -61,4 +61,16 @@ void storeFrame(const Frame& frame, float* f) {
     }
 }
 
+Eigen::Vector3d slerpNormal(const Eigen::Vector3d& n0, const Eigen::Vector3d& n1, double s) {
+    const Eigen::Vector3d cross = n0.cross(n1);
+    const double sine = cross.norm();
+    const double alpha = std::atan2(sine, n0.dot(n1));
+    if (alpha == 0.0) return n0;
+    // Rotation of n0 about axis e by s alpha: cos(s alpha) n0 + sin(s alpha) (e x n0). With
+    // e = n0 x n1 / |n0 x n1|, e x n0 is the unit direction of n1's component orthogonal to n0.
+    const Eigen::Vector3d e = sine > 1e-12 ? Eigen::Vector3d(cross / sine) : frameFromNormal(n0).t;
+    const Eigen::Vector3d n = std::cos(s * alpha) * n0 + std::sin(s * alpha) * e.cross(n0);
+    return n.normalized();
+}
+
 }  // namespace rad

@@ -43,6 +43,11 @@ Frame frameFromStored(const float* f);
 // Writes tangent and normal as the 6 floats of radiance_field.h.
 void storeFrame(const Frame& frame, float* f);
 
+// slerp(n0, n1, s) for unit normals (Vanhoey et al. 2010 sec. 4.3.2): the rotation of n0 towards n1
+// by s alpha, alpha the angle between them. For opposite normals (no unique great circle) the
+// rotation axis is frameFromNormal(n0).t.
+Eigen::Vector3d slerpNormal(const Eigen::Vector3d& n0, const Eigen::Vector3d& n1, double s);
+
 // R_n(w) = 2 (n . w) n - w, Vanhoey et al. 2015 sec. 3.1 (n must be unit).
 inline Eigen::Vector3d reflect(const Eigen::Vector3d& n, const Eigen::Vector3d& w) { return 2.0 * n.dot(w) * n - w; }
 

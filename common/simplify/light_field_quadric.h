@@ -46,10 +46,6 @@ template <typename ScalarA, typename ScalarB>
 double lightFieldError(const VertexRadianceT<ScalarA>& a, const VertexRadianceT<ScalarB>& b, int thetaNodes,
                        int phiNodes, bool compareReflected = false);
 
-// slerp(n0, n1, s) of sec. 4.3.2 for unit normals: the rotation of n0 towards n1 by s alpha. For
-// opposite normals (no unique great circle) the rotation axis is frameFromNormal(n0).t.
-Eigen::Vector3d slerpNormal(const Eigen::Vector3d& n0, const Eigen::Vector3d& n1, double s);
-
 // The new vertex of a full collapse (sec. 4.3.2) and its error.
 struct LightFieldCollapse {
     Frame frame;                       // frameFromNormal(slerp(n0, n1, s))

@@ -2,6 +2,7 @@
 
 #include "radiance/material_radiance.h"
 #include "radiance/radiance_evaluation.h"
+#include "radiance/radiance_frame.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
@@ -387,6 +388,14 @@ void RadianceQuadricMetric::onCollapse(const CollapseMesh& mesh, const EdgeQuery
                              : (1.0 - query.s) * a0[j] + query.s * a1[j];
     }
     for (int j = 0; j < m_; ++j) a1[j] = static_cast<float>(optimal[j]);
+    // The survivor's normal follows it along the edge (the two frames' normals slerped by where it
+    // was placed): eq. 8 reflects about the interpolated normals, so a survivor at the midpoint that
+    // kept v1's normal would shift every highlight around it by half the edge's bend. Reflected
+    // storage keeps v1's frame: its coefficients are defined about that normal.
+    if (!field_.reflected) {
+        const Frame f0 = frameFromStored(field_.frame(v0)), f1 = frameFromStored(field_.frame(v1));
+        storeFrame(frameFromNormalAndTangent(slerpNormal(f0.n, f1.n, query.s), f1.t), field_.frame(v1));
+    }
     conversion_.fromWorld(optimal.data(), field_.frame(v1), field_.vertexCoefficients(v1), attributeScale_);
 }
 

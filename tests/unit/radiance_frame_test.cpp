@@ -161,3 +161,19 @@ TEST(RadianceFrame, ReflectionAboutNormal) {
 }
 
 }  // namespace
+
+TEST(SlerpNormal, RotatesAlongTheGreatCircle) {
+    const Eigen::Vector3d n0 = Eigen::Vector3d::UnitZ(), n1 = Eigen::Vector3d::UnitX();
+    EXPECT_LT((rad::slerpNormal(n0, n1, 0.0) - n0).norm(), 1e-12);
+    EXPECT_LT((rad::slerpNormal(n0, n1, 1.0) - n1).norm(), 1e-12);
+    EXPECT_LT((rad::slerpNormal(n0, n1, 0.5) - Eigen::Vector3d(1.0, 0.0, 1.0).normalized()).norm(), 1e-12);
+    // A third of the way: 30 degrees from n0 in the plane of the two.
+    const Eigen::Vector3d third = rad::slerpNormal(n0, n1, 1.0 / 3.0);
+    EXPECT_NEAR(third.z(), std::cos(M_PI / 6.0), 1e-12);
+    EXPECT_NEAR(third.x(), std::sin(M_PI / 6.0), 1e-12);
+    EXPECT_NEAR(third.y(), 0.0, 1e-12);
+    // Opposite normals: halfway is a unit vector orthogonal to both.
+    const Eigen::Vector3d half = rad::slerpNormal(n0, -n0, 0.5);
+    EXPECT_NEAR(half.norm(), 1.0, 1e-12);
+    EXPECT_NEAR(half.dot(n0), 0.0, 1e-12);
+}

@@ -178,6 +178,40 @@ TEST(RadianceQuadric, FullCollapseRecoversAffineRadianceAtTheNewPosition) {
     (void)truth;
 }
 
+TEST(RadianceQuadric, FullCollapseTurnsTheSurvivorsNormalWithIt) {
+    // Eq. 8 reflects about the interpolated normals: a survivor placed between two vertices whose
+    // normals differ takes the normal between them (slerped by where it was placed), not v1's.
+    const Grid grid(5);
+    rad::CollapseMesh mesh = grid.mesh();
+    for (const rad::BasisSpec basis : {rad::BasisSpec{rad::BasisKind::HemisphericalPolynomial, 2},
+                                       rad::BasisSpec{rad::BasisKind::SphericalHarmonics, 2}}) {
+        rad::RadianceField field = affineField(grid, basis);
+        const std::uint32_t v0 = grid.at(2, 2), v1 = grid.at(3, 2);
+        const Vector3d n0 = Vector3d(0.5, 0.0, 1.0).normalized(), n1 = Vector3d(-0.5, 0.0, 1.0).normalized();
+        rad::storeFrame(rad::frameFromNormal(n0), field.frame(v0));
+        rad::storeFrame(rad::frameFromNormal(n1), field.frame(v1));
+        for (const double s : {0.5, 0.25}) {
+            rad::CollapseMesh copy = mesh;
+            rad::RadianceField written = field;
+            rad::RadianceQuadricMetric fresh(copy, written);
+            rad::EdgeQuery q;
+            q.v0 = v0;
+            q.v1 = v1;
+            q.position = (1.0 - s) * copy.position(v0) + s * copy.position(v1);
+            q.s = s;
+            copy.setPosition(v1, q.position);
+            copy.collapse(v0, v1);
+            fresh.onCollapse(copy, q);
+            const rad::Frame frame = rad::frameFromStored(written.frame(v1));
+            // The normals are 2 x 26.57 degrees apart; the survivor's lies s of the way from n0.
+            const double apart = std::acos(n0.dot(n1));
+            EXPECT_NEAR(std::acos(std::clamp(frame.n.dot(n0), -1.0, 1.0)), s * apart, 1e-5) << basis.name() << " s " << s;
+            EXPECT_NEAR(std::acos(std::clamp(frame.n.dot(n1), -1.0, 1.0)), (1.0 - s) * apart, 1e-5) << basis.name() << " s " << s;
+            EXPECT_NEAR(frame.t.dot(frame.n), 0.0, 1e-6);
+        }
+    }
+}
+
 TEST(RadianceQuadric, QuadricsAccumulateOverCollapses) {
     // After v0 -> v1 (half-edge), v1's quadric is the sum: the error of keeping v1's radiance now
     // includes v0's faces, so a collapse that was free is no longer free when v0 differed.
