@@ -314,7 +314,10 @@ bool RadianceQuadricMetric::placeEdge(const CollapseMesh& mesh, std::uint32_t v0
     double reduced[10];
     reduce(q, reduced);
     const Eigen::Vector3d p0 = normalise(mesh.position(v0)), p1 = normalise(mesh.position(v1));
-    // Candidates: the ends, the midpoint, and the minimiser of Q(p, s*(p)) when well conditioned.
+    // Candidates: the two ends and, when well conditioned, the minimiser of the plane terms. No
+    // midpoint: at an end the attribute planes of that end's faces all pass through its own function,
+    // so s* leans to it; at a midpoint s* averages the two ends', and the averages blur the radiance
+    // (measured: docs/design-notes.md, "Placing the survivor: no midpoint").
     Eigen::Vector3d best = p1;
     double bestCost = evaluateOptimal(reduced, p1);
     const auto consider = [&](const Eigen::Vector3d& p) {
@@ -325,7 +328,6 @@ bool RadianceQuadricMetric::placeEdge(const CollapseMesh& mesh, std::uint32_t v0
         }
     };
     consider(p0);
-    consider(0.5 * (p0 + p1));
     // The position minimising the distances to the planes alone (Garland & Heckbert 1997): with the
     // attribute terms in, the attribute planes of curved neighbourhoods pull the vertex off the
     // surface (their gradients are tangent to faces that are not the surface at p), which costs

@@ -212,6 +212,32 @@ TEST(RadianceQuadric, FullCollapseTurnsTheSurvivorsNormalWithIt) {
     }
 }
 
+TEST(RadianceQuadric, FlatCollapsesLandOnAnEnd) {
+    // On a plane the planes' optimum is undefined, so the survivor sits on one of the ends, whose
+    // faces' attribute planes all pass through its own function: never at the midpoint, where s*
+    // would average the two ends' radiance whatever the field.
+    const Grid grid(6);
+    std::mt19937 random(3);
+    std::uniform_real_distribution<float> value(0.0f, 1.0f);
+    int placed = 0;
+    for (int trial = 0; trial < 20; ++trial) {
+        rad::CollapseMesh mesh = grid.mesh();
+        rad::RadianceField field(rad::BasisSpec{rad::BasisKind::SphericalHarmonics, 1}, grid.vertices());
+        for (float& c : field.coefficients) c = value(random);
+        for (std::size_t v = 0; v < grid.vertices(); ++v) rad::storeFrame(rad::frameFromNormal(Vector3d::UnitZ()), field.frame(v));
+        const rad::RadianceQuadricMetric metric(mesh, field);
+        for (int i = 1; i + 2 < grid.n; ++i) {
+            const std::uint32_t v0 = grid.at(i, 2), v1 = grid.at(i + 1, 2 + trial % 2);  // straight and diagonal edges
+            Vector3d position;
+            ASSERT_TRUE(metric.placeEdge(mesh, v0, v1, position));
+            const bool atAnEnd = (position - mesh.position(v0)).norm() < 1e-9 || (position - mesh.position(v1)).norm() < 1e-9;
+            EXPECT_TRUE(atAnEnd) << "trial " << trial << " edge " << v0 << "-" << v1 << " placed at " << position.transpose();
+            ++placed;
+        }
+    }
+    EXPECT_EQ(placed, 60);
+}
+
 TEST(RadianceQuadric, QuadricsAccumulateOverCollapses) {
     // After v0 -> v1 (half-edge), v1's quadric is the sum: the error of keeping v1's radiance now
     // includes v0's faces, so a collapse that was free is no longer free when v0 differed.
