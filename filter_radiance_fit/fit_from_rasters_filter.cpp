@@ -155,12 +155,15 @@ void logFitSummary(FilterContext& ctx, const rad::RadianceFromViewsOptions& opti
 void logModelChoice(FilterContext& ctx, const rad::RadianceFromViewsOptions& options,
                     const rad::RadianceFromViewsResult& result) {
     if (result.modelValidated)
-        ctx.log(formatLine("Fit model chosen on every %d-th raster left out (%zu rasters, %zu samples): %s; RMS "
+        ctx.log(formatLine("Fit model chosen on every %d-th raster left out (%zu rasters, %zu samples at %zu of "
+                           "%zu vertices%s): %s; RMS "
                            "error in sRGB levels on them: per-vertex %.2f, shared diffuse + reflected lobe %.2f, "
                            "constant mean colour %.2f; shared better or equal in %zu of %zu left-out rasters, "
                            "worst raster shared / per-vertex %.3f (shared needs: better overall, at least half "
                            "the rasters, none worse than %.3f).",
                            options.validationEvery, result.validationViews, result.validationSamples,
+                           result.validationVertices, result.meanColor.size() / 3,
+                           result.validationVertices < result.meanColor.size() / 3 ? ", patches of the surface" : "",
                            result.modelUsed == rad::FitModel::Shared ? "shared" : "per vertex",
                            result.validationPerVertex, result.validationShared, result.validationConstant,
                            result.validationViewsSharedWins, result.validationViewsCompared,

@@ -7,9 +7,12 @@
 #include "radiance/radiance_frame.h"
 #include "raycast/ray_scene.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <omp.h>
 #include <sstream>
@@ -404,6 +407,7 @@ HeldOutSums heldOutSampleError(const RadianceField& field, const std::vector<flo
     return out;
 }
 
+
 // The per-vertex and the shared fit of the set minus every k-th view, compared view by view on the
 // views left out (see FitModel::Automatic); the comparison goes into result. Returns the choice.
 FitModel chooseModelOnLeftOutViews(const TriangleMesh& mesh, const VertexAdjacency& adj, const SampleSet& set,
@@ -414,10 +418,13 @@ FitModel chooseModelOnLeftOutViews(const TriangleMesh& mesh, const VertexAdjacen
     const std::size_t k = static_cast<std::size_t>(options.validationEvery);
     // Every k-th view left out; both candidates fitted on the others, compared on it.
     std::vector<std::uint8_t> train(set.samples.size()), heldOut(set.samples.size());
-    for (std::size_t i = 0; i < set.samples.size(); ++i) {
-        heldOut[i] = (set.view[i] + 1) % k == 0;
-        train[i] = !heldOut[i];
-    }
+    const std::vector<std::uint8_t> compared = automaticChoiceVertices(mesh);
+    result.validationVertices = std::size_t(std::count(compared.begin(), compared.end(), std::uint8_t(1)));
+    for (std::size_t v = 0; v < n; ++v)
+        for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
+            heldOut[i] = compared[v] && (set.view[i] + 1) % k == 0;
+            train[i] = compared[v] && (set.view[i] + 1) % k != 0;
+        }
     result.validationViews = viewCount / k;
     std::vector<float> perVertexMean(3 * n, 0.0f), count(n, 0.0f), residual(n, 0.0f);
     std::vector<std::uint8_t> status(n, static_cast<std::uint8_t>(FitStatus::Unseen));
@@ -511,6 +518,45 @@ std::string RadianceFromViewsOptions::validate() const {
     else if (compensateExposure && exposurePoints < 1)
         why << "the exposure compensation needs at least 1 vertex (got 0; turn the compensation off instead)";
     return why.str();
+}
+
+// About an eighth of the mesh and at least kChoiceVertices vertices: measured, the choice was the same
+// on every capture (docs/fitting.md, "Choosing on part of the surface").
+std::vector<std::uint8_t> automaticChoiceVertices(const TriangleMesh& mesh) {
+    constexpr std::size_t kChoiceVertices = 8192, kShare = 8;
+    const std::size_t n = mesh.vertexCount();
+    const std::size_t every = std::max<std::size_t>(1, n / std::max(kChoiceVertices, n / kShare));
+    std::vector<std::uint8_t> chosen(n, 1);
+    if (every == 1) return chosen;
+    Eigen::AlignedBox3f box;
+    for (std::size_t v = 0; v < n; ++v) box.extend(Eigen::Vector3f(mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]));
+    if (!box.min().allFinite() || !box.max().allFinite()) return chosen;
+    // Cells of about 64 vertices or more, so that most of a picked vertex's neighbours are picked too:
+    // the finest of 32, 16, 8 and 4 cells across the box that holds that many per occupied cell.
+    std::vector<std::uint64_t> cellOf(n, 0);
+    for (int across : {32, 16, 8, 4}) {
+        const float cell = std::max(box.diagonal().maxCoeff() / float(across), std::numeric_limits<float>::min());
+        for (std::size_t v = 0; v < n; ++v) {
+            const Eigen::Vector3f p(mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]);
+            if (!p.allFinite()) continue;  // left in cell 0; the fit refuses such meshes before choosing
+            const Eigen::Vector3f c = ((p - box.min()) / cell).array().floor();
+            cellOf[v] = std::uint64_t(c.x()) | std::uint64_t(c.y()) << 21 | std::uint64_t(c.z()) << 42;
+        }
+        std::vector<std::uint64_t> occupied = cellOf;
+        std::sort(occupied.begin(), occupied.end());
+        const std::size_t cells = std::size_t(std::unique(occupied.begin(), occupied.end()) - occupied.begin());
+        if (n >= 64 * cells) break;
+    }
+    for (std::size_t v = 0; v < n; ++v) {
+        std::uint64_t hash = cellOf[v];  // the cell's packed indices, mixed (splitmix64's finaliser)
+        hash = (hash ^ (hash >> 30)) * 0xbf58476d1ce4e5b9ull;
+        hash = (hash ^ (hash >> 27)) * 0x94d049bb133111ebull;
+        hash ^= hash >> 31;
+        chosen[v] = (hash % every) == 0;
+    }
+    // Too few patches picked (a small or oddly shaped scan): compare on every vertex instead.
+    if (std::size_t(std::count(chosen.begin(), chosen.end(), std::uint8_t(1))) * every * 2 < n) chosen.assign(n, 1);
+    return chosen;
 }
 
 VertexAdjacency buildVertexAdjacency(const TriangleMesh& mesh) {

@@ -43,7 +43,10 @@ struct FitError : InputError {
 //    left-out view worse than the per-vertex fit by more than maxViewLoss (relative); otherwise
 //    PerVertex (the safe choice: a fit that wins on average but loses a whole view is not taken).
 //    The chosen one is then fitted on every training view. Falls back to PerVertex when there are
-//    fewer than 2 * validationEvery usable views.
+//    fewer than 2 * validationEvery usable views. On meshes of more than 16k vertices the two
+//    candidates are fitted and compared on patches of the surface (automaticChoiceVertices), about an
+//    eighth of it and at least 8k vertices: the choice needs thousands of left-out samples per view,
+//    and its cost was half of the automatic fit's.
 enum class FitModel : std::uint8_t { PerVertex = 0, Shared = 1, Automatic = 2 };
 
 struct RadianceFromViewsOptions {
@@ -111,6 +114,7 @@ struct RadianceFromViewsResult {
     FitModel modelUsed = FitModel::PerVertex;
     bool modelValidated = false;
     std::size_t validationViews = 0, validationSamples = 0;
+    std::size_t validationVertices = 0;  // vertices the candidates were fitted and compared on (automaticChoiceVertices)
     double validationPerVertex = 0.0, validationShared = 0.0, validationConstant = 0.0;
     // Per left-out view (views with samples only): how many Shared won or tied, and its worst ratio
     // shared / per-vertex RMS.
@@ -136,5 +140,13 @@ struct VertexAdjacency {
     std::vector<std::uint32_t> neighbours;
 };
 VertexAdjacency buildVertexAdjacency(const TriangleMesh& mesh);
+
+// 1 for the vertices the automatic choice fits and compares its candidates on: every vertex up to
+// 16k vertices; beyond, the vertices in the picked cells of a grid over the bounding box (the
+// finest of 32, 16, 8 and 4 cells across with at least 64 vertices per occupied cell; one cell in
+// n / max(8192, n / 8), picked by a hash of the cell's coordinates), so that neighbours stay
+// together whatever the order of the vertices; every vertex again when the picked cells hold fewer
+// than half of the share.
+std::vector<std::uint8_t> automaticChoiceVertices(const TriangleMesh& mesh);
 
 }  // namespace rad

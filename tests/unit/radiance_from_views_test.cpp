@@ -750,6 +750,7 @@ TEST(RadianceFromViews, AutomaticChoiceFollowsThePerViewRule) {
     const auto r = rad::fitRadianceFromViews(s.mesh, s.views(), options);
     ASSERT_TRUE(r.modelValidated);
     EXPECT_EQ(r.validationViews, 40u / 5u);
+    EXPECT_EQ(r.validationVertices, s.mesh.vertexCount());  // small meshes: compared on every vertex
     EXPECT_EQ(r.validationViewsCompared, r.validationViews);  // every left-out raster sees the sphere
     EXPECT_LE(r.validationViewsSharedWins, r.validationViewsCompared);
     EXPECT_GT(r.validationWorstViewRatio, 0.0);
@@ -766,4 +767,34 @@ TEST(RadianceFromViews, AutomaticChoiceFollowsThePerViewRule) {
     }
     options.maxViewLoss = -1.0;
     EXPECT_THROW(rad::fitRadianceFromViews(s.mesh, s.views(), options), rad::FitError);
+}
+
+TEST(RadianceFromViews, AutomaticChoiceComparesOnPatchesOfLargeMeshesOnly) {
+    // Up to 16k vertices the candidates are compared on every vertex.
+    const rad::TriangleMesh small = rad::makeIcosphere(5);  // 10,242 vertices
+    const std::vector<std::uint8_t> all = rad::automaticChoiceVertices(small);
+    EXPECT_EQ(std::count(all.begin(), all.end(), std::uint8_t(1)), std::ptrdiff_t(small.vertexCount()));
+    // Beyond, about one vertex in n / 8192 (40,962 / 8192 -> every 5th cell), in patches: most mesh
+    // edges touching a picked vertex join two picked ones (picking vertex by vertex would give ~1/5).
+    const rad::TriangleMesh large = rad::makeIcosphere(6);
+    const std::vector<std::uint8_t> picked = rad::automaticChoiceVertices(large);
+    const std::size_t count = std::size_t(std::count(picked.begin(), picked.end(), std::uint8_t(1)));
+    EXPECT_GE(count, large.vertexCount() / 10);
+    EXPECT_LE(count, large.vertexCount() / 3);
+    std::size_t touching = 0, inside = 0;
+    for (std::size_t f = 0; f < large.faceCount(); ++f)
+        for (int e = 0; e < 3; ++e) {
+            const std::uint32_t a = large.faces[3 * f + e], b = large.faces[3 * f + (e + 1) % 3];
+            if (!picked[a] && !picked[b]) continue;
+            ++touching;
+            inside += picked[a] && picked[b];
+        }
+    EXPECT_GT(double(inside), 0.7 * double(touching));
+    // The same points are picked whatever the order of the vertices.
+    rad::TriangleMesh reversed = large;
+    const std::size_t n = large.vertexCount();
+    for (std::size_t v = 0; v < n; ++v)
+        for (int c = 0; c < 3; ++c) reversed.positions[3 * v + c] = large.positions[3 * (n - 1 - v) + c];
+    const std::vector<std::uint8_t> again = rad::automaticChoiceVertices(reversed);
+    for (std::size_t v = 0; v < n; ++v) ASSERT_EQ(again[v], picked[n - 1 - v]) << "vertex " << v;
 }
