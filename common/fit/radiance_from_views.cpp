@@ -263,6 +263,7 @@ struct SharedFitLinks {
     const SharedModel* warmStart = nullptr;
     SharedModel* model = nullptr;
     std::vector<std::uint8_t>* keptShared = nullptr;
+    bool choiceCandidate = false;  // the automatic choice's candidate: SharedFitOptions::choiceIterations
 };
 
 // The shared fit of fit/shared_radiance_fit.h, written into field / meanColor / ... (samples with use[i]).
@@ -281,6 +282,10 @@ void sharedFromSet(const TriangleMesh& mesh, const VertexAdjacency& adj, const S
     const int mid = (percentFrom + percentTo) / 2;
     SharedFitOptions shared = options.shared;
     if (options.fit.robustIterations == 0) shared.robustIterations = 0;  // "robust" off: no Huber weights anywhere
+    if (links.choiceCandidate) {
+        shared.iterations = shared.choiceIterations;
+        shared.robustIterations = std::min(shared.robustIterations, shared.iterations);
+    }
     SharedModel model = fitSharedModel(normals, adj.offsets, adj.neighbours, set, use, shared,
                                        percentRange(progress, percentFrom, mid), links.warmStart);
     std::vector<std::uint8_t> kept;
@@ -437,7 +442,7 @@ FitModel chooseModelOnLeftOutViews(const TriangleMesh& mesh, const VertexAdjacen
     std::vector<float> mean(3 * n, 0.0f);
     std::vector<std::uint8_t> keptShared;
     sharedFromSet(mesh, adj, set, train.data(), viewCount, options, candidate, mean, count, residual, status,
-                  scratchCounters, progress, 50, 65, nullptr, {nullptr, &sharedCandidate, &keptShared});
+                  scratchCounters, progress, 50, 65, nullptr, {nullptr, &sharedCandidate, &keptShared, true});
     // The rejected vertices' per-vertex fit of these same training samples is the candidate above.
     if (options.sharedRejectedPerVertex)
         takeRejectedFromPerVertex(perVertexField, perVertexMean, keptShared, candidate, mean);

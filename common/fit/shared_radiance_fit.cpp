@@ -173,6 +173,8 @@ std::string SharedFitOptions::validate() const {
         why << "the shared fit's iterations must be in 1..50 (got " << iterations << ")";
     else if (refitIterations < 1 || refitIterations > 50)
         why << "the shared fit's refit iterations must be in 1..50 (got " << refitIterations << ")";
+    else if (choiceIterations < 1 || choiceIterations > 50)
+        why << "the automatic choice's shared fit iterations must be in 1..50 (got " << choiceIterations << ")";
     else if (robustIterations < 0 || robustIterations > iterations)
         why << "the shared fit's robust iterations must be in 0..iterations (got " << robustIterations << ")";
     else if (!(huberThreshold > 0.0) || !std::isfinite(huberThreshold))

@@ -35,10 +35,13 @@ struct SharedFitOptions {
     double specularPrior = 3.0;      // >= 0: weight of the neighbours' scale, in the vertex's sample mass
     int iterations = 6;              // alternations, 1..50
     int refitIterations = 3;         // alternations of a fit started from an earlier model, 1..50
+    // Alternations of the automatic choice's shared candidate, 1..50 (radiance_from_views.h): its
+    // model only decides between the fits and warm-starts the final one (robustIterations capped to it).
+    int choiceIterations = 4;
     int robustIterations = 4;        // of them, the last ones use Huber weights (0: none)
     double huberThreshold = 3.0;     // > 0, in robust standard deviations
     double lobeRidge = 0.03;         // >= 0: Tikhonov weight of G (times 1 + l(l+1), relative to trace / M)
-    std::size_t lobeSampleBudget = 100000;  // >= 1000: samples the G step uses at most
+    std::size_t lobeSampleBudget = 50000;  // >= 1000: samples the G step uses at most (about)
     int octahedralResolution = 128;  // 16..1024: table of G for the per-vertex steps
     // The lobe term is s_v * (n_v . w)_+ * G(r_v(w)) (the irradiance cosine at the mirror
     // configuration, where n.l = n.r = n.w): without it, a lobe fitted on frontal views predicts the
