@@ -1,9 +1,14 @@
 #include "fit/exposure_compensation.h"
 
+#include <Eigen/Dense>
+
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
+#include <vector>
 
 namespace rad {
 
@@ -13,10 +18,6 @@ std::string ExposureOptions::validate() const {
         why << "the dark level must be a finite number > 0 (got " << darkLevel << ")";
     else if (!(saturationLevel > darkLevel) || !std::isfinite(saturationLevel))
         why << "the saturation level must be a finite number above the dark level (got " << saturationLevel << ")";
-    else if (maxIterations < 1)
-        why << "the number of iterations must be at least 1 (got " << maxIterations << ")";
-    else if (!(tolerance > 0.0))
-        why << "the tolerance must be > 0 (got " << tolerance << ")";
     else if (robustPasses < 0)
         why << "the number of robust passes must be >= 0 (got " << robustPasses << ")";
     else if (!(huberThreshold > 0.0))
@@ -83,56 +84,88 @@ ExposureGains solveExposureGains(const std::vector<ExposureSample>& samples, std
     out.pointsUsed = points;
     if (obs.empty()) return out;
 
-    std::vector<double> logG(3 * viewCount, 0.0), logX(3 * static_cast<std::size_t>(points), 0.0);
-    std::vector<double> robust(obs.size(), 1.0), sumW(std::max<std::size_t>(viewCount, points));
-    std::vector<double> acc(3 * std::max<std::size_t>(viewCount, points));
-    std::vector<double> residual(obs.size());
-    std::size_t constrainedViews = 0;
-    for (std::size_t i = 0; i < viewCount; ++i) constrainedViews += out.constrained[i];
+    // Observations grouped by point (counting sort), for the elimination of the points below.
+    std::vector<std::size_t> pointStart(static_cast<std::size_t>(points) + 1, 0), byPoint(obs.size());
+    for (const Obs& o : obs) ++pointStart[o.point + 1];
+    for (std::uint32_t p = 0; p < points; ++p) pointStart[p + 1] += pointStart[p];
+    {
+        std::vector<std::size_t> next(pointStart.begin(), pointStart.end() - 1);
+        for (std::size_t k = 0; k < obs.size(); ++k) byPoint[next[obs[k].point]++] = k;
+    }
+    // The constrained views, numbered 0..m-1: the unknowns.
+    std::vector<std::uint32_t> unknown(viewCount, UINT32_MAX);
+    std::uint32_t m = 0;
+    for (std::size_t i = 0; i < viewCount; ++i)
+        if (out.constrained[i]) unknown[i] = m++;
 
-    auto alternate = [&]() {
-        for (int it = 0; it < options.maxIterations; ++it) {
-            ++out.iterations;
-            // Points given the gains.
-            std::fill(acc.begin(), acc.begin() + 3 * points, 0.0);
-            std::fill(sumW.begin(), sumW.begin() + points, 0.0);
-            for (std::size_t k = 0; k < obs.size(); ++k) {
+    std::vector<double> logG(3 * viewCount, 0.0), logX(3 * static_cast<std::size_t>(points), 0.0);
+    std::vector<double> robust(obs.size(), 1.0), residual(obs.size());
+
+    // min sum_k w_k (logY_k - logG_view - logX_point)^2 per channel, solved exactly: each point's
+    // logX is its weighted mean given the gains, and eliminating it leaves a weighted graph Laplacian
+    // over the views, L logG = b (L the same for the three channels), whose null space (a constant
+    // added to every gain) is fixed by a geometric mean of 1 over the constrained views.
+    auto solve = [&]() {
+        ++out.solves;
+        Eigen::MatrixXd laplacian = Eigen::MatrixXd::Zero(m, m);
+        Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(m, 3);
+        std::vector<std::pair<std::uint32_t, double>> perView;  // one point's weight per view
+        std::vector<std::array<double, 3>> perViewY;
+        for (std::uint32_t p = 0; p < points; ++p) {
+            perView.clear();
+            perViewY.clear();
+            double total = 0.0, totalY[3] = {0.0, 0.0, 0.0};
+            for (std::size_t at = pointStart[p]; at < pointStart[p + 1]; ++at) {
+                const std::size_t k = byPoint[at];
                 const Obs& o = obs[k];
                 const double w = o.weight * robust[k];
-                sumW[o.point] += w;
-                for (int c = 0; c < 3; ++c) acc[3 * o.point + c] += w * (o.logY[c] - logG[3 * o.view + c]);
-            }
-            for (std::uint32_t p = 0; p < points; ++p)
-                if (sumW[p] > 0.0)
-                    for (int c = 0; c < 3; ++c) logX[3 * p + c] = acc[3 * p + c] / sumW[p];
-            // Gains given the points, normalised to a geometric mean of 1 over the constrained views.
-            std::fill(acc.begin(), acc.begin() + 3 * viewCount, 0.0);
-            std::fill(sumW.begin(), sumW.begin() + viewCount, 0.0);
-            for (std::size_t k = 0; k < obs.size(); ++k) {
-                const Obs& o = obs[k];
-                const double w = o.weight * robust[k];
-                sumW[o.view] += w;
-                for (int c = 0; c < 3; ++c) acc[3 * o.view + c] += w * (o.logY[c] - logX[3 * o.point + c]);
-            }
-            double meanLog[3] = {0.0, 0.0, 0.0};
-            for (std::size_t i = 0; i < viewCount; ++i)
-                if (out.constrained[i] && sumW[i] > 0.0)
-                    for (int c = 0; c < 3; ++c) meanLog[c] += acc[3 * i + c] / sumW[i];
-            for (int c = 0; c < 3; ++c) meanLog[c] /= static_cast<double>(constrainedViews);
-            double change = 0.0;
-            for (std::size_t i = 0; i < viewCount; ++i) {
-                if (!out.constrained[i]) continue;
+                std::size_t slot = 0;
+                while (slot < perView.size() && perView[slot].first != unknown[o.view]) ++slot;
+                if (slot == perView.size()) {
+                    perView.emplace_back(unknown[o.view], 0.0);
+                    perViewY.push_back({0.0, 0.0, 0.0});
+                }
+                perView[slot].second += w;
+                total += w;
                 for (int c = 0; c < 3; ++c) {
-                    const double g = sumW[i] > 0.0 ? acc[3 * i + c] / sumW[i] - meanLog[c] : 0.0;
-                    change = std::max(change, std::abs(g - logG[3 * i + c]));
-                    logG[3 * i + c] = g;
+                    perViewY[slot][c] += w * o.logY[c];
+                    totalY[c] += w * o.logY[c];
                 }
             }
-            if (change < options.tolerance) break;
+            if (!(total > 0.0)) continue;
+            for (std::size_t a = 0; a < perView.size(); ++a) {
+                const std::uint32_t i = perView[a].first;
+                laplacian(i, i) += perView[a].second;
+                for (std::size_t b = 0; b < perView.size(); ++b)
+                    laplacian(i, perView[b].first) -= perView[a].second * perView[b].second / total;
+                for (int c = 0; c < 3; ++c) rhs(i, c) += perViewY[a][c] - perView[a].second * totalY[c] / total;
+            }
+        }
+        // The gauge: + (scale / m) 1 1^T makes L definite on a connected view graph and gives the
+        // solution mean 0; a tiny ridge keeps views the graph splits off well-posed.
+        const double scale = std::max(laplacian.trace() / m, 1e-300);
+        laplacian.array() += scale / m;
+        laplacian.diagonal().array() += 1e-12 * scale;
+        const Eigen::MatrixXd g = laplacian.ldlt().solve(rhs);
+        for (int c = 0; c < 3; ++c) {
+            const double mean = g.col(c).mean();
+            for (std::size_t i = 0; i < viewCount; ++i)
+                if (out.constrained[i]) logG[3 * i + c] = g(unknown[i], c) - mean;
+        }
+        // The points given the gains (for the residuals of the reweighting).
+        for (std::uint32_t p = 0; p < points; ++p) {
+            double total = 0.0, sum[3] = {0.0, 0.0, 0.0};
+            for (std::size_t at = pointStart[p]; at < pointStart[p + 1]; ++at) {
+                const std::size_t k = byPoint[at];
+                const double w = obs[k].weight * robust[k];
+                total += w;
+                for (int c = 0; c < 3; ++c) sum[c] += w * (obs[k].logY[c] - logG[3 * obs[k].view + c]);
+            }
+            for (int c = 0; c < 3; ++c) logX[3 * p + c] = total > 0.0 ? sum[c] / total : 0.0;
         }
     };
 
-    alternate();
+    solve();
     for (int pass = 0; pass < options.robustPasses; ++pass) {
         for (std::size_t k = 0; k < obs.size(); ++k) {
             const Obs& o = obs[k];
@@ -149,7 +182,7 @@ ExposureGains solveExposureGains(const std::vector<ExposureSample>& samples, std
         const double sigma = std::max(sorted[sorted.size() / 2] / 0.6745, 1e-3);
         const double threshold = options.huberThreshold * sigma;
         for (std::size_t k = 0; k < obs.size(); ++k) robust[k] = residual[k] > threshold ? threshold / residual[k] : 1.0;
-        alternate();
+        solve();
     }
     for (std::size_t i = 0; i < viewCount; ++i)
         if (out.constrained[i])

@@ -1,9 +1,9 @@
 // Per-photograph exposure / white-balance compensation for "Fit Radiance Functions from Rasters". A
 // camera in automatic mode scales each photograph's linear values by its own gain per channel;
 // fitted as they are, those gains become fake view dependence. The gains are estimated in the log
-// domain by alternating weighted means over the points seen by at least two views (Huber-reweighted,
-// dark and saturated samples left out), normalised to a geometric mean of 1 per channel, and divided
-// out of the samples. The usual gain compensation of image stitching (e.g. Brown and Lowe's
+// domain by weighted least squares over the points seen by at least two views, solved exactly (the
+// points eliminated, a small linear system over the views; Huber-reweighted, dark and saturated
+// samples left out), normalised to a geometric mean of 1 per channel, and divided out of the samples. The usual gain compensation of image stitching (e.g. Brown and Lowe's
 // panoramas), per channel; the recipe is our own.
 // Details: docs/fitting.md, "`common/fit/exposure_compensation.h`: how it works".
 #pragma once
@@ -26,8 +26,6 @@ struct ExposureSample {
 struct ExposureOptions {
     double darkLevel = 0.005;        // linear values below this are too dark to use (log noise)
     double saturationLevel = 0.955;  // linear values at or above this are clipped (sRGB code 250)
-    int maxIterations = 200;         // alternations (each is cheap: two passes over the samples)
-    double tolerance = 1e-7;         // stop when no log gain moves more than this
     int robustPasses = 2;            // Huber reweightings after the first convergence (0: plain L2)
     double huberThreshold = 1.345;   // in units of the MAD scale of the log residuals
 
@@ -40,7 +38,7 @@ struct ExposureGains {
     std::vector<std::uint8_t> constrained;  // per view: 1 when its gains were estimated, 0 when left 1
     std::size_t samplesUsed = 0;            // samples of points seen by >= 2 views, usable in every channel
     std::size_t pointsUsed = 0;
-    int iterations = 0;
+    int solves = 0;                         // weighted least-squares solves: 1 + the robust passes
 };
 
 // Throws std::invalid_argument on invalid options, or a sample whose view is >= viewCount.
