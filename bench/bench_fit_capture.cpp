@@ -5,7 +5,8 @@
 //
 //   bench_fit_capture CAPTURE [--held-out-every K] [--basis PB4] [--models per-vertex,shared,auto]
 //                     [--meshlab-colors COLORS.ply] [--lobe-degree L] [--specular-prior P] [--lobe-ridge R]
-//                     [--cosine 0|1] [--factor-curve 0|1]
+//                     [--cosine 0|1] [--factor-curve 0|1] [--lobe-samples N] [--iterations N]
+//                     [--refit-iterations N] [--choice-iterations N]
 //                     [--in-sample 1] [--rejected-constant 1] [--diagnose-view J]
 //
 // Rasters K, 2K, ... (1-based, the order of the project, as the filter's heldOutEvery) are held out;
@@ -77,6 +78,7 @@ int main(int argc, char** argv) {
         else if (!std::strcmp(argv[i], "--lobe-samples")) sharedOptions.lobeSampleBudget = std::strtoul(argv[i + 1], nullptr, 10);
         else if (!std::strcmp(argv[i], "--iterations")) sharedOptions.iterations = std::atoi(argv[i + 1]);
         else if (!std::strcmp(argv[i], "--refit-iterations")) sharedOptions.refitIterations = std::atoi(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--choice-iterations")) sharedOptions.choiceIterations = std::atoi(argv[i + 1]);
         else if (!std::strcmp(argv[i], "--basis")) basisName = argv[i + 1];
         else if (!std::strcmp(argv[i], "--models")) models = argv[i + 1];
         else if (!std::strcmp(argv[i], "--meshlab-colors")) meshlabColors = argv[i + 1];

@@ -469,13 +469,9 @@ FitModel chooseModelOnLeftOutViews(const TriangleMesh& mesh, const VertexAdjacen
 }
 
 // FitModel Shared and Automatic: every sample stored once, then the chosen fit of the whole set.
-void fitFromSampleSet(const TriangleMesh& mesh, const ViewSampler& sampler, const RobustRadianceFitter& fitter,
-                      const std::vector<double>& gains, const RadianceFromViewsOptions& options,
+void fitFromSampleSet(const TriangleMesh& mesh, const SampleSet& set, std::size_t viewCount,
+                      const RobustRadianceFitter& fitter, const RadianceFromViewsOptions& options,
                       const ProgressCallback& progress, RadianceFromViewsResult& result, SampleFitCounters& counters) {
-    const std::size_t n = mesh.vertexCount(), viewCount = sampler.viewCount();
-    std::size_t saturated = 0;
-    reportPercent(progress, kFitStart, kStageSampling);
-    const SampleSet set = gatherSamples(n, sampler, gains, options, progress, saturated);
     const VertexAdjacency adj = mesh.faceCount() > 0 ? buildVertexAdjacency(mesh) : VertexAdjacency{};
     FitModel model = options.model;
     const std::size_t k = static_cast<std::size_t>(options.validationEvery);
@@ -502,7 +498,6 @@ void fitFromSampleSet(const TriangleMesh& mesh, const ViewSampler& sampler, cons
         perVertexFromSet(fitter, set, nullptr, viewCount, result.field, result.meanColor, result.sampleCount,
                          result.residual, result.status, counters, progress, 65, kFitEnd);
     }
-    counters.saturated = saturated;
 }
 
 }  // namespace
@@ -671,17 +666,17 @@ std::vector<ExposureSample> gatherExposureSamples(const ViewSampler& sampler, st
     return all;
 }
 
-// Exposure / white-balance gains of the usable views (1 when not compensated), from the samples of
-// up to options.exposurePoints vertices spread evenly over the vertex order.
-std::vector<double> estimateViewGains(const ViewSampler& sampler, std::size_t n, const RadianceFromViewsOptions& options,
-                                      const ProgressCallback& progress, RadianceFromViewsResult& result) {
-    const std::size_t viewCount = sampler.viewCount();
-    if (!options.compensateExposure || viewCount < 2) return std::vector<double>(3 * viewCount, 1.0);
-    reportPercent(progress, 2, kStageExposure);
-    const std::size_t stride = std::max<std::size_t>(1, (n + options.exposurePoints - 1) / options.exposurePoints);
+// The vertex stride that leaves about options.exposurePoints vertices for the exposure gains.
+std::size_t exposureStride(std::size_t n, const RadianceFromViewsOptions& options) {
+    return std::max<std::size_t>(1, (n + options.exposurePoints - 1) / options.exposurePoints);
+}
+
+// The gains solved from exposure samples, and what the result says about them.
+std::vector<double> solveViewGains(const std::vector<ExposureSample>& samples, std::size_t viewCount,
+                                   const RadianceFromViewsOptions& options, RadianceFromViewsResult& result) {
     ExposureOptions exposure;
     exposure.saturationLevel = options.saturationLevel;
-    const ExposureGains solved = solveExposureGains(gatherExposureSamples(sampler, n, stride), viewCount, exposure);
+    const ExposureGains solved = solveExposureGains(samples, viewCount, exposure);
     result.exposureCompensated = true;
     result.exposureSamples = solved.samplesUsed;
     for (std::uint8_t c : solved.constrained) result.exposureViews += c;
@@ -690,6 +685,49 @@ std::vector<double> estimateViewGains(const ViewSampler& sampler, std::size_t n,
                                   std::to_string(viewCount) +
                                   " rasters share no vertex with another raster: their exposure was left as it is.");
     return solved.gains;
+}
+
+// Exposure / white-balance gains of the usable views (1 when not compensated), from the samples of
+// up to options.exposurePoints vertices spread evenly over the vertex order, sampled for the purpose
+// (the per-vertex fit streams its samples and keeps none).
+std::vector<double> estimateViewGains(const ViewSampler& sampler, std::size_t n, const RadianceFromViewsOptions& options,
+                                      const ProgressCallback& progress, RadianceFromViewsResult& result) {
+    const std::size_t viewCount = sampler.viewCount();
+    if (!options.compensateExposure || viewCount < 2) return std::vector<double>(3 * viewCount, 1.0);
+    reportPercent(progress, 2, kStageExposure);
+    return solveViewGains(gatherExposureSamples(sampler, n, exposureStride(n, options)), viewCount, options, result);
+}
+
+// The same gains from the samples already gathered (raw, before any gain): the same vertices and
+// samples as estimateViewGains would sample again.
+std::vector<double> gainsFromSampleSet(const SampleSet& set, std::size_t viewCount, const RadianceFromViewsOptions& options,
+                                       const ProgressCallback& progress, RadianceFromViewsResult& result) {
+    if (!options.compensateExposure || viewCount < 2) return std::vector<double>(3 * viewCount, 1.0);
+    reportPercent(progress, kFitStart + 30, kStageExposure);
+    const std::size_t n = set.vertexCount(), stride = exposureStride(n, options);
+    std::vector<ExposureSample> samples;
+    for (std::size_t v = 0; v < n; v += stride) {
+        if (set.offsets[v + 1] - set.offsets[v] < 2) continue;
+        for (std::size_t i = set.offsets[v]; i < set.offsets[v + 1]; ++i) {
+            const DirectionalSample& x = set.samples[i];
+            samples.push_back(ExposureSample{static_cast<std::uint32_t>(v / stride), set.view[i],
+                                             {x.rgb[0], x.rgb[1], x.rgb[2]}, x.weight});
+        }
+    }
+    std::sort(samples.begin(), samples.end(), [](const ExposureSample& a, const ExposureSample& b) {
+        return a.point != b.point ? a.point < b.point : a.view < b.view;
+    });
+    return solveViewGains(samples, viewCount, options, result);
+}
+
+// Every sample divided by its view's gains.
+void divideByViewGains(SampleSet& set, const std::vector<double>& gains) {
+    const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(set.samples.size());
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t i = 0; i < count; ++i) {
+        const double* gain = gains.data() + 3 * set.view[i];
+        for (int c = 0; c < 3; ++c) set.samples[i].rgb[c] = static_cast<float>(set.samples[i].rgb[c] / gain[c]);
+    }
 }
 
 void recordViewGains(const std::vector<double>& gains, const UsableViews& usable, std::size_t inputViews,
@@ -919,16 +957,27 @@ RadianceFromViewsResult fitRadianceFromViews(const TriangleMesh& mesh, const std
     const RobustRadianceFitter fitter(options.fit);  // options validated above: does not throw
     reportPercent(progress, 1, kStageScene);
     const std::unique_ptr<ViewSampler> sampler = buildSampler(mesh, usable.views, options, result);
-    const std::vector<double> gains = estimateViewGains(*sampler, mesh.vertexCount(), options, progress, result);
-    recordViewGains(gains, usable, views.size(), result);
-
-    allocateOutputs(mesh.vertexCount(), options, result);
-    reportPercent(progress, kFitStart, kStageFitting);
+    const std::size_t n = mesh.vertexCount(), viewCount = sampler->viewCount();
     SampleFitCounters counters;
-    if (options.model == FitModel::PerVertex)
+    if (options.model == FitModel::PerVertex) {
+        const std::vector<double> gains = estimateViewGains(*sampler, n, options, progress, result);
+        recordViewGains(gains, usable, views.size(), result);
+        allocateOutputs(n, options, result);
+        reportPercent(progress, kFitStart, kStageFitting);
         streamPerVertexFit(mesh, *sampler, fitter, gains, options, progress, result, counters);
-    else
-        fitFromSampleSet(mesh, *sampler, fitter, gains, options, progress, result, counters);
+    } else {
+        // Shared and Automatic keep every sample: gathered once, raw, the exposure gains solved from
+        // them and divided out.
+        allocateOutputs(n, options, result);
+        reportPercent(progress, kFitStart, kStageSampling);
+        std::size_t saturated = 0;
+        SampleSet set = gatherSamples(n, *sampler, std::vector<double>(3 * viewCount, 1.0), options, progress, saturated);
+        const std::vector<double> gains = gainsFromSampleSet(set, viewCount, options, progress, result);
+        recordViewGains(gains, usable, views.size(), result);
+        divideByViewGains(set, gains);
+        fitFromSampleSet(mesh, set, viewCount, fitter, options, progress, result, counters);
+        counters.saturated = saturated;
+    }
     reportPercent(progress, kFitEnd, kStageFitting);
     recordCounters(counters, usable, views.size(), result);
 
