@@ -34,7 +34,7 @@ struct SharedFitOptions {
     int lobeDegree = 8;              // SH degree of G, 1..kMaxHarmonicDegree
     double specularPrior = 3.0;      // >= 0: weight of the neighbours' scale, in the vertex's sample mass
     int iterations = 6;              // alternations, 1..50
-    int refitIterations = 3;         // alternations of a fit started from an earlier model, 1..50
+    int refitIterations = 4;         // alternations of a fit started from an earlier model, 1..50
     // Alternations of the automatic choice's shared candidate, 1..50 (radiance_from_views.h): its
     // model only decides between the fits and warm-starts the final one (robustIterations capped to it).
     int choiceIterations = 4;
