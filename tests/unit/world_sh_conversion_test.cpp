@@ -1,11 +1,11 @@
 // World-frame SH conversion of radiance functions (radiance/world_sh_conversion.h): the PB -> SH
-// projection against the PB evaluator, the way back, and the hemisphere Gram matrix against
-// integrals done by hand.
+// projection against PB and SH functions evaluated independently (test_support.h), the way back,
+// and the hemisphere Gram matrix against integrals done by hand.
 #include "radiance/world_sh_conversion.h"
 
 #include "radiance/basis.h"
-#include "radiance/radiance_evaluation.h"
 #include "radiance/radiance_frame.h"
+#include "test_support.h"
 
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
@@ -29,18 +29,6 @@ rad::RadianceField tiltedPbVertex(std::mt19937& random) {
     frame.b = n.cross(frame.t);
     rad::storeFrame(frame, field.frame(0));
     return field;
-}
-
-// sum_k c_k Y_k(w) per channel, SH of the given degree.
-Eigen::Vector3d evaluateWorldSh(int degree, const double* world, const Eigen::Vector3d& w) {
-    const rad::BasisSpec sh{rad::BasisKind::SphericalHarmonics, degree};
-    const int k = sh.coefficientCount();
-    std::vector<double> y(k);
-    rad::evaluateBasis(sh, w.x(), w.y(), w.z(), y.data());
-    Eigen::Vector3d out = Eigen::Vector3d::Zero();
-    for (int c = 0; c < 3; ++c)
-        for (int i = 0; i < k; ++i) out[c] += world[c * k + i] * y[i];
-    return out;
 }
 
 }  // namespace
@@ -72,15 +60,17 @@ TEST(WorldShConversion, PbInATiltedFrameIsTheSameFunctionAsWorldSh) {
     ASSERT_EQ(conversion.worldPerChannel(), 25);
     std::vector<double> world(conversion.worldPerVertex());
     conversion.toWorld(field.vertexCoefficients(0), field.frame(0), world.data());
-    const Eigen::Vector3d n = rad::frameFromStored(field.frame(0)).n;
+    const rad::Frame frame = rad::frameFromStored(field.frame(0));
+    const Eigen::Vector3d n = frame.n;
+    const std::vector<double> coefficients(field.coefficients.begin(), field.coefficients.end());
     std::normal_distribution<double> gauss;
     int checked = 0;
     while (checked < 50) {
         Eigen::Vector3d w(gauss(random), gauss(random), gauss(random));
         w.normalize();
         if (w.dot(n) < 0.05) continue;  // the hemisphere where the PB function is defined
-        const Eigen::Vector3d expected = rad::evaluateRadiance(field, 0, w);
-        const Eigen::Vector3d actual = evaluateWorldSh(4, world.data(), w);
+        const Eigen::Vector3d expected = radtest::polynomialValue(field.basis, coefficients, frame, w);
+        const Eigen::Vector3d actual = radtest::harmonicValue({rad::BasisKind::SphericalHarmonics, 4}, world, w);
         EXPECT_LT((actual - expected).norm(), 1e-4 * (1.0 + expected.norm())) << "direction " << w.transpose();
         ++checked;
     }
