@@ -3,11 +3,9 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
-#include <utility>
 #include <vector>
 
 namespace rad {
@@ -109,36 +107,33 @@ ExposureGains solveExposureGains(const std::vector<ExposureSample>& samples, std
         ++out.solves;
         Eigen::MatrixXd laplacian = Eigen::MatrixXd::Zero(m, m);
         Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(m, 3);
-        std::vector<std::pair<std::uint32_t, double>> perView;  // one point's weight per view
-        std::vector<std::array<double, 3>> perViewY;
+        struct ViewShare {  // one point's observations in one view
+            std::uint32_t unknown;
+            double weight, weightedLogY[3];
+        };
+        std::vector<ViewShare> shares;
         for (std::uint32_t p = 0; p < points; ++p) {
-            perView.clear();
-            perViewY.clear();
+            shares.clear();
             double total = 0.0, totalY[3] = {0.0, 0.0, 0.0};
             for (std::size_t at = pointStart[p]; at < pointStart[p + 1]; ++at) {
                 const std::size_t k = byPoint[at];
                 const Obs& o = obs[k];
                 const double w = o.weight * robust[k];
                 std::size_t slot = 0;
-                while (slot < perView.size() && perView[slot].first != unknown[o.view]) ++slot;
-                if (slot == perView.size()) {
-                    perView.emplace_back(unknown[o.view], 0.0);
-                    perViewY.push_back({0.0, 0.0, 0.0});
-                }
-                perView[slot].second += w;
+                while (slot < shares.size() && shares[slot].unknown != unknown[o.view]) ++slot;
+                if (slot == shares.size()) shares.push_back({unknown[o.view], 0.0, {0.0, 0.0, 0.0}});
+                shares[slot].weight += w;
                 total += w;
                 for (int c = 0; c < 3; ++c) {
-                    perViewY[slot][c] += w * o.logY[c];
+                    shares[slot].weightedLogY[c] += w * o.logY[c];
                     totalY[c] += w * o.logY[c];
                 }
             }
             if (!(total > 0.0)) continue;
-            for (std::size_t a = 0; a < perView.size(); ++a) {
-                const std::uint32_t i = perView[a].first;
-                laplacian(i, i) += perView[a].second;
-                for (std::size_t b = 0; b < perView.size(); ++b)
-                    laplacian(i, perView[b].first) -= perView[a].second * perView[b].second / total;
-                for (int c = 0; c < 3; ++c) rhs(i, c) += perViewY[a][c] - perView[a].second * totalY[c] / total;
+            for (const ViewShare& a : shares) {
+                laplacian(a.unknown, a.unknown) += a.weight;
+                for (const ViewShare& b : shares) laplacian(a.unknown, b.unknown) -= a.weight * b.weight / total;
+                for (int c = 0; c < 3; ++c) rhs(a.unknown, c) += a.weightedLogY[c] - a.weight * totalY[c] / total;
             }
         }
         // The gauge: + (scale / m) 1 1^T makes L definite on a connected view graph and gives the

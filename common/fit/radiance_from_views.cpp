@@ -139,12 +139,16 @@ struct SampleFitCounters {
     }
 };
 
-// The saturation weight and the view's gains applied to one sample; returns whether it is saturated.
-inline bool correctSample(DirectionalSample& s, const double* gain, const RadianceFromViewsOptions& options) {
+// The saturation weight applied to one raw sample; returns whether it is saturated.
+inline bool weighSaturation(DirectionalSample& s, const RadianceFromViewsOptions& options) {
     const bool saturated = std::max({s.rgb[0], s.rgb[1], s.rgb[2]}) >= options.saturationLevel;
     if (saturated) s.weight *= static_cast<float>(options.saturatedWeight);
-    for (int c = 0; c < 3; ++c) s.rgb[c] = static_cast<float>(s.rgb[c] / gain[c]);
     return saturated;
+}
+
+// One sample divided by its view's gains (3 values).
+inline void divideByGain(DirectionalSample& s, const double* gain) {
+    for (int c = 0; c < 3; ++c) s.rgb[c] = static_cast<float>(s.rgb[c] / gain[c]);
 }
 
 // One vertex's fit written into the per-vertex outputs.
@@ -157,10 +161,10 @@ inline void storeVertexFit(const VertexFitResult& r, std::size_t v, std::vector<
     status[v] = static_cast<std::uint8_t>(r.status);
 }
 
-// Every sample of every vertex, saturation-weighted and divided by the view gains, in vertex order
+// Every sample of every vertex, saturation-weighted (raw values: the gains come after), in vertex order
 // (each thread gathers a contiguous block of vertices; the blocks are concatenated in order, so the
 // set does not depend on the thread count).
-SampleSet gatherSamples(std::size_t n, const ViewSampler& sampler, const std::vector<double>& gains,
+SampleSet gatherSamples(std::size_t n, const ViewSampler& sampler,
                         const RadianceFromViewsOptions& options, const ProgressCallback& progress,
                         std::size_t& saturatedOut) {
     SampleSet set;
@@ -182,7 +186,7 @@ SampleSet gatherSamples(std::size_t n, const ViewSampler& sampler, const std::ve
                 const std::size_t m = sampler.sampleVertex(v, buffer.data(), nullptr, viewOf.data());
                 for (std::size_t j = 0; j < m; ++j) {
                     DirectionalSample s = buffer[j];
-                    saturated += correctSample(s, gains.data() + 3 * viewOf[j], options) ? 1 : 0;
+                    saturated += weighSaturation(s, options) ? 1 : 0;
                     parts[t].push_back(s);
                     partViews[t].push_back(static_cast<std::uint32_t>(viewOf[j]));
                 }
@@ -412,7 +416,6 @@ HeldOutSums heldOutSampleError(const RadianceField& field, const std::vector<flo
     return out;
 }
 
-
 // The per-vertex and the shared fit of the set minus every k-th view, compared view by view on the
 // views left out (see FitModel::Automatic); the comparison goes into result. Returns the choice.
 FitModel chooseModelOnLeftOutViews(const TriangleMesh& mesh, const VertexAdjacency& adj, const SampleSet& set,
@@ -528,8 +531,9 @@ std::vector<std::uint8_t> automaticChoiceVertices(const TriangleMesh& mesh) {
     const std::size_t every = std::max<std::size_t>(1, n / std::max(kChoiceVertices, n / kShare));
     std::vector<std::uint8_t> chosen(n, 1);
     if (every == 1) return chosen;
+    const auto position = [&](std::size_t v) { return Eigen::Map<const Eigen::Vector3f>(mesh.positions.data() + 3 * v); };
     Eigen::AlignedBox3f box;
-    for (std::size_t v = 0; v < n; ++v) box.extend(Eigen::Vector3f(mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]));
+    for (std::size_t v = 0; v < n; ++v) box.extend(position(v));
     if (!box.min().allFinite() || !box.max().allFinite()) return chosen;
     // Cells of about 64 vertices or more, so that most of a picked vertex's neighbours are picked too:
     // the finest of 32, 16, 8 and 4 cells across the box that holds that many per occupied cell.
@@ -537,7 +541,7 @@ std::vector<std::uint8_t> automaticChoiceVertices(const TriangleMesh& mesh) {
     for (int across : {32, 16, 8, 4}) {
         const float cell = std::max(box.diagonal().maxCoeff() / float(across), std::numeric_limits<float>::min());
         for (std::size_t v = 0; v < n; ++v) {
-            const Eigen::Vector3f p(mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]);
+            const Eigen::Vector3f p = position(v);
             if (!p.allFinite()) continue;  // left in cell 0; the fit refuses such meshes before choosing
             const Eigen::Vector3f c = ((p - box.min()) / cell).array().floor();
             cellOf[v] = std::uint64_t(c.x()) | std::uint64_t(c.y()) << 21 | std::uint64_t(c.z()) << 42;
@@ -724,10 +728,7 @@ std::vector<double> gainsFromSampleSet(const SampleSet& set, std::size_t viewCou
 void divideByViewGains(SampleSet& set, const std::vector<double>& gains) {
     const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(set.samples.size());
 #pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t i = 0; i < count; ++i) {
-        const double* gain = gains.data() + 3 * set.view[i];
-        for (int c = 0; c < 3; ++c) set.samples[i].rgb[c] = static_cast<float>(set.samples[i].rgb[c] / gain[c]);
-    }
+    for (std::ptrdiff_t i = 0; i < count; ++i) divideByGain(set.samples[i], gains.data() + 3 * set.view[i]);
 }
 
 void recordViewGains(const std::vector<double>& gains, const UsableViews& usable, std::size_t inputViews,
@@ -777,7 +778,8 @@ void streamPerVertexFit(const TriangleMesh& mesh, const ViewSampler& sampler, co
                 const std::size_t m = sampler.sampleVertex(v, samples.data(), nullptr, viewOf.data());
                 for (std::size_t j = 0; j < m; ++j) {
                     ++local.perView[viewOf[j]];
-                    local.saturated += correctSample(samples[j], gains.data() + 3 * viewOf[j], options) ? 1 : 0;
+                    local.saturated += weighSaturation(samples[j], options) ? 1 : 0;
+                    divideByGain(samples[j], gains.data() + 3 * viewOf[j]);
                 }
                 const VertexFitResult r = fitter.fit(frame, samples.data(), m, scratch, field.vertexCoefficients(v));
                 local.count(r, options.fit.minSamples);
@@ -971,7 +973,7 @@ RadianceFromViewsResult fitRadianceFromViews(const TriangleMesh& mesh, const std
         allocateOutputs(n, options, result);
         reportPercent(progress, kFitStart, kStageSampling);
         std::size_t saturated = 0;
-        SampleSet set = gatherSamples(n, *sampler, std::vector<double>(3 * viewCount, 1.0), options, progress, saturated);
+        SampleSet set = gatherSamples(n, *sampler, options, progress, saturated);
         const std::vector<double> gains = gainsFromSampleSet(set, viewCount, options, progress, result);
         recordViewGains(gains, usable, views.size(), result);
         divideByViewGains(set, gains);

@@ -1,6 +1,5 @@
 #include "radiance/world_sh_conversion.h"
 
-#include "radiance/material_radiance.h"
 #include "radiance/radiance_distance.h"
 #include "radiance/radiance_evaluation.h"
 #include "radiance/radiance_frame.h"

@@ -79,7 +79,6 @@ RadianceQuadricMetric::RadianceQuadricMetric(const CollapseMesh& mesh, RadianceF
     if (!(options.geometryWeight >= 0.0 && std::isfinite(options.geometryWeight)) ||
         !(options.radianceWeight >= 0.0 && std::isfinite(options.radianceWeight)))
         throw std::invalid_argument("the radiance quadric's weights must be finite and >= 0");
-    k_ = field.coefficientsPerChannel();
     const std::size_t nv = mesh.vertexCount();
     kSh_ = conversion_.worldPerChannel();
     m_ = conversion_.worldPerVertex();
@@ -391,8 +390,8 @@ void RadianceQuadricMetric::onCollapse(const CollapseMesh& mesh, const EdgeQuery
     }
     for (int j = 0; j < m_; ++j) a1[j] = static_cast<float>(optimal[j]);
     // The survivor's normal follows it along the edge (the two frames' normals slerped by where it
-    // was placed): eq. 8 reflects about the interpolated normals, so a survivor at the midpoint that
-    // kept v1's normal would shift every highlight around it by half the edge's bend. Reflected
+    // was placed): eq. 8 reflects about the interpolated normals, so a survivor placed between the
+    // ends that kept v1's normal would shift the highlights around it. Reflected
     // storage keeps v1's frame: its coefficients are defined about that normal.
     if (!field_.reflected) {
         const Frame f0 = frameFromStored(field_.frame(v0)), f1 = frameFromStored(field_.frame(v1));

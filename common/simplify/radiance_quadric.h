@@ -92,7 +92,7 @@ private:
     RadianceField& field_;
     std::uint64_t collapses_ = 0;  // onCollapse calls: tells a cached placement's state apart
     RadianceQuadricOptions options_;
-    int k_ = 0, m_ = 0;  // coefficients per channel of the field; attributes per vertex (3 x the metric's)
+    int m_ = 0;  // attributes per vertex (3 x the metric's per channel)
     Eigen::Vector3d centre_ = Eigen::Vector3d::Zero();
     double positionScale_ = 1.0, attributeScale_ = 1.0;
     // PB fields are compared as world SH of the same degree (kSh_ functions per channel).
