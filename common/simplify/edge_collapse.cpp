@@ -91,6 +91,7 @@ public:
         localCosts_ = options_.kind == CollapseKind::Full && useMetric_ && geometryWeight_ == 0.0 &&
                       metric_->costDependsOnEndpointsOnly();
         if (localCosts_) dormant_.assign(mesh.vertexCount(), 0);
+        if (options.kind == CollapseKind::Full) listedMark_.assign(mesh.vertexCount(), 0);
     }
 
     EdgeCollapseResult run(const std::function<void(const CollapseStep&)>& onStep);
@@ -383,6 +384,8 @@ private:
     std::vector<QueueEntry> priced_;
     std::vector<std::pair<std::uint32_t, std::uint32_t>> edges_;
     std::vector<std::uint32_t> around_;
+    std::vector<std::uint32_t> listed_;        // price()'s alive vertices, each once...
+    std::vector<std::uint8_t> listedMark_;     // ...marked while it runs (full mode)
     std::vector<std::uint32_t> ring_;  // applyCollapse's scratch
     // Progress of one run: faces at its start, faces to remove, the next report's count and step.
     std::size_t startFaces_ = 0, nextReport_ = 0, reportStep_ = 1;
@@ -406,15 +409,38 @@ void Simplifier::price(const std::vector<std::uint32_t>& vertices) {
         pricings_ += vertices.size();
         for (const QueueEntry& e : priced_) lastCost_[e.a] = e.cost;
     } else {
+        // Every edge once, without sorting them: an edge between two listed vertices is taken from
+        // its lower end only.
         edges_.clear();
-        std::vector<std::uint32_t>& around = around_;
-        for (std::uint32_t v : vertices) {
-            if (!mesh_.vertexAlive(v)) continue;
+        listed_.clear();
+        for (std::uint32_t v : vertices)
+            if (mesh_.vertexAlive(v) && !listedMark_[v]) {
+                listedMark_[v] = 1;
+                listed_.push_back(v);
+            }
+        const auto gather = [&](std::uint32_t v, std::vector<std::uint32_t>& around,
+                                std::vector<std::pair<std::uint32_t, std::uint32_t>>& out) {
             mesh_.neighbours(v, around);
-            for (std::uint32_t u : around) edges_.emplace_back(std::min(u, v), std::max(u, v));
+            for (std::uint32_t u : around)
+                if (!listedMark_[u] || v < u) out.emplace_back(std::min(u, v), std::max(u, v));
+        };
+        const long listed = static_cast<long>(listed_.size());
+        if (parallelWorth(listed)) {
+            // Contiguous ranges of the list per thread, joined in thread order: the same edges in
+            // the same order as one thread would list them.
+            std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> parts(threads);
+#pragma omp parallel num_threads(threads)
+            {
+                std::vector<std::uint32_t> around;
+                std::vector<std::pair<std::uint32_t, std::uint32_t>>& mine = parts[omp_get_thread_num()];
+#pragma omp for schedule(static)
+                for (long i = 0; i < listed; ++i) gather(listed_[i], around, mine);
+            }
+            for (const auto& part : parts) edges_.insert(edges_.end(), part.begin(), part.end());
+        } else {
+            for (std::uint32_t v : listed_) gather(v, around_, edges_);
         }
-        std::sort(edges_.begin(), edges_.end());
-        edges_.erase(std::unique(edges_.begin(), edges_.end()), edges_.end());
+        for (std::uint32_t v : listed_) listedMark_[v] = 0;
         priced_.resize(edges_.size());
         const long n = static_cast<long>(edges_.size());
         // Which end survives: the slot with the larger index, so that the choice is stable.

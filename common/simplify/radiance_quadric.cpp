@@ -3,6 +3,7 @@
 #include "radiance/material_radiance.h"
 #include "radiance/radiance_evaluation.h"
 #include "radiance/radiance_frame.h"
+#include "simplify/vertex_disjoint_face_blocks.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
@@ -96,20 +97,33 @@ RadianceQuadricMetric::RadianceQuadricMetric(const CollapseMesh& mesh, RadianceF
         positionScale_ = diagonal > 0.0 ? 1.0 / diagonal : 1.0;
     }
 
-    // Attributes: L2 coordinates divided by the RMS norm of the field's functions.
+    // Attributes: L2 coordinates divided by the RMS norm of the field's functions. The conversions run
+    // in parallel; the norms are summed in vertex order, so the scale does not depend on the threads.
+    const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
     attributes_.resize(nv * m_);
+    std::vector<double> squaredNorm(nv, 0.0);
+    const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(nv);
+#pragma omp parallel for schedule(static) num_threads(threads)
+    for (std::ptrdiff_t v = 0; v < count; ++v) {
+        float* a = attributes_.data() + std::size_t(v) * m_;
+        toMetric(std::size_t(v), a);
+        if (!mesh.vertexAlive(static_cast<std::uint32_t>(v))) continue;
+        double sum = 0.0;
+        for (int j = 0; j < m_; ++j) sum += double(a[j]) * a[j];
+        squaredNorm[std::size_t(v)] = sum;
+    }
     double sumSquares = 0.0;
     std::size_t counted = 0;
     for (std::size_t v = 0; v < nv; ++v) {
-        float* a = attributes_.data() + v * m_;
-        toMetric(v, a);
         if (!mesh.vertexAlive(static_cast<std::uint32_t>(v))) continue;
-        for (int j = 0; j < m_; ++j) sumSquares += double(a[j]) * a[j];
+        sumSquares += squaredNorm[v];
         ++counted;
     }
     const double rms = counted > 0 ? std::sqrt(sumSquares / counted) : 0.0;
     attributeScale_ = std::sqrt(options.radianceWeight) / (rms > 0.0 ? rms : 1.0);
-    for (float& a : attributes_) a = static_cast<float>(a * attributeScale_);
+    const std::ptrdiff_t values = static_cast<std::ptrdiff_t>(attributes_.size());
+#pragma omp parallel for schedule(static) num_threads(threads)
+    for (std::ptrdiff_t i = 0; i < values; ++i) attributes_[std::size_t(i)] = static_cast<float>(attributes_[std::size_t(i)] * attributeScale_);
 
     // Per channel and vertex: how much an error there weighs, (sRGB slope at the vertex's mean colour)
     // ^ perceptualExponent, normalised to mean 1 over the vertices; a face takes its corners' mean.
@@ -133,31 +147,38 @@ std::vector<float> RadianceQuadricMetric::perceptualChannelWeights(const Radianc
     return channelWeight;
 }
 
-// Each vertex's quadric is the sum of its faces'. Threads own contiguous vertex ranges and each
-// computes the faces touching its range once, adding them to the corners it owns: no atomics, and
-// a face is computed twice only where it straddles two ranges (scans store neighbours nearby).
+// Each vertex's quadric is the sum of its faces'. Each face is computed once and added to its three
+// corners. Threads take blocks of consecutive faces (which share corners: the corners' blocks of
+// doubles stay in cache), one class of blocks at a time (vertex_disjoint_face_blocks.h), so that no
+// two threads write one vertex whatever the vertex order (subdivided or merged scans number the
+// corners of one face far apart) and every vertex sums its faces in the same order on any thread count.
 void RadianceQuadricMetric::buildVertexQuadrics(const CollapseMesh& mesh, const std::vector<float>& channelWeight) {
     const std::size_t nv = mesh.vertexCount(), nf = mesh.faceCount();
     geometric_.assign(nv * kGeometric, 0.0);
     gradients_.assign(nv * 4 * static_cast<std::size_t>(m_), 0.0);
+    const VertexDisjointFaceBlocks blocks = vertexDisjointFaceBlocks(mesh);
     const int threads = options_.threads > 0 ? options_.threads : omp_get_max_threads();
 #pragma omp parallel num_threads(threads)
     {
-        const std::size_t team = static_cast<std::size_t>(omp_get_num_threads()), id = static_cast<std::size_t>(omp_get_thread_num());
-        const std::size_t first = nv * id / team, last = nv * (id + 1) / team;
-        const auto owned = [&](std::uint32_t v) { return v >= first && v < last; };
         FaceQuadric face(m_);
-        for (std::size_t f = 0; f < nf; ++f) {
-            if (!mesh.faceAlive(static_cast<std::uint32_t>(f))) continue;
-            const std::uint32_t* t = mesh.face(static_cast<std::uint32_t>(f));
-            if (!owned(t[0]) && !owned(t[1]) && !owned(t[2])) continue;
-            if (!faceQuadric(mesh, t, channelWeight, face)) continue;  // no area, no weight
-            for (int corner = 0; corner < 3; ++corner) {
-                if (!owned(t[corner])) continue;
-                double* q = geometric_.data() + std::size_t(t[corner]) * kGeometric;
-                for (int i = 0; i < kGeometric; ++i) q[i] += face.geometric[i];
-                double* g = gradients_.data() + std::size_t(t[corner]) * 4 * m_;
-                for (int i = 0; i < 4 * m_; ++i) g[i] += face.gradients[i];
+        for (std::size_t c = 0; c < blocks.classCount(); ++c) {
+            const std::ptrdiff_t begin = static_cast<std::ptrdiff_t>(blocks.offsets[c]),
+                                 end = static_cast<std::ptrdiff_t>(blocks.offsets[c + 1]);
+#pragma omp for schedule(dynamic, 1)
+            for (std::ptrdiff_t i = begin; i < end; ++i) {
+                const std::size_t first = std::size_t(blocks.blocks[std::size_t(i)]) * blocks.blockSize,
+                                  last = std::min(nf, first + blocks.blockSize);
+                for (std::size_t f = first; f < last; ++f) {
+                    if (!mesh.faceAlive(static_cast<std::uint32_t>(f))) continue;
+                    const std::uint32_t* t = mesh.face(static_cast<std::uint32_t>(f));
+                    if (!faceQuadric(mesh, t, channelWeight, face)) continue;  // no area, no weight
+                    for (int corner = 0; corner < 3; ++corner) {
+                        double* q = geometric_.data() + std::size_t(t[corner]) * kGeometric;
+                        for (int k = 0; k < kGeometric; ++k) q[k] += face.geometric[k];
+                        double* g = gradients_.data() + std::size_t(t[corner]) * 4 * m_;
+                        for (int k = 0; k < 4 * m_; ++k) g[k] += face.gradients[k];
+                    }
+                }
             }
         }
     }
