@@ -19,14 +19,31 @@ namespace rad {
 
 namespace {
 
-// Layout of the geometric block of one vertex.
-constexpr int kA = 0;   // xx, xy, xz, yy, yz, zz
-constexpr int kB = 6;   // 3
-constexpr int kC = 9;
+// Layout of the block of doubles of one vertex. A quadric block is A (6, upper triangle: xx, xy, xz,
+// yy, yz, zz), b (3), c: x^T A x + 2 b.x + c.
+constexpr int kA = 0;        // the geometry's planes times the geometry weight, in normalised coordinates
 constexpr int kW = 10;       // 3: the attribute weight of each colour channel
-constexpr int kPlanes = 13;  // the plane terms alone: A (6), b (3), c, for placing full collapses
-constexpr int kGeometric = 23;
-static_assert(kGeometric == 23, "FaceQuadric::geometric holds one vertex's geometric block");
+constexpr int kPlanes = 13;  // the plane terms alone, for placing full collapses
+constexpr int kLocal = 23;   // the attribute planes' squares about the vertex's reference and origin
+constexpr int kSummed = 23;  // the part of the block that two quadrics add as they are (kLocal moves)
+constexpr int kGeometric = 33;
+static_assert(kGeometric == 33, "FaceQuadric::geometric holds one vertex's block");
+
+// A quadric block moved to a new origin and reference: q(d + t) plus the reference terms, where
+// the planes' sums against the reference change (deltaG = sum_j delta_j G_j, deltaE = sum_j delta_j
+// (E_j + G_j.t), deltaW = sum_j W_c delta_j^2) were accumulated by the caller.
+void moveLocalBlock(const double* q, const Eigen::Vector3d& t, const Eigen::Vector3d& deltaG, double deltaE,
+                    double deltaW, double* out) {
+    const Eigen::Matrix3d X = [&] {
+        Eigen::Matrix3d m;
+        m << q[0], q[1], q[2], q[1], q[3], q[4], q[2], q[4], q[5];
+        return m;
+    }();
+    const Eigen::Vector3d y(q[6], q[7], q[8]), xt = X * t;
+    for (int i = 0; i < 6; ++i) out[i] = q[i];
+    for (int i = 0; i < 3; ++i) out[6 + i] = y[i] + xt[i] + deltaG[i];
+    out[9] = q[9] + 2.0 * y.dot(t) + t.dot(xt) + 2.0 * deltaE + deltaW;
+}
 
 // d sRGB / d linear at L (IEC 61966-2-1), the local scale of an error in 8-bit units.
 double srgbSlope(double linear) {
@@ -61,15 +78,19 @@ Eigen::Matrix3d symmetric(const double* a) {
 
 }  // namespace
 
-// Q_v0 + Q_v1 unpacked: the geometric block and pointers to both vertices' gradients.
+// Q_v0 + Q_v1 unpacked, about v1's origin and reference: the summed part of the blocks, and
+// pointers to both vertices' planes, references and local blocks. v0's planes there are
+// G0_j.(p - o_v1) + E0_j + G0_j.shift + W0_c (r0_j - r1_j), shift = o_v1 - o_v0.
 struct RadianceQuadricMetric::Sum {
-    double g[kGeometric];
-    const double* grad0;
-    const double* grad1;
+    double g[kSummed];
+    const float *grad0, *grad1, *reference0, *reference1;
+    const double *local0, *local1;
+    double weight0[3];
+    Eigen::Vector3d origin, shift;
 };
 
-// One vertex's (or face's) attribute planes G_j.p + E_j: 4 m doubles, one array per component.
-RadianceQuadricMetric::GradientBlock RadianceQuadricMetric::gradientBlock(const double* block) const {
+// One vertex's attribute planes G_j.(p - o_v) + E_j: 4 m floats, one array per component.
+RadianceQuadricMetric::GradientBlock RadianceQuadricMetric::gradientBlock(const float* block) const {
     return {block, block + m_, block + 2 * m_, block + 3 * m_};
 }
 
@@ -155,7 +176,12 @@ std::vector<float> RadianceQuadricMetric::perceptualChannelWeights(const Radianc
 void RadianceQuadricMetric::buildVertexQuadrics(const CollapseMesh& mesh, const std::vector<float>& channelWeight) {
     const std::size_t nv = mesh.vertexCount(), nf = mesh.faceCount();
     geometric_.assign(nv * kGeometric, 0.0);
-    gradients_.assign(nv * 4 * static_cast<std::size_t>(m_), 0.0);
+    gradients_.assign(nv * 4 * static_cast<std::size_t>(m_), 0.0f);
+    origins_.resize(3 * nv);
+    for (std::size_t v = 0; v < nv; ++v) {
+        const Eigen::Vector3d o = normalise(mesh.position(static_cast<std::uint32_t>(v)));
+        for (int i = 0; i < 3; ++i) origins_[3 * v + i] = o[i];
+    }
     const VertexDisjointFaceBlocks blocks = vertexDisjointFaceBlocks(mesh);
     const int threads = options_.threads > 0 ? options_.threads : omp_get_max_threads();
 #pragma omp parallel num_threads(threads)
@@ -175,8 +201,7 @@ void RadianceQuadricMetric::buildVertexQuadrics(const CollapseMesh& mesh, const 
                     for (int corner = 0; corner < 3; ++corner) {
                         double* q = geometric_.data() + std::size_t(t[corner]) * kGeometric;
                         for (int k = 0; k < kGeometric; ++k) q[k] += face.geometric[k];
-                        double* g = gradients_.data() + std::size_t(t[corner]) * 4 * m_;
-                        for (int k = 0; k < 4 * m_; ++k) g[k] += face.gradients[k];
+                        addFacePlanes(face, t[corner]);
                     }
                 }
             }
@@ -214,25 +239,63 @@ bool RadianceQuadricMetric::faceQuadric(const CollapseMesh& mesh, const std::uin
     const float* s2 = attributes_.data() + std::size_t(t[2]) * m_;
     const bool planar = det > 1e-14 * a11 * a22;
     double* gradients = out.gradients.data();
+    out.firstCorner = p0;
     for (int j = 0; j < m_; ++j) {
         const double weight = channelArea[j / kSh_];
         Eigen::Vector3d grad = Eigen::Vector3d::Zero();
-        double offset = (double(s0[j]) + s1[j] + s2[j]) / 3.0;
+        double atFirst = (double(s0[j]) + s1[j] + s2[j]) / 3.0;  // no plane: the corners' mean
         if (planar) {
             const double d1 = double(s1[j]) - s0[j], d2 = double(s2[j]) - s0[j];
             const double alpha = (a22 * d1 - a12 * d2) / det, beta = (a11 * d2 - a12 * d1) / det;
             grad = alpha * e1 + beta * e2;
-            offset = s0[j] - grad.dot(p0);
+            atFirst = s0[j];
         }
-        addSquaredLinear(q + kA, weight, grad, offset);
+        // The squares' A part is the same at every corner; b and c depend on the corner's origin and
+        // reference (addFacePlanes).
+        addSquaredLinear(q + kLocal, weight, grad, 0.0);
         for (int i = 0; i < 3; ++i) gradients[i * m_ + j] = weight * grad[i];
-        gradients[3 * m_ + j] = weight * offset;
+        out.cornerValues[j] = weight * atFirst;
     }
+    for (int c = 0; c < 3; ++c) out.channelWeight[c] = channelArea[c];
     return true;
 }
 
+// The face's planes about v's origin o_v and reference r_v (its own function): w (a_j(o_v) - r_vj),
+// which is 0 at the corner the planes pass through.
+void RadianceQuadricMetric::addFacePlanes(const FaceQuadric& face, std::uint32_t v) {
+    const Eigen::Vector3d t = origin(v) - face.firstCorner;
+    const double* gx = face.gradients.data();
+    const double *gy = gx + m_, *gz = gx + 2 * m_;
+    const float* r = attributes_.data() + std::size_t(v) * m_;
+    float* g = gradients_.data() + std::size_t(v) * 4 * m_;
+    double* local = geometric_.data() + std::size_t(v) * kGeometric + kLocal;
+    double y[3] = {0.0, 0.0, 0.0}, z = 0.0;
+    for (int c = 0; c < kColorChannels; ++c) {
+        const double w = face.channelWeight[c];
+        if (!(w > 0.0)) continue;
+        double yx = 0.0, yy = 0.0, yz = 0.0, zz = 0.0;
+        for (int j = c * kSh_; j < (c + 1) * kSh_; ++j) {
+            const double e = face.cornerValues[j] + gx[j] * t.x() + gy[j] * t.y() + gz[j] * t.z() - w * r[j];
+            g[j] += static_cast<float>(gx[j]);
+            g[m_ + j] += static_cast<float>(gy[j]);
+            g[2 * m_ + j] += static_cast<float>(gz[j]);
+            g[3 * m_ + j] += static_cast<float>(e);
+            yx += e * gx[j];
+            yy += e * gy[j];
+            yz += e * gz[j];
+            zz += e * e;
+        }
+        y[0] += yx / w;
+        y[1] += yy / w;
+        y[2] += yz / w;
+        z += zz / w;
+    }
+    for (int i = 0; i < 3; ++i) local[6 + i] += y[i];
+    local[9] += z;
+}
+
 std::size_t RadianceQuadricMetric::bytes() const {
-    return (geometric_.size() + gradients_.size()) * sizeof(double) + attributes_.size() * sizeof(float);
+    return (geometric_.size() + origins_.size()) * sizeof(double) + (gradients_.size() + attributes_.size()) * sizeof(float);
 }
 
 void RadianceQuadricMetric::toMetric(std::size_t v, float* attributes) const {
@@ -249,58 +312,129 @@ void RadianceQuadricMetric::attributes(std::uint32_t v, double* out) const {
 void RadianceQuadricMetric::sumOf(std::uint32_t v0, std::uint32_t v1, Sum& out) const {
     const double* q0 = geometric_.data() + std::size_t(v0) * kGeometric;
     const double* q1 = geometric_.data() + std::size_t(v1) * kGeometric;
-    for (int i = 0; i < kGeometric; ++i) out.g[i] = q0[i] + q1[i];
+    for (int i = 0; i < kSummed; ++i) out.g[i] = q0[i] + q1[i];
     out.grad0 = gradients_.data() + std::size_t(v0) * 4 * m_;
     out.grad1 = gradients_.data() + std::size_t(v1) * 4 * m_;
+    out.reference0 = attributes_.data() + std::size_t(v0) * m_;
+    out.reference1 = attributes_.data() + std::size_t(v1) * m_;
+    out.local0 = q0 + kLocal;
+    out.local1 = q1 + kLocal;
+    for (int c = 0; c < 3; ++c) out.weight0[c] = q0[kW + c];
+    out.origin = origin(v1);
+    out.shift = out.origin - origin(v0);
 }
 
-// Q(p, s) = p^T A p + 2 b.p + c - 2 sum_j s_j (G_j.p + E_j) + W |s|^2.
+// The sum's local block about v1's origin and reference: v1's, plus v0's moved there.
+void RadianceQuadricMetric::sumLocal(const Sum& q, const Eigen::Vector3d& deltaG, double deltaE, double deltaW,
+                                     double* out) const {
+    moveLocalBlock(q.local0, q.shift, deltaG, deltaE, deltaW, out);
+    for (int i = 0; i < 10; ++i) out[i] += q.local1[i];
+}
+
+// Q(p, s) = geometry(p) + C(d) - 2 sum_j u_j (G_j.d + E_j) + W |u|^2, d = p - o_v1, u = s - r_v1.
 double RadianceQuadricMetric::evaluateSum(const Sum& q, const Eigen::Vector3d& p, const float* s) const {
-    const double* g = q.g;
-    double value = evaluateQuadratic(g + kA, p);
     const GradientBlock a = gradientBlock(q.grad0), b = gradientBlock(q.grad1);
+    const Eigen::Vector3d d = p - q.origin, t = q.shift;
     double cross = 0.0, norm[3] = {0.0, 0.0, 0.0};
-    for (int j = 0; j < m_; ++j) {
-        const double plane = (a.x[j] + b.x[j]) * p.x() + (a.y[j] + b.y[j]) * p.y() + (a.z[j] + b.z[j]) * p.z() +
-                             (a.e[j] + b.e[j]);
-        cross += s[j] * plane;
-        norm[j / kSh_] += double(s[j]) * s[j];
+    Eigen::Vector3d deltaG = Eigen::Vector3d::Zero();
+    double deltaE = 0.0, deltaW = 0.0;
+    for (int c = 0; c < kColorChannels; ++c) {
+        const double w0 = q.weight0[c];
+        double squares = 0.0;
+        for (int j = c * kSh_; j < (c + 1) * kSh_; ++j) {
+            const double ax = a.x[j], ay = a.y[j], az = a.z[j];
+            const double delta = double(q.reference0[j]) - q.reference1[j], at = ax * t.x() + ay * t.y() + az * t.z();
+            const double plane = (ax + b.x[j]) * d.x() + (ay + b.y[j]) * d.y() + (az + b.z[j]) * d.z() +
+                                 (double(a.e[j]) + at + w0 * delta + b.e[j]);
+            const double u = double(s[j]) - q.reference1[j];
+            cross += u * plane;
+            norm[c] += u * u;
+            deltaG += delta * Eigen::Vector3d(ax, ay, az);
+            deltaE += delta * (a.e[j] + at);
+            squares += delta * delta;
+        }
+        deltaW += w0 * squares;
     }
-    value += -2.0 * cross;
-    for (int c = 0; c < 3; ++c) value += g[kW + c] * norm[c];
+    double local[10];
+    sumLocal(q, deltaG, deltaE, deltaW, local);
+    double value = evaluateQuadratic(q.g + kA, p) + evaluateQuadratic(local, d) - 2.0 * cross;
+    for (int c = 0; c < 3; ++c) value += q.g[kW + c] * norm[c];
     return std::max(0.0, value);
 }
 
-// min over s of Q(p, s) = p^T A p + 2 b.p + c - sum_j (G_j.p + E_j)^2 / W_c(j), itself a quadric in p:
-// A - sum_j G_j G_j^T / W, b - sum_j E_j G_j / W, c - sum_j E_j^2 / W. Reduced once per edge (O(m)),
-// it prices every candidate position in O(1).
+// min over s of Q(p, s) = geometry(p) + C(d) - sum_j (G_j.d + E_j)^2 / W_c(j), d = p - o_v1: the
+// attribute part is a quadric in d, summed once per edge (O(m)) about v1's origin and reference
+// (where its terms are of the size of the radiance's changes, not of the radiance, so that floats
+// hold them), then moved to normalised coordinates (O(1)); it prices every candidate position in O(1).
 void RadianceQuadricMetric::reduce(const Sum& q, double* reduced) const {
-    std::copy(q.g + kA, q.g + kA + 10, reduced);
+    double planes[10] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0};  // sum_j (G_j.d + E_j)^2 / W as A, b, c in d
     const GradientBlock a = gradientBlock(q.grad0), b = gradientBlock(q.grad1);
+    const double tx = q.shift.x(), ty = q.shift.y(), tz = q.shift.z();
+    // The summed planes and v0's terms against the change of reference, in doubles, one array per
+    // component: the passes below then vectorise (mixed float and double operands in one loop with
+    // fifteen sums do not).
+    thread_local std::vector<double> scratch;
+    scratch.resize(5 * std::size_t(m_));
+    double* __restrict gx = scratch.data();
+    double* __restrict gy = gx + m_;
+    double* __restrict gz = gy + m_;
+    double* __restrict e0 = gz + m_;  // v0's offsets at v1's origin
+    double* __restrict delta = e0 + m_;
+    for (int j = 0; j < m_; ++j) {
+        const double ax = a.x[j], ay = a.y[j], az = a.z[j];
+        gx[j] = ax + double(b.x[j]);
+        gy[j] = ay + double(b.y[j]);
+        gz[j] = az + double(b.z[j]);
+        e0[j] = double(a.e[j]) + ax * tx + ay * ty + az * tz;
+        delta[j] = double(q.reference0[j]) - double(q.reference1[j]);
+    }
+    Eigen::Vector3d deltaG = Eigen::Vector3d::Zero();
+    double deltaE = 0.0, deltaW = 0.0;
     for (int c = 0; c < kColorChannels; ++c) {
-        const double w = q.g[kW + c];
-        if (!(w > 0.0)) continue;
-        // sum_j (G_j.p + E_j)^2 as a block A, b, c: ten sums over the channel's attributes, laid
-        // out one array per component so that they vectorise.
+        const double w = q.g[kW + c], w0 = q.weight0[c];
+        if (!(w > 0.0)) continue;  // no face weighs this channel: every plane and weight is 0
         double xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0, ex = 0, ey = 0, ez = 0, ee = 0;
+        double dx = 0, dy = 0, dz = 0, de = 0, dd = 0;
         const int begin = c * kSh_, end = (c + 1) * kSh_;
 #pragma omp simd reduction(+ : xx, xy, xz, yy, yz, zz, ex, ey, ez, ee)
         for (int j = begin; j < end; ++j) {
-            const double gx = a.x[j] + b.x[j], gy = a.y[j] + b.y[j], gz = a.z[j] + b.z[j], e = a.e[j] + b.e[j];
-            xx += gx * gx;
-            xy += gx * gy;
-            xz += gx * gz;
-            yy += gy * gy;
-            yz += gy * gz;
-            zz += gz * gz;
-            ex += e * gx;
-            ey += e * gy;
-            ez += e * gz;
+            const double e = e0[j] + w0 * delta[j] + double(b.e[j]);
+            xx += gx[j] * gx[j];
+            xy += gx[j] * gy[j];
+            xz += gx[j] * gz[j];
+            yy += gy[j] * gy[j];
+            yz += gy[j] * gz[j];
+            zz += gz[j] * gz[j];
+            ex += e * gx[j];
+            ey += e * gy[j];
+            ez += e * gz[j];
             ee += e * e;
         }
+#pragma omp simd reduction(+ : dx, dy, dz, de, dd)
+        for (int j = begin; j < end; ++j) {
+            dx += delta[j] * a.x[j];
+            dy += delta[j] * a.y[j];
+            dz += delta[j] * a.z[j];
+            de += delta[j] * e0[j];
+            dd += delta[j] * delta[j];
+        }
         const double channel[10] = {xx, xy, xz, yy, yz, zz, ex, ey, ez, ee};
-        for (int i = 0; i < 10; ++i) reduced[i] -= channel[i] / w;
+        for (int i = 0; i < 10; ++i) planes[i] += channel[i] / w;
+        deltaG += Eigen::Vector3d(dx, dy, dz);
+        deltaE += de;
+        deltaW += w0 * dd;
     }
+    double local[10];
+    sumLocal(q, deltaG, deltaE, deltaW, local);
+    for (int i = 0; i < 10; ++i) local[i] -= planes[i];
+    // In normalised coordinates: with d = p - o, d^T X d + 2 y.d + z = p^T X p + 2 (y - X o).p +
+    // (z - 2 y.o + o^T X o).
+    const Eigen::Matrix3d X = symmetric(local);
+    const Eigen::Vector3d y(local[6], local[7], local[8]), xo = X * q.origin;
+    const double* g = q.g + kA;
+    for (int i = 0; i < 6; ++i) reduced[i] = g[i] + local[i];
+    for (int i = 0; i < 3; ++i) reduced[6 + i] = g[6 + i] + y[i] - xo[i];
+    reduced[9] = g[9] + local[9] - 2.0 * y.dot(q.origin) + q.origin.dot(xo);
 }
 
 double RadianceQuadricMetric::evaluateOptimal(const double* reduced, const Eigen::Vector3d& p) {
@@ -308,12 +442,20 @@ double RadianceQuadricMetric::evaluateOptimal(const double* reduced, const Eigen
 }
 
 double RadianceQuadricMetric::evaluate(std::uint32_t v, const Eigen::Vector3d& worldPosition, const double* attributes) const {
+    // v's quadric alone: the "other end" has no planes, no weight and v's reference.
     Sum q;
     const double* gv = geometric_.data() + std::size_t(v) * kGeometric;
-    for (int i = 0; i < kGeometric; ++i) q.g[i] = gv[i];
-    static const std::vector<double> zeros(4096, 0.0);
-    q.grad0 = gradients_.data() + std::size_t(v) * 4 * m_;
-    q.grad1 = zeros.data();
+    for (int i = 0; i < kSummed; ++i) q.g[i] = gv[i];
+    static const std::vector<float> zeros(4 * 3 * kMaxCoefficientsPerChannel, 0.0f);
+    static const double noLocal[10] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+    q.grad0 = zeros.data();
+    q.grad1 = gradients_.data() + std::size_t(v) * 4 * m_;
+    q.reference0 = q.reference1 = attributes_.data() + std::size_t(v) * m_;
+    q.local0 = noLocal;
+    q.local1 = gv + kLocal;
+    for (double& w : q.weight0) w = 0.0;
+    q.origin = origin(v);
+    q.shift = Eigen::Vector3d::Zero();
     std::vector<float> s(attributes, attributes + m_);
     return evaluateSum(q, normalise(worldPosition), s.data());
 }
@@ -390,26 +532,62 @@ void RadianceQuadricMetric::onCollapse(const CollapseMesh& mesh, const EdgeQuery
     const std::uint32_t v0 = query.v0, v1 = query.v1;
     double* q0 = geometric_.data() + std::size_t(v0) * kGeometric;
     double* q1 = geometric_.data() + std::size_t(v1) * kGeometric;
-    for (int i = 0; i < kGeometric; ++i) q1[i] += q0[i];
-    const double* g0 = gradients_.data() + std::size_t(v0) * 4 * m_;
-    double* g1 = gradients_.data() + std::size_t(v1) * 4 * m_;
-    for (int i = 0; i < 4 * m_; ++i) g1[i] += g0[i];
+    // The ends' planes at the survivor's place p (its origin from now on), in doubles: their values
+    // there, sum_f w a_f(p) = E_j + G_j.t + W_c r_j per end, give s* over the weight. The survivor's
+    // reference becomes s*, about which its planes sum to 0 (up to s*'s rounding to float).
+    const Eigen::Vector3d p = query.halfEdge ? origin(v1) : normalise(query.position);
+    const Eigen::Vector3d t0 = p - origin(v0), t1 = p - origin(v1);
+    const GradientBlock a = gradientBlock(gradients_.data() + std::size_t(v0) * 4 * m_);
+    float* g1 = gradients_.data() + std::size_t(v1) * 4 * m_;
+    float* r1 = attributes_.data() + std::size_t(v1) * m_;
+    const float* r0 = attributes_.data() + std::size_t(v0) * m_;
+    // In one pass per attribute: the values there, the survivor's reference (s*, as stored in floats;
+    // without weight, the edge interpolation; half-edge: v1's own), both ends' planes against it, and
+    // the summed planes.
+    thread_local std::vector<float> reference;
+    reference.resize(m_);
+    double dG0[3] = {0.0, 0.0, 0.0}, dG1[3] = {0.0, 0.0, 0.0};
+    double deltaE0 = 0.0, deltaE1 = 0.0, deltaW0 = 0.0, deltaW1 = 0.0;
+    for (int c = 0; c < kColorChannels; ++c) {
+        const double w0 = q0[kW + c], w1 = q1[kW + c], w = w0 + w1, inverse = w > 0.0 ? 1.0 / w : 0.0;
+        for (int j = c * kSh_; j < (c + 1) * kSh_; ++j) {
+            const double ax = a.x[j], ay = a.y[j], az = a.z[j];
+            const double bx = g1[j], by = g1[m_ + j], bz = g1[2 * m_ + j];
+            const double e0 = double(a.e[j]) + ax * t0.x() + ay * t0.y() + az * t0.z();
+            const double e1 = double(g1[3 * m_ + j]) + bx * t1.x() + by * t1.y() + bz * t1.z();
+            const double value = e0 + w0 * r0[j] + e1 + w1 * r1[j];
+            const float ref = query.halfEdge ? r1[j]
+                              : static_cast<float>(w > 0.0 ? value * inverse : (1.0 - query.s) * r0[j] + query.s * r1[j]);
+            const double d0 = double(r0[j]) - ref, d1 = double(r1[j]) - ref;
+            dG0[0] += d0 * ax;
+            dG0[1] += d0 * ay;
+            dG0[2] += d0 * az;
+            dG1[0] += d1 * bx;
+            dG1[1] += d1 * by;
+            dG1[2] += d1 * bz;
+            deltaE0 += d0 * e0;
+            deltaE1 += d1 * e1;
+            deltaW0 += w0 * d0 * d0;
+            deltaW1 += w1 * d1 * d1;
+            g1[j] = static_cast<float>(ax + bx);
+            g1[m_ + j] = static_cast<float>(ay + by);
+            g1[2 * m_ + j] = static_cast<float>(az + bz);
+            g1[3 * m_ + j] = static_cast<float>(value - w * ref);
+            reference[j] = ref;
+        }
+    }
+    const Eigen::Vector3d deltaG0(dG0[0], dG0[1], dG0[2]), deltaG1(dG1[0], dG1[1], dG1[2]);
+    double moved0[10], moved1[10];
+    moveLocalBlock(q0 + kLocal, t0, deltaG0, deltaE0, deltaW0, moved0);
+    moveLocalBlock(q1 + kLocal, t1, deltaG1, deltaE1, deltaW1, moved1);
+    for (int i = 0; i < 10; ++i) q1[kLocal + i] = moved0[i] + moved1[i];
+    for (int i = 0; i < kSummed; ++i) q1[i] += q0[i];
+    for (int i = 0; i < 3; ++i) origins_[3 * std::size_t(v1) + i] = p[i];
+    std::copy(reference.begin(), reference.end(), r1);
     if (query.halfEdge) return;
 
-    // Full collapse: the survivor's function is s* at its new position (the area-weighted average
-    // of every original face's attribute plane there); without area, the edge interpolation.
-    const Eigen::Vector3d p = normalise(query.position);
-    float* a1 = attributes_.data() + std::size_t(v1) * m_;
-    const float* a0 = attributes_.data() + std::size_t(v0) * m_;
     thread_local std::vector<double> optimal;
-    optimal.resize(m_);
-    const GradientBlock g = gradientBlock(g1);
-    for (int j = 0; j < m_; ++j) {
-        const double w = q1[kW + j / kSh_];
-        optimal[j] = w > 0.0 ? (g.x[j] * p.x() + g.y[j] * p.y() + g.z[j] * p.z() + g.e[j]) / w
-                             : (1.0 - query.s) * a0[j] + query.s * a1[j];
-    }
-    for (int j = 0; j < m_; ++j) a1[j] = static_cast<float>(optimal[j]);
+    optimal.assign(reference.begin(), reference.end());
     // The survivor's normal follows it along the edge (the two frames' normals slerped by where it
     // was placed): eq. 8 reflects about the interpolated normals, so a survivor placed between the
     // ends that kept v1's normal would shift the highlights around it. Reflected

@@ -62,9 +62,9 @@ public:
 private:
     struct Sum;  // Q_v0 + Q_v1, unpacked for repeated evaluation
     struct GradientBlock {
-        const double *x, *y, *z, *e;
+        const float *x, *y, *z, *e;
     };
-    GradientBlock gradientBlock(const double* block) const;
+    GradientBlock gradientBlock(const float* block) const;
     struct Placement {
         const RadianceQuadricMetric* metric = nullptr;
         std::uint64_t collapses = 0;  // the metric's state it was computed in
@@ -74,12 +74,18 @@ private:
     };
     static Placement& lastPlacement();  // per thread
     void sumOf(std::uint32_t v0, std::uint32_t v1, Sum& out) const;
+    void sumLocal(const Sum& q, const Eigen::Vector3d& deltaG, double deltaE, double deltaW, double* out) const;
     double evaluateSum(const Sum& q, const Eigen::Vector3d& normalised, const float* attributes) const;
     struct FaceQuadric {  // one face's terms, laid out as a vertex's
-        explicit FaceQuadric(int m) : gradients(4 * std::size_t(m)) {}
-        std::array<double, 23> geometric{};
-        std::vector<double> gradients;
+        explicit FaceQuadric(int m) : gradients(3 * std::size_t(m)), cornerValues(std::size_t(m)) {}
+        std::array<double, 33> geometric{};
+        std::vector<double> gradients;     // weight x the attribute planes' gradients: x (m), y (m), z (m)
+        std::vector<double> cornerValues;  // weight x the attributes at the first corner (m)
+        Eigen::Vector3d firstCorner;       // normalised
+        double channelWeight[3] = {0.0, 0.0, 0.0};  // area x the channel's perceptual weight
     };
+    // Adds a face's attribute planes to vertex v's, their offsets taken at v's origin.
+    void addFacePlanes(const FaceQuadric& face, std::uint32_t v);
     static std::vector<float> perceptualChannelWeights(const RadianceField& field, double exponent);
     void buildVertexQuadrics(const CollapseMesh& mesh, const std::vector<float>& channelWeight);
     bool faceQuadric(const CollapseMesh& mesh, const std::uint32_t* corners, const std::vector<float>& channelWeight,
@@ -87,6 +93,9 @@ private:
     void reduce(const Sum& q, double* reduced) const;  // min over s of Q(p, s), a quadric in p: 10 values
     static double evaluateOptimal(const double* reduced, const Eigen::Vector3d& normalised);
     Eigen::Vector3d normalise(const Eigen::Vector3d& world) const { return positionScale_ * (world - centre_); }
+    Eigen::Vector3d origin(std::uint32_t v) const {
+        return {origins_[3 * std::size_t(v)], origins_[3 * std::size_t(v) + 1], origins_[3 * std::size_t(v) + 2]};
+    }
     void toMetric(std::size_t v, float* attributes) const;
 
     RadianceField& field_;
@@ -98,11 +107,20 @@ private:
     // PB fields are compared as world SH of the same degree (kSh_ functions per channel).
     WorldShConversion conversion_;
     int kSh_ = 0;
-    // Per vertex: the geometric block A (6, upper triangle), b (3), c, W in doubles...
-    std::vector<double> geometric_;              // kGeometric per vertex
-    // ...and G_x, G_y, G_z then E (m each), in doubles too: the cost subtracts nearly equal sums (c and the
-    // squared attribute planes), which float storage turns into noise as large as real costs.
-    std::vector<double> gradients_;
+    // Per vertex v, about its origin o_v (its normalised position, moved with it) and its reference r_v
+    // (its current function, attributes_): sum over the original faces f it stands for of
+    // w_f |s - a_f(p)|^2, a_f the face's attribute planes, written with d = p - o_v, u = s - r_v as
+    //   C(d) - 2 sum_j u_j (G_j.d + E_j) + W |u|^2,
+    // G_j = sum w_f g_fj, E_j = sum w_f (a_fj(o_v) - r_vj), C(d) = sum w_f |a_f(p) - r_v|^2 (a quadric
+    // in d). Every term is of the size of the radiance's change over the faces, not of the radiance:
+    // the cost, C minus the planes' squares, subtracts no large nearly equal sums, so the planes fit
+    // in floats (about the scan's centre, or about 0, the sums cancel to within rounding in doubles
+    // only: design-notes, "Precision").
+    // The block of doubles: the geometry's planes (normalised coordinates), W, the planes alone for
+    // placing, C: kGeometric per vertex.
+    std::vector<double> geometric_;
+    std::vector<float> gradients_;   // G_x, G_y, G_z, then E (m each)
+    std::vector<double> origins_;    // o_v: 3 per vertex
     std::vector<float> attributes_;              // m per vertex: the current RF in the metric's space
 };
 
