@@ -21,13 +21,13 @@ namespace {
 
 // Layout of the block of doubles of one vertex. A quadric block is A (6, upper triangle: xx, xy, xz,
 // yy, yz, zz), b (3), c: x^T A x + 2 b.x + c.
-constexpr int kA = 0;        // the geometry's planes times the geometry weight, in normalised coordinates
-constexpr int kW = 10;       // 3: the attribute weight of each colour channel
-constexpr int kPlanes = 13;  // the plane terms alone, for placing full collapses
-constexpr int kLocal = 23;   // the attribute planes' squares about the vertex's reference and origin
-constexpr int kSummed = 23;  // the part of the block that two quadrics add as they are (kLocal moves)
-constexpr int kGeometric = 33;
-static_assert(kGeometric == 33, "FaceQuadric::geometric holds one vertex's block");
+constexpr int kW = 0;        // 3: the attribute weight of each colour channel
+constexpr int kPlanes = 3;   // the faces' planes in normalised coordinates (the geometry term is
+                             // geometryWeight times them; placing uses them alone)
+constexpr int kLocal = 13;   // the attribute planes' squares about the vertex's reference and origin
+constexpr int kSummed = 13;  // the part of the block that two quadrics add as they are (kLocal moves)
+constexpr int kGeometric = 23;
+static_assert(kGeometric == 23, "FaceQuadric::geometric holds one vertex's block");
 
 // A quadric block moved to a new origin and reference: q(d + t) plus the reference terms, where
 // the planes' sums against the reference change (deltaG = sum_j delta_j G_j, deltaE = sum_j delta_j
@@ -224,7 +224,6 @@ bool RadianceQuadricMetric::faceQuadric(const CollapseMesh& mesh, const std::uin
     const double d = -normal.dot(p0);
     double* q = out.geometric.data();
     std::fill(out.geometric.begin(), out.geometric.end(), 0.0);
-    addSquaredLinear(q + kA, area * options_.geometryWeight, normal, d);
     addSquaredLinear(q + kPlanes, area, normal, d);
     double channelArea[3];
     for (int c = 0; c < 3; ++c) {
@@ -357,7 +356,7 @@ double RadianceQuadricMetric::evaluateSum(const Sum& q, const Eigen::Vector3d& p
     }
     double local[10];
     sumLocal(q, deltaG, deltaE, deltaW, local);
-    double value = evaluateQuadratic(q.g + kA, p) + evaluateQuadratic(local, d) - 2.0 * cross;
+    double value = options_.geometryWeight * evaluateQuadratic(q.g + kPlanes, p) + evaluateQuadratic(local, d) - 2.0 * cross;
     for (int c = 0; c < 3; ++c) value += q.g[kW + c] * norm[c];
     return std::max(0.0, value);
 }
@@ -431,10 +430,11 @@ void RadianceQuadricMetric::reduce(const Sum& q, double* reduced) const {
     // (z - 2 y.o + o^T X o).
     const Eigen::Matrix3d X = symmetric(local);
     const Eigen::Vector3d y(local[6], local[7], local[8]), xo = X * q.origin;
-    const double* g = q.g + kA;
-    for (int i = 0; i < 6; ++i) reduced[i] = g[i] + local[i];
-    for (int i = 0; i < 3; ++i) reduced[6 + i] = g[6 + i] + y[i] - xo[i];
-    reduced[9] = g[9] + local[9] - 2.0 * y.dot(q.origin) + q.origin.dot(xo);
+    const double* g = q.g + kPlanes;
+    const double geometry = options_.geometryWeight;
+    for (int i = 0; i < 6; ++i) reduced[i] = geometry * g[i] + local[i];
+    for (int i = 0; i < 3; ++i) reduced[6 + i] = geometry * g[6 + i] + y[i] - xo[i];
+    reduced[9] = geometry * g[9] + local[9] - 2.0 * y.dot(q.origin) + q.origin.dot(xo);
 }
 
 double RadianceQuadricMetric::evaluateOptimal(const double* reduced, const Eigen::Vector3d& p) {

@@ -78,7 +78,7 @@ private:
     double evaluateSum(const Sum& q, const Eigen::Vector3d& normalised, const float* attributes) const;
     struct FaceQuadric {  // one face's terms, laid out as a vertex's
         explicit FaceQuadric(int m) : gradients(3 * std::size_t(m)), cornerValues(std::size_t(m)) {}
-        std::array<double, 33> geometric{};
+        std::array<double, 23> geometric{};
         std::vector<double> gradients;     // weight x the attribute planes' gradients: x (m), y (m), z (m)
         std::vector<double> cornerValues;  // weight x the attributes at the first corner (m)
         Eigen::Vector3d firstCorner;       // normalised
@@ -116,8 +116,7 @@ private:
     // the cost, C minus the planes' squares, subtracts no large nearly equal sums, so the planes fit
     // in floats (about the scan's centre, or about 0, the sums cancel to within rounding in doubles
     // only: design-notes, "Precision").
-    // The block of doubles: the geometry's planes (normalised coordinates), W, the planes alone for
-    // placing, C: kGeometric per vertex.
+    // The block of doubles: W, the faces' planes (normalised coordinates), C: kGeometric per vertex.
     std::vector<double> geometric_;
     std::vector<float> gradients_;   // G_x, G_y, G_z, then E (m each)
     std::vector<double> origins_;    // o_v: 3 per vertex
