@@ -65,6 +65,12 @@ public:
     // re-prices only the survivor's edges after a collapse, instead of its whole ring's, and its
     // priceEdge queries carry no stars (star0Size = star1Size = 0).
     virtual bool costDependsOnEndpointsOnly() const { return false; }
+    // True when onCollapse reads only its query and the metric's own state of the two ends (neither
+    // the mesh nor the stars), and calls for collapses with disjoint ends may run concurrently: the
+    // engine's passes then apply a pass's collapses to the mesh first and update the metric for all
+    // of them at the end of the pass, in parallel. (Within a pass no vertex takes part in two
+    // collapses, and placements and validity do not read the metric, so the result is the same.)
+    virtual bool updatesCanBeDeferred() const { return false; }
     // Full collapse: where the new vertex goes. Return false to let the engine place it (the
     // memoryless QEM's optimum); true with `position` set to choose it.
     virtual bool placeEdge(const CollapseMesh& mesh, std::uint32_t v0, std::uint32_t v1, Eigen::Vector3d& position) const {

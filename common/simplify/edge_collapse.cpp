@@ -375,6 +375,9 @@ private:
                      const std::function<void(const CollapseStep&)>& onStep);
     // Update: prices the touched vertices' edges, in parallel, for the next pass.
     void updatePass(PassState& state);
+    // The metric's updates of the deferred collapses, in parallel (their ends are disjoint), then
+    // their steps reported in order.
+    void flushDeferred(const std::function<void(const CollapseStep&)>& onStep);
 
     CollapseMesh& mesh_;
     CollapseMetric* metric_;
@@ -396,6 +399,14 @@ private:
     bool useMetric_ = false;
     bool localCosts_ = false;            // full mode, metric's costs depend on the two ends only
     std::vector<std::uint8_t> dormant_;  // localCosts_: has an edge dropped as invalid since last priced
+    // Passes with a metric whose updates can be deferred: the pass's collapses, applied to the mesh,
+    // awaiting the metric's update and the step's report (flushDeferred).
+    struct DeferredCollapse {
+        EdgeQuery query;
+        CollapseStep step;
+    };
+    bool deferUpdates_ = false;
+    std::vector<DeferredCollapse> deferred_;
     std::size_t pricings_ = 0;
 };
 
@@ -466,26 +477,33 @@ void Simplifier::applyCollapse(const QueueEntry& top, EdgeCollapseResult& result
         applied.halfEdge = true;
         mesh_.collapse(v0, v1);
     } else {
-        Workspace& w = workspace();
         const Placement place = storedPlacement(top);
-        mesh_.star(v0, w.star0);
-        mesh_.star(v1, w.star1);
-        applied = edgeQuery(v0, v1, place, w);
+        if (localCosts_) {  // the metric reads no stars
+            applied.position = place.position;
+            applied.s = place.s;
+        } else {
+            Workspace& w = workspace();
+            mesh_.star(v0, w.star0);
+            mesh_.star(v1, w.star1);
+            applied = edgeQuery(v0, v1, place, w);
+        }
         mesh_.setPosition(v1, place.position);
         mesh_.collapse(v0, v1);
     }
-    if (metric_) metric_->onCollapse(mesh_, applied);
-
     ++result.collapses;
     result.lastCost = top.cost;
     result.maxCost = std::max(result.maxCost, top.cost);
-    if (onStep) {
-        CollapseStep step;
-        step.removed = v0;
-        step.survivor = v1;
-        for (int k = 0; k < 3; ++k) step.position[k] = static_cast<float>(applied.position[k]);
-        step.cost = static_cast<float>(top.cost);
-        onStep(step);
+    CollapseStep step;
+    step.removed = v0;
+    step.survivor = v1;
+    for (int k = 0; k < 3; ++k) step.position[k] = static_cast<float>(applied.position[k]);
+    step.cost = static_cast<float>(top.cost);
+    step.facesAfter = static_cast<std::uint32_t>(mesh_.aliveFaceCount());
+    if (deferUpdates_) {
+        deferred_.push_back({applied, step});
+    } else {
+        if (metric_) metric_->onCollapse(mesh_, applied);
+        if (onStep) onStep(step);
     }
 
     ++version_[v0];
@@ -515,6 +533,7 @@ void Simplifier::applyCollapse(const QueueEntry& top, EdgeCollapseResult& result
 // pass takes at most passFraction of the priced edges so that it does not run far ahead of the
 // greedy order. No stale entry is ever sifted through a heap.
 void Simplifier::runInPasses(EdgeCollapseResult& result, const std::function<void(const CollapseStep&)>& onStep) {
+    deferUpdates_ = metric_->updatesCanBeDeferred();
     PassState state;
     state.marked.assign(mesh_.vertexCount(), 0);
     price(allVertices());
@@ -525,7 +544,9 @@ void Simplifier::runInPasses(EdgeCollapseResult& result, const std::function<voi
             result.stop = StopReason::NoValidCollapse;
             break;
         }
-        if (!performPass(state, take, result, onStep)) break;
+        const bool goOn = performPass(state, take, result, onStep);
+        flushDeferred(onStep);
+        if (!goOn) break;
         updatePass(state);
     }
 }
@@ -599,6 +620,17 @@ bool Simplifier::performPass(PassState& state, std::size_t take, EdgeCollapseRes
         reportCollapseProgress();
     }
     return true;
+}
+
+void Simplifier::flushDeferred(const std::function<void(const CollapseStep&)>& onStep) {
+    if (deferred_.empty()) return;
+    const int threads = options_.threads > 0 ? options_.threads : omp_get_max_threads();
+    const long n = static_cast<long>(deferred_.size());
+#pragma omp parallel for schedule(dynamic, 16) num_threads(threads) if (n > 256)
+    for (long i = 0; i < n; ++i) metric_->onCollapse(mesh_, deferred_[std::size_t(i)].query);
+    if (onStep)
+        for (const DeferredCollapse& d : deferred_) onStep(d.step);
+    deferred_.clear();
 }
 
 void Simplifier::updatePass(PassState& state) {

@@ -63,6 +63,7 @@ struct CollapseStep {
     std::uint32_t survivor = 0;  // v1 (for a full collapse: the slot of the new vertex)
     float position[3] = {0, 0, 0};  // survivor's position after the step
     float cost = 0.0f;              // combined cost when collapsed
+    std::uint32_t facesAfter = 0;   // alive faces after the step
 };
 
 enum class StopReason { TargetReached, MaxErrorReached, NoValidCollapse };
@@ -79,7 +80,10 @@ struct EdgeCollapseResult {
 };
 
 // Simplifies `mesh` in place. `metric` may be null (geometry only). `onStep` (may be empty) is
-// called after each collapse, after the metric's onCollapse, with the mesh in its new state.
+// called for each collapse, in order, after the metric's onCollapse for it: at once, with the mesh in
+// its new state, or, in passes with a metric whose updates can be deferred
+// (CollapseMetric::updatesCanBeDeferred), at the end of the step's pass, when the mesh may be in a
+// later state (the step's facesAfter tells its face count).
 // Throws std::invalid_argument when the options are inconsistent (full collapse with a metric that
 // cannot price it: the message carries the metric's reason; negative weights; valence bounds
 // inverted).

@@ -185,13 +185,12 @@ RadianceMesh ProgressiveRadianceMesh::extract(std::size_t stepCount) const {
     return out;
 }
 
-ProgressiveRecorder::ProgressiveRecorder(ProgressiveRadianceMesh& target, const CollapseMesh& mesh,
-                                         const RadianceField* field)
-    : target_(target), mesh_(mesh), field_(field) {}
+ProgressiveRecorder::ProgressiveRecorder(ProgressiveRadianceMesh& target, const RadianceField* field)
+    : target_(target), field_(field) {}
 
 void ProgressiveRecorder::operator()(const CollapseStep& step) {
     target_.steps.push_back(step);
-    target_.faceCountAfter.push_back(static_cast<std::uint32_t>(mesh_.aliveFaceCount()));
+    target_.faceCountAfter.push_back(step.facesAfter);
     const int row = target_.rowFloats();
     if (row > 0) {
         if (!field_) throw std::logic_error("a full collapse of a radiance mesh is recorded without its field");

@@ -50,16 +50,16 @@ struct ProgressiveRadianceMesh {
     RadianceMesh extract(std::size_t stepCount) const;
 };
 
-// Records the steps of a simplification of `base`: pass recorder.callback() as simplifyByEdgeCollapse's
-// onStep. `field` is the RadianceField the metric updates (full collapses), or null.
+// Records the steps of a simplification of `base`: pass the recorder as simplifyByEdgeCollapse's
+// onStep. `field` is the RadianceField the metric updates (full collapses), or null; each step copies
+// the survivor's row of it, and takes the face count from the step.
 class ProgressiveRecorder {
 public:
-    ProgressiveRecorder(ProgressiveRadianceMesh& target, const CollapseMesh& mesh, const RadianceField* field);
+    ProgressiveRecorder(ProgressiveRadianceMesh& target, const RadianceField* field);
     void operator()(const CollapseStep& step);
 
 private:
     ProgressiveRadianceMesh& target_;
-    const CollapseMesh& mesh_;
     const RadianceField* field_;
 };
 

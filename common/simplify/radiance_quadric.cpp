@@ -505,7 +505,7 @@ bool RadianceQuadricMetric::placeEdge(const CollapseMesh& mesh, std::uint32_t v0
         if (optimum.allFinite() && (optimum - mid).norm() <= 2.0 * length) consider(optimum);
     }
     position = centre_ + best / positionScale_;
-    lastPlacement() = {this, collapses_, v0, v1, position, bestCost};
+    lastPlacement() = {this, collapses_.load(std::memory_order_relaxed), v0, v1, position, bestCost};
     return true;
 }
 
@@ -517,7 +517,7 @@ RadianceQuadricMetric::Placement& RadianceQuadricMetric::lastPlacement() {
 
 double RadianceQuadricMetric::priceEdge(const CollapseMesh& mesh, const EdgeQuery& query) const {
     const Placement& last = lastPlacement();
-    if (last.metric == this && last.collapses == collapses_ && last.v0 == query.v0 && last.v1 == query.v1 &&
+    if (last.metric == this && last.collapses == collapses_.load(std::memory_order_relaxed) && last.v0 == query.v0 && last.v1 == query.v1 &&
         last.position == query.position)
         return last.cost;
     Sum q;
@@ -528,7 +528,7 @@ double RadianceQuadricMetric::priceEdge(const CollapseMesh& mesh, const EdgeQuer
 }
 
 void RadianceQuadricMetric::onCollapse(const CollapseMesh& mesh, const EdgeQuery& query) {
-    ++collapses_;
+    collapses_.fetch_add(1, std::memory_order_relaxed);
     const std::uint32_t v0 = query.v0, v1 = query.v1;
     double* q0 = geometric_.data() + std::size_t(v0) * kGeometric;
     double* q1 = geometric_.data() + std::size_t(v1) * kGeometric;

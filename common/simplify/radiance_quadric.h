@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -41,6 +42,7 @@ public:
     std::string name() const override { return "radiance quadric (Hoppe 1999)"; }
     bool ownsGeometry() const override { return true; }
     bool costDependsOnEndpointsOnly() const override { return true; }
+    bool updatesCanBeDeferred() const override { return true; }  // onCollapse touches its two ends only
     void priceHalfEdges(const CollapseMesh& mesh, const HalfEdgeQuery& query, double* costs) const override;
     bool supportsFullCollapse(std::string& why) const override {
         why.clear();
@@ -99,7 +101,7 @@ private:
     void toMetric(std::size_t v, float* attributes) const;
 
     RadianceField& field_;
-    std::uint64_t collapses_ = 0;  // onCollapse calls: tells a cached placement's state apart
+    std::atomic<std::uint64_t> collapses_{0};  // onCollapse calls: tells a cached placement's state apart
     RadianceQuadricOptions options_;
     int m_ = 0;  // attributes per vertex (3 x the metric's per channel)
     Eigen::Vector3d centre_ = Eigen::Vector3d::Zero();

@@ -221,7 +221,7 @@ RadianceSimplificationResult simplifyRadianceMesh(RadianceMesh mesh, const Radia
     // (geometry, colour) leave it as v1's.
     const RadianceField* recordedField = nullptr;
     if (options.collapse.kind == CollapseKind::Full && base.radiance) recordedField = field ? field : &*base.radiance;
-    ProgressiveRecorder recorder(result.progressive, collapseMesh, recordedField);
+    ProgressiveRecorder recorder(result.progressive, recordedField);
     result.progressive.steps.reserve(base.vertexCount());
     result.progressive.faceCountAfter.reserve(base.vertexCount());
     result.collapse = simplifyByEdgeCollapse(collapseMesh, metric.get(), options.collapse,

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <set>
 #include <utility>
 #include <vector>
@@ -238,9 +239,18 @@ struct QuadricRun {
     std::vector<std::uint32_t> faces;
     std::vector<float> costs;  // of each collapse, in order
 };
-QuadricRun simplifyShSphere(double passFraction, int threads, double maxError = INFINITY) {
+// The radiance quadric with its updates made at each collapse, not at the end of each pass.
+class ImmediateRadianceQuadric : public rad::RadianceQuadricMetric {
+public:
+    using rad::RadianceQuadricMetric::RadianceQuadricMetric;
+    bool updatesCanBeDeferred() const override { return false; }
+};
+
+QuadricRun simplifyShSphere(double passFraction, int threads, double maxError = INFINITY, bool deferred = true,
+                            rad::BasisSpec basis = {rad::BasisKind::SphericalHarmonics, 2},
+                            std::vector<float>* rows = nullptr, std::vector<std::uint32_t>* facesAfter = nullptr) {
     const rad::TriangleMesh sphere = rad::makeIcosphere(4);  // 5120 faces
-    rad::RadianceField field({rad::BasisKind::SphericalHarmonics, 2}, sphere.vertexCount());
+    rad::RadianceField field(basis, sphere.vertexCount());
     for (std::size_t v = 0; v < sphere.vertexCount(); ++v) {
         const float* p = sphere.positions.data() + 3 * v;
         for (int j = 0; j < field.coefficientsPerVertex(); ++j)
@@ -248,7 +258,9 @@ QuadricRun simplifyShSphere(double passFraction, int threads, double maxError = 
         rad::storeFrame(rad::frameFromNormal(Eigen::Vector3d(p[0], p[1], p[2]).normalized()), field.frame(v));
     }
     CollapseMesh mesh = toCollapseMesh(sphere);
-    rad::RadianceQuadricMetric metric(mesh, field);
+    std::unique_ptr<rad::RadianceQuadricMetric> metric =
+        deferred ? std::make_unique<rad::RadianceQuadricMetric>(mesh, field)
+                 : std::make_unique<ImmediateRadianceQuadric>(mesh, field);
     EdgeCollapseOptions options;
     options.kind = CollapseKind::Full;
     options.targetFaceCount = 512;
@@ -256,8 +268,13 @@ QuadricRun simplifyShSphere(double passFraction, int threads, double maxError = 
     options.passFraction = passFraction;
     options.threads = threads;
     QuadricRun run;
-    run.result = rad::simplifyByEdgeCollapse(mesh, &metric, options,
-                                             [&](const rad::CollapseStep& s) { run.costs.push_back(s.cost); });
+    run.result = rad::simplifyByEdgeCollapse(mesh, metric.get(), options, [&](const rad::CollapseStep& s) {
+        run.costs.push_back(s.cost);
+        // What a recorder copies when the step is reported: the survivor's row of the field.
+        if (rows) rows->insert(rows->end(), field.vertexCoefficients(s.survivor),
+                               field.vertexCoefficients(s.survivor) + field.coefficientsPerVertex());
+        if (facesAfter) facesAfter->push_back(s.facesAfter);
+    });
     std::vector<std::uint32_t> map;
     mesh.compact(run.positions, run.faces, map);
     return run;
@@ -289,6 +306,26 @@ TEST(EdgeCollapse, PassesGiveTheSameMeshOnOneAndTwoThreads) {
     EXPECT_EQ(one.faces, two.faces);
     EXPECT_EQ(one.positions, two.positions);
     EXPECT_EQ(one.costs, two.costs);
+}
+
+TEST(EdgeCollapse, DeferredUpdatesGiveTheSameStepsAsImmediateOnes) {
+    // PB, so that each update also turns the survivor's frame and projects s* back onto it.
+    const rad::BasisSpec pb{rad::BasisKind::HemisphericalPolynomial, 3};
+    for (int threads : {1, 2}) {
+        std::vector<float> rowsDeferred, rowsImmediate;
+        std::vector<std::uint32_t> facesDeferred, facesImmediate;
+        const QuadricRun deferred = simplifyShSphere(0.3, threads, INFINITY, true, pb, &rowsDeferred, &facesDeferred);
+        const QuadricRun immediate =
+            simplifyShSphere(0.3, threads, INFINITY, false, pb, &rowsImmediate, &facesImmediate);
+        EXPECT_EQ(deferred.faces, immediate.faces);
+        EXPECT_EQ(deferred.positions, immediate.positions);
+        EXPECT_EQ(deferred.costs, immediate.costs);
+        EXPECT_EQ(rowsDeferred, rowsImmediate);  // each row as it was right after its step
+        EXPECT_EQ(facesDeferred, facesImmediate);
+        ASSERT_FALSE(facesDeferred.empty());
+        EXPECT_TRUE(std::is_sorted(facesDeferred.rbegin(), facesDeferred.rend()));
+        EXPECT_EQ(facesDeferred.back(), deferred.result.finalFaceCount);
+    }
 }
 
 TEST(EdgeCollapse, PassesStopAtTheLargestError) {

@@ -69,7 +69,7 @@ TEST(ProgressiveMesh, ReplayReproducesEveryIntermediateMesh) {
         progressive.base = original;
         progressive.kind = kind;
         rad::RadianceField field = *original.radiance;  // geometry-only: rows stay v1's
-        rad::ProgressiveRecorder recorder(progressive, mesh, &field);
+        rad::ProgressiveRecorder recorder(progressive, &field);
         const std::size_t checkpoints[] = {1, 37, 200};
         std::vector<std::set<std::vector<float>>> snapshots;
         rad::EdgeCollapseOptions options;
