@@ -1,9 +1,11 @@
 #include "geometry/triangle_mesh.h"
 
 #include "geometry/coordinate_range.h"
+#include "parallel/parallel_sort.h"
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <sstream>
 
 namespace rad {
@@ -44,7 +46,7 @@ std::string TriangleMesh::validate() const {
 }
 
 std::size_t countNonManifoldEdges(std::vector<std::uint64_t>& undirectedEdgeKeys) {
-    std::sort(undirectedEdgeKeys.begin(), undirectedEdgeKeys.end());
+    sortInParallel(undirectedEdgeKeys.begin(), undirectedEdgeKeys.end(), std::less<std::uint64_t>());
     std::size_t nonManifold = 0;
     for (std::size_t i = 0; i < undirectedEdgeKeys.size();) {
         std::size_t j = i;

@@ -1,5 +1,6 @@
 #include "simplify/edge_collapse.h"
 
+#include "parallel/parallel_sort.h"
 #include "simplify/cost_queue.h"
 
 #include "simplify/quadric_error.h"
@@ -583,7 +584,7 @@ std::size_t Simplifier::rankPass(std::vector<QueueEntry>& entries) const {
         return x.a != y.a ? x.a < y.a : x.b < y.b;
     };
     std::nth_element(entries.begin(), entries.begin() + (take - 1), entries.end(), cheaper);
-    std::sort(entries.begin(), entries.begin() + take, cheaper);
+    sortInParallel(entries.begin(), entries.begin() + take, cheaper, options_.threads);
     return take;
 }
 

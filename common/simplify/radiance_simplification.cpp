@@ -3,6 +3,7 @@
 #include "geometry/coordinate_range.h"
 #include "geometry/triangle_mesh.h"
 #include "io/radiance_ply.h"
+#include "parallel/parallel_sort.h"
 #include "radiance/material_radiance.h"
 #include "simplify/color_quadric.h"
 #include "simplify/light_field_quadric.h"
@@ -15,6 +16,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <memory>
 #include <optional>
 
@@ -69,7 +71,8 @@ UnusableFaces findUnusableFaces(const RadianceMesh& mesh) {
             keyed.emplace_back(sortedCorners(t), static_cast<std::uint32_t>(f));
         }
     }
-    std::sort(keyed.begin(), keyed.end());  // equal triangles together, lowest face index first
+    // Equal triangles together, lowest face index first (the pairs are all distinct: a total order).
+    sortInParallel(keyed.begin(), keyed.end(), std::less<std::pair<std::array<std::uint32_t, 3>, std::uint32_t>>());
     for (std::size_t i = 1; i < keyed.size(); ++i)
         if (keyed[i].first == keyed[i - 1].first) {
             u.drop[keyed[i].second] = 1;
