@@ -3,6 +3,7 @@
 #include "geometry/coordinate_range.h"
 #include "geometry/triangle_mesh.h"
 #include "io/radiance_ply.h"
+#include "memory/available_memory.h"
 #include "parallel/parallel_sort.h"
 #include "radiance/material_radiance.h"
 #include "simplify/color_quadric.h"
@@ -148,7 +149,42 @@ std::string inputProblem(const RadianceMesh& mesh, SimplificationMetric metric, 
     return {};
 }
 
+// The radiance quadric's attributes per vertex: the field's functions in world SH of its degree.
+int quadricAttributesPerVertex(const RadianceField& field) {
+    const BasisSpec& basis = field.basis;
+    if (!basis.usesLocalFrame()) return field.coefficientsPerVertex();
+    return kColorChannels * (basis.degree + 1) * (basis.degree + 1);
+}
+
+std::string refusalForMemory(const RadianceMesh& mesh, const RadianceSimplificationOptions& options) {
+    if (mesh.radiance && !mesh.radiance->validate().empty()) return {};  // refused by the input checks, with the reason
+    const std::size_t limit = options.memoryLimitBytes > 0 ? options.memoryLimitBytes : availableMemoryBytes();
+    const std::size_t needed = estimatedSimplificationBytes(mesh, options);
+    if (limit == 0 || needed <= limit) return {};
+    return "simplifying this mesh of " + std::to_string(mesh.vertexCount()) + " vertices needs about " +
+           describeBytes(double(needed)) + " of memory and " + describeBytes(double(limit)) +
+           " are available: close other programs, run it on a machine with more memory, or reduce the scan "
+           "first (e.g. 'Out-of-Core Simplification and Normal Map', which keeps no radiance, then fit the "
+           "radiance again on the smaller mesh)";
+}
+
 }  // namespace
+
+std::size_t estimatedSimplificationBytes(const RadianceMesh& mesh, const RadianceSimplificationOptions& options) {
+    const double nv = double(mesh.vertexCount()), nf = double(mesh.faceCount());
+    const RadianceField* field = needsRadiance(options.metric) && mesh.radiance ? &*mesh.radiance : nullptr;
+    const double row = field ? double(field->coefficientsPerVertex() + 6) * sizeof(float) : 0.0;
+    double perVertex = 0.0;
+    perVertex += 24.0 + 4 * 16.0 + 8.0;  // collapse mesh: positions, incident-face lists, flags, versions
+    perVertex += 3.0 * (48.0 + 48.0 + 8.0);  // about three edges each: ranked and priced entries, edge list
+    perVertex += 32.0 + row;                  // progressive records: a step and the survivor's row
+    if (field && (options.collapse.kind == CollapseKind::Full || field->basis.kind == BasisKind::SphericalHarmonics))
+        perVertex += row;  // the metric's working copy of the field
+    if (field && options.metric == SimplificationMetric::RadianceQuadric)
+        perVertex += 20.0 * quadricAttributesPerVertex(*field) + 232.0;  // planes, references, blocks, weights
+    const double perFace = 13.0;  // the collapse mesh's faces and flags
+    return static_cast<std::size_t>(nv * perVertex + nf * perFace);
+}
 
 std::string checkSimplificationInput(const RadianceMesh& mesh, SimplificationMetric metric, CollapseKind kind) {
     UnusableFaces unusable;
@@ -159,6 +195,8 @@ RadianceSimplificationResult simplifyRadianceMesh(RadianceMesh mesh, const Radia
     const auto start = std::chrono::steady_clock::now();
     if (const std::string problem = options.collapse.validate(); !problem.empty()) throw SimplificationError(problem);
     UnusableFaces unusable;
+    // Memory first: the input checks below already sort every face and edge.
+    if (const std::string problem = refusalForMemory(mesh, options); !problem.empty()) throw SimplificationError(problem);
     if (const std::string problem = inputProblem(mesh, options.metric, options.collapse.kind, unusable); !problem.empty())
         throw SimplificationError(problem);
     removeFaces(mesh, unusable.drop);

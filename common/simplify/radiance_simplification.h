@@ -40,7 +40,17 @@ struct RadianceSimplificationOptions {
     double perceptualExponent = kRadianceQuadricPerceptualExponent;
     // Engine options: kind, targetFaceCount, maxError, weights, boundary, valence, progress...
     EdgeCollapseOptions collapse;
+    // Memory the simplification may take; 0: what the machine has available now
+    // (memory/available_memory.h). A mesh whose estimate exceeds it is refused before any work.
+    std::size_t memoryLimitBytes = 0;
 };
+
+// About how much memory simplifyRadianceMesh takes at its peak beside its input, in bytes: the
+// metric's per-vertex state (for the radiance quadric, 20 bytes per attribute of the world-SH space
+// and about 230 more), the working copy of the field, the progressive records, the collapse mesh and
+// the priced edges. Within about 10 % of the measured peak on the 1.66M-vertex armadillo
+// (docs/simplification.md).
+std::size_t estimatedSimplificationBytes(const RadianceMesh& mesh, const RadianceSimplificationOptions& options);
 
 struct RadianceSimplificationResult {
     ProgressiveRadianceMesh progressive;  // base = the input, steps down to the coarsest mesh
@@ -62,8 +72,8 @@ std::string checkSimplificationInput(const RadianceMesh& mesh, SimplificationMet
 // Simplifies (the mesh is taken by value: move it in to avoid a copy; it becomes the progressive
 // mesh's base, without its faces that repeat a vertex and without the later copies of a triangle
 // (same three vertices, either orientation): both counted in the result). Zero-area faces of
-// real scans are simplified like the others: the collapse of their short edge costs nothing. Throws SimplificationError when checkSimplificationInput fails or the target is
-// not below the face count, std::invalid_argument for inconsistent options (e.g. full collapse
+// real scans are simplified like the others: the collapse of their short edge costs nothing. Throws SimplificationError when checkSimplificationInput fails, the target is
+// not below the face count or the memory estimate exceeds what is available, std::invalid_argument for inconsistent options (e.g. full collapse
 // with a PB field and the radiance metric: the message says why).
 RadianceSimplificationResult simplifyRadianceMesh(RadianceMesh mesh, const RadianceSimplificationOptions& options);
 

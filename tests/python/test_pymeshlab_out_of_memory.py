@@ -146,3 +146,37 @@ except pymeshlab.PyMeshLabException as e:
     assert result["after"] == result["before"], result
     assert not out.exists()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["small.ivg"]
+
+
+def test_radiance_simplification_larger_than_the_memory_is_refused_up_front_with_the_figures():
+    """A 90k-vertex plane with PB(4) radiance needs about 240 MB to simplify with the radiance quadric
+    (simplify/radiance_simplification.h's estimate: the quadric holds 75 float attributes per vertex);
+    under a 120 MB margin the filter refuses it before building anything, saying how much it needs and
+    how much there is; without the check, an allocation half way fails with only 'Out of memory'.
+    The document is as it was."""
+    body = grid_mesh_code(300) + f"""
+vertices[:, 2] = np.random.default_rng(2).uniform(0, 0.002, len(vertices))
+ms = pymeshlab.MeshSet()
+ms.add_mesh(pymeshlab.Mesh(vertex_matrix=vertices, face_matrix=faces), "plane")
+ms.compute_normal_per_vertex()
+ms.apply_filter({h.CREATE!r}, basis=0, degree=4, reflected=False)
+warm = pymeshlab.MeshSet()
+warm.add_mesh(pymeshlab.Mesh(vertex_matrix=vertices[:2500], face_matrix=faces[(faces < 2500).all(axis=1)]), "warm")
+warm.compute_normal_per_vertex()
+warm.apply_filter({h.CREATE!r}, basis=0, degree=4, reflected=False)
+warm.apply_filter({h.SIMPLIFY!r}, targetpercentage=0.5, lodlevels="")   # OpenMP's threads, once
+before = state(ms)
+limit_address_space(120)
+try:
+    ms.apply_filter({h.SIMPLIFY!r}, targetpercentage=0.1, lodlevels="")
+    report(refused=False, before=before, after=state(ms), message="")
+except pymeshlab.PyMeshLabException as e:
+    report(refused=True, before=before, after=state(ms), message=str(e))
+"""
+    result = run_child(body)
+    assert result["refused"], result
+    message = result["message"]
+    assert "simplifying this mesh of 90601 vertices needs about" in message and "are available" in message, message
+    assert "Out of memory" not in message, message
+    assert "The layers are unchanged." in message, message
+    assert result["after"] == result["before"], result

@@ -6,7 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 
 namespace {
 
@@ -99,6 +101,51 @@ TEST(RadianceSimplification, InvalidOptionsAreRefusedBeforeAnyWork) {
     options.collapse.minValence = 8;
     options.collapse.maxValence = 4;
     EXPECT_THROW(rad::simplifyRadianceMesh(mesh, options), rad::SimplificationError);
+}
+
+TEST(RadianceSimplification, AMeshLargerThanTheMemoryIsRefusedWithTheFigures) {
+    const rad::RadianceMesh mesh = gridWithDefects();
+    rad::RadianceSimplificationOptions options;
+    options.collapse.targetFaceCount = 40;
+    const std::size_t needed = rad::estimatedSimplificationBytes(mesh, options);
+    // The radiance quadric holds 20 bytes per world-SH attribute (PB3: 3 x 16) per vertex, at least.
+    EXPECT_GT(needed, mesh.vertexCount() * 20 * 48);
+    options.memoryLimitBytes = needed / 2;
+    try {
+        rad::simplifyRadianceMesh(mesh, options);
+        FAIL() << "a mesh needing twice the memory limit was simplified";
+    } catch (const rad::SimplificationError& e) {
+        const std::string message = e.what();
+        EXPECT_NE(message.find("64 vertices needs about"), std::string::npos) << message;
+        EXPECT_NE(message.find("are available"), std::string::npos) << message;
+    }
+    options.memoryLimitBytes = 2 * needed;
+    EXPECT_LE(rad::simplifyRadianceMesh(mesh, options).collapse.finalFaceCount, 40u);
+}
+
+TEST(RadianceSimplification, TheMemoryEstimateGrowsWithTheVerticesAndTheBasis) {
+    const rad::RadianceMesh small = gridWithDefects();
+    rad::RadianceSimplificationOptions options;
+    rad::RadianceMesh larger = small;
+    const std::size_t n = small.vertexCount();
+    for (std::size_t copy = 1; copy < 4; ++copy) {  // four disjoint copies of the grid
+        larger.positions.insert(larger.positions.end(), small.positions.begin(), small.positions.end());
+        for (std::uint32_t i : small.faces) larger.faces.push_back(i + std::uint32_t(copy * n));
+    }
+    rad::RadianceField four(small.radiance->basis, 4 * n);
+    for (std::size_t v = 0; v < 4 * n; ++v) {
+        std::copy_n(small.radiance->vertexCoefficients(v % n), four.coefficientsPerVertex(), four.vertexCoefficients(v));
+        std::copy_n(small.radiance->frame(v % n), 6, four.frame(v));
+    }
+    larger.radiance = four;
+    const double ratio = double(rad::estimatedSimplificationBytes(larger, options)) /
+                         double(rad::estimatedSimplificationBytes(small, options));
+    EXPECT_NEAR(ratio, 4.0, 0.05);
+    rad::RadianceMesh sh6 = small;
+    sh6.radiance = rad::RadianceField({rad::BasisKind::SphericalHarmonics, 6}, n);
+    // 147 attributes instead of 48 per vertex: about 2 KB more per vertex.
+    EXPECT_GT(rad::estimatedSimplificationBytes(sh6, options),
+              rad::estimatedSimplificationBytes(small, options) + n * 20 * (147 - 48));
 }
 
 }  // namespace
