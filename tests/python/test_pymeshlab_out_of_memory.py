@@ -39,6 +39,13 @@ def state(ms):
 def report(**fields):
     print("RESULT " + json.dumps(fields))
     sys.stdout.flush()
+
+def apply_and_report(ms, before, name, **parameters):
+    try:
+        ms.apply_filter(name, **parameters)
+        report(refused=False, before=before, after=state(ms), message="")
+    except pymeshlab.PyMeshLabException as e:
+        report(refused=True, before=before, after=state(ms), message=str(e))
 """
 
 
@@ -51,6 +58,15 @@ def run_child(body, timeout=600, output=None):
     if output is not None:
         output.append(done.stdout + done.stderr)  # pymeshlab writes its verbose log to stderr
     return json.loads(lines[-1][len("RESULT "):])
+
+
+def refusal_message(result, why_it_should_not_fit=""):
+    """The refusal's message, once it is checked that the filter refused and left the document as it
+    was (layers, current layer, their sizes)."""
+    assert result["refused"], f"{why_it_should_not_fit} {result}"
+    assert "The layers are unchanged." in result["message"], result["message"]
+    assert result["after"] == result["before"], result
+    return result["message"]
 
 
 def grid_mesh_code(cells):
@@ -76,17 +92,10 @@ ms.apply_filter({h.POP_LEVELS!r}, levels="2", correction=False)   # OpenMP's thr
 ms.set_current_mesh(0)
 before = state(ms)
 limit_address_space(120)
-try:
-    ms.apply_filter({h.POP_LEVELS!r}, levels="1-16", correction=False)
-    report(refused=False, before=before, after=state(ms), message="")
-except pymeshlab.PyMeshLabException as e:
-    report(refused=True, before=before, after=state(ms), message=str(e))
+apply_and_report(ms, before, {h.POP_LEVELS!r}, levels="1-16", correction=False)
 """
-    result = run_child(body)
-    assert result["refused"], f"16 levels fitted in 120 MB? {result}"
-    assert "Out of memory" in result["message"], result["message"]
-    assert "The layers are unchanged." in result["message"], result["message"]
-    assert result["after"] == result["before"], result
+    message = refusal_message(run_child(body), "16 levels fitted in 120 MB?")
+    assert "Out of memory" in message, message
 
 
 def test_simplification_out_of_memory_while_adding_lod_layers_leaves_the_document_and_folder_as_they_were(tmp_path):
@@ -103,19 +112,13 @@ ms.add_mesh(pymeshlab.Mesh(vertex_matrix=vertices, face_matrix=faces), "plane")
 before = state(ms)
 levels = ",".join(str(round(0.99 - 0.01 * i, 2)) for i in range(60))
 limit_address_space(800)
-try:
-    ms.apply_filter({h.SIMPLIFY!r}, metric=3, targetfaces=1000, lodlevels=levels, progressivefile={str(rpm)!r})
-    report(refused=False, before=before, after=state(ms), message="")
-except pymeshlab.PyMeshLabException as e:
-    report(refused=True, before=before, after=state(ms), message=str(e))
+apply_and_report(ms, before, {h.SIMPLIFY!r}, metric=3, targetfaces=1000, lodlevels=levels, progressivefile={str(rpm)!r})
 """
     output = []
-    result = run_child(body, output=output)
-    assert result["refused"], f"60 levels of detail fitted in 800 MB? {result}"
-    assert "Out of memory" in result["message"] and "The layers are unchanged." in result["message"], result
+    message = refusal_message(run_child(body, output=output), "60 levels of detail fitted in 800 MB?")
+    assert "Out of memory" in message, message
     added = output[0].count("Level of detail")
     assert added >= 1, "memory ran out before the layers were added: the case is not the one tested\n" + output[0][-2000:]
-    assert result["after"] == result["before"], result
     assert list(tmp_path.iterdir()) == [], list(tmp_path.iterdir())
 
 
@@ -132,18 +135,10 @@ ms.add_mesh(pymeshlab.Mesh(vertex_matrix=vertices, face_matrix=faces), "floor")
 ms.apply_filter({h.IRRADIANCE_GRID!r}, resolution=2, rays=8, lightsource=1, outputfile={str(tmp_path / 'small.ivg')!r})
 before = state(ms)
 limit_address_space(400)
-try:
-    ms.apply_filter({h.IRRADIANCE_GRID!r}, resolution=400, rays=8, lightsource=1, outputfile={str(out)!r})
-    report(refused=False, before=before, after=state(ms), message="")
-except pymeshlab.PyMeshLabException as e:
-    report(refused=True, before=before, after=state(ms), message=str(e))
+apply_and_report(ms, before, {h.IRRADIANCE_GRID!r}, resolution=400, rays=8, lightsource=1, outputfile={str(out)!r})
 """
-    result = run_child(body)
-    assert result["refused"], result
-    message = result["message"]
+    message = refusal_message(run_child(body))
     assert "A grid of resolution 400 needs about" in message and "choose a lower resolution" in message, message
-    assert "The layers are unchanged." in message, message
-    assert result["after"] == result["before"], result
     assert not out.exists()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["small.ivg"]
 
@@ -167,16 +162,8 @@ warm.apply_filter({h.CREATE!r}, basis=0, degree=4, reflected=False)
 warm.apply_filter({h.SIMPLIFY!r}, targetpercentage=0.5, lodlevels="")   # OpenMP's threads, once
 before = state(ms)
 limit_address_space(120)
-try:
-    ms.apply_filter({h.SIMPLIFY!r}, targetpercentage=0.1, lodlevels="")
-    report(refused=False, before=before, after=state(ms), message="")
-except pymeshlab.PyMeshLabException as e:
-    report(refused=True, before=before, after=state(ms), message=str(e))
+apply_and_report(ms, before, {h.SIMPLIFY!r}, targetpercentage=0.1, lodlevels="")
 """
-    result = run_child(body)
-    assert result["refused"], result
-    message = result["message"]
+    message = refusal_message(run_child(body))
     assert "simplifying this mesh of 90601 vertices needs about" in message and "are available" in message, message
     assert "Out of memory" not in message, message
-    assert "The layers are unchanged." in message, message
-    assert result["after"] == result["before"], result
