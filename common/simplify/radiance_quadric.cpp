@@ -29,22 +29,6 @@ constexpr int kSummed = 13;  // the part of the block that two quadrics add as t
 constexpr int kGeometric = 23;
 static_assert(kGeometric == 23, "FaceQuadric::geometric holds one vertex's block");
 
-// A quadric block moved to a new origin and reference: q(d + t) plus the reference terms, where
-// the planes' sums against the reference change (deltaG = sum_j delta_j G_j, deltaE = sum_j delta_j
-// (E_j + G_j.t), deltaW = sum_j W_c delta_j^2) were accumulated by the caller.
-void moveLocalBlock(const double* q, const Eigen::Vector3d& t, const Eigen::Vector3d& deltaG, double deltaE,
-                    double deltaW, double* out) {
-    const Eigen::Matrix3d X = [&] {
-        Eigen::Matrix3d m;
-        m << q[0], q[1], q[2], q[1], q[3], q[4], q[2], q[4], q[5];
-        return m;
-    }();
-    const Eigen::Vector3d y(q[6], q[7], q[8]), xt = X * t;
-    for (int i = 0; i < 6; ++i) out[i] = q[i];
-    for (int i = 0; i < 3; ++i) out[6 + i] = y[i] + xt[i] + deltaG[i];
-    out[9] = q[9] + 2.0 * y.dot(t) + t.dot(xt) + 2.0 * deltaE + deltaW;
-}
-
 // d sRGB / d linear at L (IEC 61966-2-1), the local scale of an error in 8-bit units.
 double srgbSlope(double linear) {
     return linear <= 0.0031308 ? 12.92 : 1.055 / 2.4 * std::pow(linear, 1.0 / 2.4 - 1.0);
@@ -74,6 +58,17 @@ Eigen::Matrix3d symmetric(const double* a) {
     Eigen::Matrix3d m;
     m << a[0], a[1], a[2], a[1], a[3], a[4], a[2], a[4], a[5];
     return m;
+}
+
+// A vertex's local block moved by t to a new origin and taken against a new reference: q(d + t)
+// plus the terms of the change of reference (RadianceQuadricMetric::referenceShift).
+template <class Shift>
+void moveLocalBlock(const double* q, const Eigen::Vector3d& t, const Shift& shift, double* out) {
+    const Eigen::Matrix3d X = symmetric(q);
+    const Eigen::Vector3d y(q[6], q[7], q[8]), xt = X * t;
+    for (int i = 0; i < 6; ++i) out[i] = q[i];
+    for (int i = 0; i < 3; ++i) out[6 + i] = y[i] + xt[i] + shift.g[i];
+    out[9] = q[9] + 2.0 * y.dot(t) + t.dot(xt) + 2.0 * shift.e + shift.w;
 }
 
 }  // namespace
@@ -323,11 +318,35 @@ void RadianceQuadricMetric::sumOf(std::uint32_t v0, std::uint32_t v1, Sum& out) 
     out.shift = out.origin - origin(v0);
 }
 
-// The sum's local block about v1's origin and reference: v1's, plus v0's moved there.
-void RadianceQuadricMetric::sumLocal(const Sum& q, const Eigen::Vector3d& deltaG, double deltaE, double deltaW,
-                                     double* out) const {
-    moveLocalBlock(q.local0, q.shift, deltaG, deltaE, deltaW, out);
+void RadianceQuadricMetric::sumLocal(const Sum& q, double* out) const {
+    moveLocalBlock(q.local0, q.shift, referenceShift(q.grad0, q.reference0, q.reference1, q.weight0, q.shift), out);
     for (int i = 0; i < 10; ++i) out[i] += q.local1[i];
+}
+
+RadianceQuadricMetric::ReferenceShift RadianceQuadricMetric::referenceShift(const float* planes, const float* reference,
+                                                                            const float* newReference,
+                                                                            const double* weight,
+                                                                            const Eigen::Vector3d& t) const {
+    const GradientBlock a = gradientBlock(planes);
+    const double tx = t.x(), ty = t.y(), tz = t.z();
+    ReferenceShift out;
+    for (int c = 0; c < kColorChannels; ++c) {
+        double dx = 0, dy = 0, dz = 0, de = 0, dd = 0;
+#pragma omp simd reduction(+ : dx, dy, dz, de, dd)
+        for (int j = c * kSh_; j < (c + 1) * kSh_; ++j) {
+            const double ax = a.x[j], ay = a.y[j], az = a.z[j];
+            const double delta = double(reference[j]) - double(newReference[j]);
+            dx += delta * ax;
+            dy += delta * ay;
+            dz += delta * az;
+            de += delta * (double(a.e[j]) + ax * tx + ay * ty + az * tz);
+            dd += delta * delta;
+        }
+        out.g += Eigen::Vector3d(dx, dy, dz);
+        out.e += de;
+        out.w += weight[c] * dd;
+    }
+    return out;
 }
 
 // Q(p, s) = geometry(p) + C(d) - 2 sum_j u_j (G_j.d + E_j) + W |u|^2, d = p - o_v1, u = s - r_v1.
@@ -335,11 +354,8 @@ double RadianceQuadricMetric::evaluateSum(const Sum& q, const Eigen::Vector3d& p
     const GradientBlock a = gradientBlock(q.grad0), b = gradientBlock(q.grad1);
     const Eigen::Vector3d d = p - q.origin, t = q.shift;
     double cross = 0.0, norm[3] = {0.0, 0.0, 0.0};
-    Eigen::Vector3d deltaG = Eigen::Vector3d::Zero();
-    double deltaE = 0.0, deltaW = 0.0;
     for (int c = 0; c < kColorChannels; ++c) {
         const double w0 = q.weight0[c];
-        double squares = 0.0;
         for (int j = c * kSh_; j < (c + 1) * kSh_; ++j) {
             const double ax = a.x[j], ay = a.y[j], az = a.z[j];
             const double delta = double(q.reference0[j]) - q.reference1[j], at = ax * t.x() + ay * t.y() + az * t.z();
@@ -348,14 +364,10 @@ double RadianceQuadricMetric::evaluateSum(const Sum& q, const Eigen::Vector3d& p
             const double u = double(s[j]) - q.reference1[j];
             cross += u * plane;
             norm[c] += u * u;
-            deltaG += delta * Eigen::Vector3d(ax, ay, az);
-            deltaE += delta * (a.e[j] + at);
-            squares += delta * delta;
         }
-        deltaW += w0 * squares;
     }
     double local[10];
-    sumLocal(q, deltaG, deltaE, deltaW, local);
+    sumLocal(q, local);
     double value = options_.geometryWeight * evaluateQuadratic(q.g + kPlanes, p) + evaluateQuadratic(local, d) - 2.0 * cross;
     for (int c = 0; c < 3; ++c) value += q.g[kW + c] * norm[c];
     return std::max(0.0, value);
@@ -369,9 +381,8 @@ void RadianceQuadricMetric::reduce(const Sum& q, double* reduced) const {
     double planes[10] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0};  // sum_j (G_j.d + E_j)^2 / W as A, b, c in d
     const GradientBlock a = gradientBlock(q.grad0), b = gradientBlock(q.grad1);
     const double tx = q.shift.x(), ty = q.shift.y(), tz = q.shift.z();
-    // The summed planes and v0's terms against the change of reference, in doubles, one array per
-    // component: the passes below then vectorise (mixed float and double operands in one loop with
-    // fifteen sums do not).
+    // The summed planes in doubles, one array per component: the pass below then vectorises (mixed
+    // float and double operands in one loop with ten sums do not).
     thread_local std::vector<double> scratch;
     scratch.resize(5 * std::size_t(m_));
     double* __restrict gx = scratch.data();
@@ -387,13 +398,10 @@ void RadianceQuadricMetric::reduce(const Sum& q, double* reduced) const {
         e0[j] = double(a.e[j]) + ax * tx + ay * ty + az * tz;
         delta[j] = double(q.reference0[j]) - double(q.reference1[j]);
     }
-    Eigen::Vector3d deltaG = Eigen::Vector3d::Zero();
-    double deltaE = 0.0, deltaW = 0.0;
     for (int c = 0; c < kColorChannels; ++c) {
         const double w = q.g[kW + c], w0 = q.weight0[c];
         if (!(w > 0.0)) continue;  // no face weighs this channel: every plane and weight is 0
         double xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0, ex = 0, ey = 0, ez = 0, ee = 0;
-        double dx = 0, dy = 0, dz = 0, de = 0, dd = 0;
         const int begin = c * kSh_, end = (c + 1) * kSh_;
 #pragma omp simd reduction(+ : xx, xy, xz, yy, yz, zz, ex, ey, ez, ee)
         for (int j = begin; j < end; ++j) {
@@ -409,22 +417,11 @@ void RadianceQuadricMetric::reduce(const Sum& q, double* reduced) const {
             ez += e * gz[j];
             ee += e * e;
         }
-#pragma omp simd reduction(+ : dx, dy, dz, de, dd)
-        for (int j = begin; j < end; ++j) {
-            dx += delta[j] * a.x[j];
-            dy += delta[j] * a.y[j];
-            dz += delta[j] * a.z[j];
-            de += delta[j] * e0[j];
-            dd += delta[j] * delta[j];
-        }
         const double channel[10] = {xx, xy, xz, yy, yz, zz, ex, ey, ez, ee};
         for (int i = 0; i < 10; ++i) planes[i] += channel[i] / w;
-        deltaG += Eigen::Vector3d(dx, dy, dz);
-        deltaE += de;
-        deltaW += w0 * dd;
     }
     double local[10];
-    sumLocal(q, deltaG, deltaE, deltaW, local);
+    sumLocal(q, local);
     for (int i = 0; i < 10; ++i) local[i] -= planes[i];
     // In normalised coordinates: with d = p - o, d^T X d + 2 y.d + z = p^T X p + 2 (y - X o).p +
     // (z - 2 y.o + o^T X o).
@@ -541,45 +538,35 @@ void RadianceQuadricMetric::onCollapse(const CollapseMesh& mesh, const EdgeQuery
     float* g1 = gradients_.data() + std::size_t(v1) * 4 * m_;
     float* r1 = attributes_.data() + std::size_t(v1) * m_;
     const float* r0 = attributes_.data() + std::size_t(v0) * m_;
-    // In one pass per attribute: the values there, the survivor's reference (s*, as stored in floats;
-    // without weight, the edge interpolation; half-edge: v1's own), both ends' planes against it, and
-    // the summed planes.
+    // The values there and the survivor's reference (s*, as stored in floats; without weight, the
+    // edge interpolation; half-edge: v1's own).
+    thread_local std::vector<double> value;
     thread_local std::vector<float> reference;
+    value.resize(m_);
     reference.resize(m_);
-    double dG0[3] = {0.0, 0.0, 0.0}, dG1[3] = {0.0, 0.0, 0.0};
-    double deltaE0 = 0.0, deltaE1 = 0.0, deltaW0 = 0.0, deltaW1 = 0.0;
     for (int c = 0; c < kColorChannels; ++c) {
         const double w0 = q0[kW + c], w1 = q1[kW + c], w = w0 + w1, inverse = w > 0.0 ? 1.0 / w : 0.0;
         for (int j = c * kSh_; j < (c + 1) * kSh_; ++j) {
-            const double ax = a.x[j], ay = a.y[j], az = a.z[j];
-            const double bx = g1[j], by = g1[m_ + j], bz = g1[2 * m_ + j];
-            const double e0 = double(a.e[j]) + ax * t0.x() + ay * t0.y() + az * t0.z();
-            const double e1 = double(g1[3 * m_ + j]) + bx * t1.x() + by * t1.y() + bz * t1.z();
-            const double value = e0 + w0 * r0[j] + e1 + w1 * r1[j];
-            const float ref = query.halfEdge ? r1[j]
-                              : static_cast<float>(w > 0.0 ? value * inverse : (1.0 - query.s) * r0[j] + query.s * r1[j]);
-            const double d0 = double(r0[j]) - ref, d1 = double(r1[j]) - ref;
-            dG0[0] += d0 * ax;
-            dG0[1] += d0 * ay;
-            dG0[2] += d0 * az;
-            dG1[0] += d1 * bx;
-            dG1[1] += d1 * by;
-            dG1[2] += d1 * bz;
-            deltaE0 += d0 * e0;
-            deltaE1 += d1 * e1;
-            deltaW0 += w0 * d0 * d0;
-            deltaW1 += w1 * d1 * d1;
-            g1[j] = static_cast<float>(ax + bx);
-            g1[m_ + j] = static_cast<float>(ay + by);
-            g1[2 * m_ + j] = static_cast<float>(az + bz);
-            g1[3 * m_ + j] = static_cast<float>(value - w * ref);
-            reference[j] = ref;
+            value[j] = double(a.e[j]) + a.x[j] * t0.x() + a.y[j] * t0.y() + a.z[j] * t0.z() + w0 * r0[j] +
+                       double(g1[3 * m_ + j]) + g1[j] * t1.x() + g1[m_ + j] * t1.y() + g1[2 * m_ + j] * t1.z() +
+                       w1 * r1[j];
+            reference[j] = query.halfEdge ? r1[j]
+                           : static_cast<float>(w > 0.0 ? value[j] * inverse : (1.0 - query.s) * r0[j] + query.s * r1[j]);
         }
     }
-    const Eigen::Vector3d deltaG0(dG0[0], dG0[1], dG0[2]), deltaG1(dG1[0], dG1[1], dG1[2]);
+    // Both local blocks moved to p and the new reference, then summed; the planes likewise.
     double moved0[10], moved1[10];
-    moveLocalBlock(q0 + kLocal, t0, deltaG0, deltaE0, deltaW0, moved0);
-    moveLocalBlock(q1 + kLocal, t1, deltaG1, deltaE1, deltaW1, moved1);
+    moveLocalBlock(q0 + kLocal, t0, referenceShift(a.x, r0, reference.data(), q0 + kW, t0), moved0);
+    moveLocalBlock(q1 + kLocal, t1, referenceShift(g1, r1, reference.data(), q1 + kW, t1), moved1);
+    for (int c = 0; c < kColorChannels; ++c) {
+        const double w = q0[kW + c] + q1[kW + c];
+        for (int j = c * kSh_; j < (c + 1) * kSh_; ++j) {
+            g1[j] = static_cast<float>(double(a.x[j]) + g1[j]);
+            g1[m_ + j] = static_cast<float>(double(a.y[j]) + g1[m_ + j]);
+            g1[2 * m_ + j] = static_cast<float>(double(a.z[j]) + g1[2 * m_ + j]);
+            g1[3 * m_ + j] = static_cast<float>(value[j] - w * reference[j]);
+        }
+    }
     for (int i = 0; i < 10; ++i) q1[kLocal + i] = moved0[i] + moved1[i];
     for (int i = 0; i < kSummed; ++i) q1[i] += q0[i];
     for (int i = 0; i < 3; ++i) origins_[3 * std::size_t(v1) + i] = p[i];

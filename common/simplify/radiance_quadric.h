@@ -76,7 +76,16 @@ private:
     };
     static Placement& lastPlacement();  // per thread
     void sumOf(std::uint32_t v0, std::uint32_t v1, Sum& out) const;
-    void sumLocal(const Sum& q, const Eigen::Vector3d& deltaG, double deltaE, double deltaW, double* out) const;
+    // The sum's local block about v1's origin and reference: v1's, plus v0's moved there.
+    void sumLocal(const Sum& q, double* out) const;
+    // How a vertex's planes change when moved by t and taken against another reference (delta = r -
+    // newReference): g = sum_j delta_j G_j, e = sum_j delta_j (E_j + G_j.t), w = sum_j W_c delta_j^2.
+    struct ReferenceShift {
+        Eigen::Vector3d g = Eigen::Vector3d::Zero();
+        double e = 0.0, w = 0.0;
+    };
+    ReferenceShift referenceShift(const float* planes, const float* reference, const float* newReference,
+                                  const double* weight, const Eigen::Vector3d& t) const;
     double evaluateSum(const Sum& q, const Eigen::Vector3d& normalised, const float* attributes) const;
     struct FaceQuadric {  // one face's terms, laid out as a vertex's
         explicit FaceQuadric(int m) : gradients(3 * std::size_t(m)), cornerValues(std::size_t(m)) {}
