@@ -538,12 +538,10 @@ void Simplifier::runInPasses(EdgeCollapseResult& result, const std::function<voi
     PassState state;
     state.marked.assign(mesh_.vertexCount(), 0);
     price(allVertices());
-    // The first pricing covers every edge: its array becomes the pass's entries (not a copy of them),
-    // and the list of edges goes, so that neither holds every edge twice for the rest of the run.
+    // The first pricing covers every edge: its array becomes the pass's entries (not a copy of them;
+    // the ranking drops the forbidden ones), and the list of edges goes, so that neither holds every
+    // edge twice for the rest of the run.
     state.entries.swap(priced_);
-    state.entries.erase(std::remove_if(state.entries.begin(), state.entries.end(),
-                                       [](const QueueEntry& e) { return e.cost == kInfinity; }),
-                        state.entries.end());
     std::vector<QueueEntry>().swap(priced_);
     std::vector<std::pair<std::uint32_t, std::uint32_t>>().swap(edges_);
     while (mesh_.aliveFaceCount() > options_.targetFaceCount) {
