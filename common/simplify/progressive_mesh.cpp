@@ -382,7 +382,7 @@ ProgressiveRadianceMesh readProgressiveMesh(const std::string& path) {
         CollapseStep s;
         s.removed = take<std::uint32_t>(p);
         s.survivor = take<std::uint32_t>(p);
-        const std::uint32_t facesAfter = take<std::uint32_t>(p);
+        const std::uint32_t facesAfter = s.facesAfter = take<std::uint32_t>(p);
         for (float& x : s.position) x = take<float>(p);
         s.cost = take<float>(p);
         if (s.removed >= vertexCount || s.survivor >= vertexCount || s.removed == s.survivor || removed[s.removed] ||

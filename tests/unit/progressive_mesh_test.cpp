@@ -140,6 +140,8 @@ TEST_F(ProgressiveFile, RoundTripReplaysTheSameLevels) {
         ASSERT_EQ(back.steps.size(), r.progressive.steps.size());
         EXPECT_EQ(back.kind, kind);
         EXPECT_EQ(back.faceCountAfter, r.progressive.faceCountAfter);
+        for (std::size_t i = 0; i < back.steps.size(); ++i)  // each step read carries its face count too
+            ASSERT_EQ(back.steps[i].facesAfter, r.progressive.steps[i].facesAfter) << i;
         EXPECT_EQ(back.survivorRows, r.progressive.survivorRows);
         for (std::size_t k : {std::size_t(0), back.steps.size() / 2, back.steps.size()}) {
             const rad::RadianceMesh a = r.progressive.extract(k), b = back.extract(k);
