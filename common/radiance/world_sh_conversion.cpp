@@ -33,16 +33,18 @@ std::vector<double> hemisphereGramMatrix(const BasisSpec& basis) {
 // product rule exact to degree 2d; shToPb_ (K x kWorld): least squares over the hemisphere,
 // M^-1 int B Y (M the PB Gram matrix, weights / 2 pi as M's), by a hemisphere rule exact for those
 // products.
+int worldShCoefficientsPerChannel(const BasisSpec& basis) {
+    return basis.usesLocalFrame() ? BasisSpec{BasisKind::SphericalHarmonics, basis.degree}.coefficientCount()
+                                  : basis.coefficientCount();
+}
+
 WorldShConversion::WorldShConversion(const BasisSpec& basis) : basis_(basis) {
     k_ = basis.coefficientCount();
+    kWorld_ = worldShCoefficientsPerChannel(basis);
     convertsFrames_ = basis.usesLocalFrame();
-    if (!convertsFrames_) {
-        kWorld_ = k_;
-        return;
-    }
+    if (!convertsFrames_) return;
     const int d = basis.degree;
     const BasisSpec sh{BasisKind::SphericalHarmonics, d};
-    kWorld_ = sh.coefficientCount();
     std::vector<double> b(k_), y(kWorld_);
     pbToSh_.assign(std::size_t(kWorld_) * k_, 0.0);
     std::vector<double> z, wz;

@@ -17,6 +17,10 @@ namespace rad {
 // what makes sum_k c_k B_k an element of L2 with |f|^2 = c^T M c.
 std::vector<double> hemisphereGramMatrix(const BasisSpec& basis);
 
+// The coefficients per colour channel of a basis's functions as world-frame SH: a basis with local
+// frames (PB(d)) becomes SH(d); SH stays as it is. Known without building the conversion.
+int worldShCoefficientsPerChannel(const BasisSpec& basis);
+
 class WorldShConversion {
 public:
     explicit WorldShConversion(const BasisSpec& basis);

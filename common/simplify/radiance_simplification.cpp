@@ -6,6 +6,7 @@
 #include "memory/available_memory.h"
 #include "parallel/parallel_sort.h"
 #include "radiance/material_radiance.h"
+#include "radiance/world_sh_conversion.h"
 #include "simplify/color_quadric.h"
 #include "simplify/light_field_quadric.h"
 #include "simplify/radiance_collapse_error.h"
@@ -149,13 +150,6 @@ std::string inputProblem(const RadianceMesh& mesh, SimplificationMetric metric, 
     return {};
 }
 
-// The radiance quadric's attributes per vertex: the field's functions in world SH of its degree.
-int quadricAttributesPerVertex(const RadianceField& field) {
-    const BasisSpec& basis = field.basis;
-    if (!basis.usesLocalFrame()) return field.coefficientsPerVertex();
-    return kColorChannels * (basis.degree + 1) * (basis.degree + 1);
-}
-
 std::string refusalForMemory(const RadianceMesh& mesh, const RadianceSimplificationOptions& options) {
     if (mesh.radiance && !mesh.radiance->validate().empty()) return {};  // refused by the input checks, with the reason
     const std::size_t limit = options.memoryLimitBytes > 0 ? options.memoryLimitBytes : availableMemoryBytes();
@@ -181,7 +175,7 @@ std::size_t estimatedSimplificationBytes(const RadianceMesh& mesh, const Radianc
     if (field && (options.collapse.kind == CollapseKind::Full || field->basis.kind == BasisKind::SphericalHarmonics))
         perVertex += row;  // the metric's working copy of the field
     if (field && options.metric == SimplificationMetric::RadianceQuadric)
-        perVertex += 20.0 * quadricAttributesPerVertex(*field) + 232.0;  // planes, references, blocks, weights
+        perVertex += 20.0 * kColorChannels * worldShCoefficientsPerChannel(field->basis) + 232.0;  // planes, references, blocks, weights
     const double perFace = 13.0;  // the collapse mesh's faces and flags
     return static_cast<std::size_t>(nv * perVertex + nf * perFace);
 }
