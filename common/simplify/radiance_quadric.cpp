@@ -250,7 +250,6 @@ bool RadianceQuadricMetric::faceQuadric(const CollapseMesh& mesh, const std::uin
         for (int i = 0; i < 3; ++i) gradients[i * m_ + j] = weight * grad[i];
         out.cornerValues[j] = weight * atFirst;
     }
-    for (int c = 0; c < 3; ++c) out.channelWeight[c] = channelArea[c];
     return true;
 }
 
@@ -265,7 +264,7 @@ void RadianceQuadricMetric::addFacePlanes(const FaceQuadric& face, std::uint32_t
     double* local = geometric_.data() + std::size_t(v) * kGeometric + kLocal;
     double y[3] = {0.0, 0.0, 0.0}, z = 0.0;
     for (int c = 0; c < kColorChannels; ++c) {
-        const double w = face.channelWeight[c];
+        const double w = face.geometric[kW + c];  // area x the channel's perceptual weight
         if (!(w > 0.0)) continue;
         double yx = 0.0, yy = 0.0, yz = 0.0, zz = 0.0;
         for (int j = c * kSh_; j < (c + 1) * kSh_; ++j) {

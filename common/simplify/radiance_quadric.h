@@ -93,7 +93,6 @@ private:
         std::vector<double> gradients;     // weight x the attribute planes' gradients: x (m), y (m), z (m)
         std::vector<double> cornerValues;  // weight x the attributes at the first corner (m)
         Eigen::Vector3d firstCorner;       // normalised
-        double channelWeight[3] = {0.0, 0.0, 0.0};  // area x the channel's perceptual weight
     };
     // Adds a face's attribute planes to vertex v's, their offsets taken at v's origin.
     void addFacePlanes(const FaceQuadric& face, std::uint32_t v);
