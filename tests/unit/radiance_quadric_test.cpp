@@ -5,6 +5,7 @@
 #include "radiance/radiance_frame.h"
 #include "simplify/collapse_mesh.h"
 #include "simplify/radiance_simplification.h"
+#include "test_support.h"
 
 #include <gtest/gtest.h>
 
@@ -282,19 +283,16 @@ TEST(RadianceQuadric, QuadricsAreTheSameOnOneAndTwoThreads) {
     // Vertices numbered at random, so that the corners of most faces are far apart: each vertex's
     // quadric must still sum its faces in one order, whatever the threads.
     const Grid grid(40);
-    std::vector<std::uint32_t> order(grid.vertices());
-    for (std::uint32_t v = 0; v < order.size(); ++v) order[v] = v;
-    std::shuffle(order.begin(), order.end(), std::mt19937(5));
-    std::vector<float> positions(grid.positions.size());
-    for (std::size_t v = 0; v < order.size(); ++v) std::copy_n(grid.positions.data() + 3 * v, 3, positions.data() + 3 * order[v]);
-    for (std::size_t v = 0; v < order.size(); ++v) positions[3 * order[v] + 2] = 0.1f * std::sin(0.7f * positions[3 * order[v]]);
-    std::vector<std::uint32_t> faces(grid.faces.size());
-    for (std::size_t i = 0; i < faces.size(); ++i) faces[i] = order[grid.faces[i]];
-    const rad::CollapseMesh mesh(positions.data(), order.size(), faces.data(), faces.size() / 3);
-    rad::RadianceField field({rad::BasisKind::HemisphericalPolynomial, 2}, order.size());
+    std::vector<float> positions = grid.positions;
+    std::vector<std::uint32_t> faces = grid.faces;
+    radtest::renumberVerticesAtRandom(positions, faces, 5);
+    const std::size_t n = grid.vertices();
+    for (std::size_t v = 0; v < n; ++v) positions[3 * v + 2] = 0.1f * std::sin(0.7f * positions[3 * v]);
+    const rad::CollapseMesh mesh(positions.data(), n, faces.data(), faces.size() / 3);
+    rad::RadianceField field({rad::BasisKind::HemisphericalPolynomial, 2}, n);
     std::mt19937 rng(9);
     std::uniform_real_distribution<float> value(0.0f, 1.0f);
-    for (std::size_t v = 0; v < order.size(); ++v) {
+    for (std::size_t v = 0; v < n; ++v) {
         for (int j = 0; j < field.coefficientsPerVertex(); ++j) field.vertexCoefficients(v)[j] = value(rng);
         rad::storeFrame(rad::frameFromNormal(Vector3d(0.1 * value(rng), 0.1 * value(rng), 1.0).normalized()), field.frame(v));
     }
@@ -306,7 +304,7 @@ TEST(RadianceQuadric, QuadricsAreTheSameOnOneAndTwoThreads) {
     const rad::RadianceQuadricMetric a(mesh, fieldOne, one), b(mesh, fieldTwo, two);
     ASSERT_EQ(a.attributeScale(), b.attributeScale());
     std::vector<double> s(a.attributeCount());
-    for (std::uint32_t v = 0; v < order.size(); v += 7) {
+    for (std::uint32_t v = 0; v < n; v += 7) {
         a.attributes(v, s.data());
         const Vector3d p = mesh.position(v) + Vector3d(0.01, -0.02, 0.03);
         EXPECT_EQ(a.evaluate(v, p, s.data()), b.evaluate(v, p, s.data())) << "vertex " << v;

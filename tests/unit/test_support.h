@@ -8,6 +8,7 @@
 #include "radiance/basis.h"
 #include "radiance/radiance_frame.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -87,6 +88,20 @@ inline void addQuad(rad::TriangleMesh& m, float x0, float x1, float y0, float y1
 
 // Appends a grid of n x n vertices over [lo, hi]^2 at z = 0, normals +z, each square split along
 // its diagonal into two triangles counter-clockwise from +z.
+// The vertices renumbered at random (positions: 3 per vertex; faces: their indices), the same
+// surface: the corners of most faces end far apart in the numbering, as in subdivided or merged
+// scans.
+inline void renumberVerticesAtRandom(std::vector<float>& positions, std::vector<std::uint32_t>& faces, unsigned seed) {
+    std::vector<std::uint32_t> order(positions.size() / 3);
+    for (std::uint32_t v = 0; v < order.size(); ++v) order[v] = v;
+    std::shuffle(order.begin(), order.end(), std::mt19937(seed));
+    std::vector<float> moved(positions.size());
+    for (std::size_t v = 0; v < order.size(); ++v)
+        for (int k = 0; k < 3; ++k) moved[3 * order[v] + k] = positions[3 * v + k];
+    positions.swap(moved);
+    for (std::uint32_t& i : faces) i = order[i];
+}
+
 inline void addGrid(rad::TriangleMesh& mesh, int n, float lo = -1.0f, float hi = 1.0f) {
     const auto base = static_cast<std::uint32_t>(mesh.vertexCount());
     for (int j = 0; j < n; ++j)

@@ -4,32 +4,24 @@
 
 #include "geometry/primitive_meshes.h"
 #include "simplify/collapse_mesh.h"
+#include "test_support.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstdint>
 #include <numeric>
-#include <random>
 #include <set>
 #include <stdexcept>
 #include <vector>
 
 namespace {
 
-// An icosphere whose vertices are numbered at random: the corners of one face lie far apart in the
-// numbering, as in subdivided or merged scans.
+// An icosphere whose vertices are numbered at random (radtest::renumberVerticesAtRandom).
 rad::CollapseMesh shuffledIcosphere(int level, unsigned seed) {
-    const rad::TriangleMesh sphere = rad::makeIcosphere(level);
-    std::vector<std::uint32_t> order(sphere.vertexCount());
-    std::iota(order.begin(), order.end(), 0u);
-    std::shuffle(order.begin(), order.end(), std::mt19937(seed));
-    std::vector<float> positions(sphere.positions.size());
-    for (std::size_t v = 0; v < order.size(); ++v)
-        std::copy_n(sphere.positions.data() + 3 * v, 3, positions.data() + 3 * order[v]);
-    std::vector<std::uint32_t> faces(sphere.faces.size());
-    for (std::size_t i = 0; i < faces.size(); ++i) faces[i] = order[sphere.faces[i]];
-    return rad::CollapseMesh(positions.data(), order.size(), faces.data(), faces.size() / 3);
+    rad::TriangleMesh sphere = rad::makeIcosphere(level);
+    radtest::renumberVerticesAtRandom(sphere.positions, sphere.faces, seed);
+    return rad::CollapseMesh(sphere.positions.data(), sphere.vertexCount(), sphere.faces.data(), sphere.faceCount());
 }
 
 // The alive vertices of one block.
