@@ -703,7 +703,8 @@ std::vector<double> estimateViewGains(const ViewSampler& sampler, std::size_t n,
 }
 
 // The same gains from the samples already gathered (raw, before any gain): the same vertices and
-// samples as estimateViewGains would sample again.
+// samples as estimateViewGains would sample again, already in (point, view) order (the set is in
+// vertex order, each vertex's samples in view order).
 std::vector<double> gainsFromSampleSet(const SampleSet& set, std::size_t viewCount, const RadianceFromViewsOptions& options,
                                        const ProgressCallback& progress, RadianceFromViewsResult& result) {
     if (!options.compensateExposure || viewCount < 2) return std::vector<double>(3 * viewCount, 1.0);
@@ -718,9 +719,6 @@ std::vector<double> gainsFromSampleSet(const SampleSet& set, std::size_t viewCou
                                              {x.rgb[0], x.rgb[1], x.rgb[2]}, x.weight});
         }
     }
-    std::sort(samples.begin(), samples.end(), [](const ExposureSample& a, const ExposureSample& b) {
-        return a.point != b.point ? a.point < b.point : a.view < b.view;
-    });
     return solveViewGains(samples, viewCount, options, result);
 }
 
