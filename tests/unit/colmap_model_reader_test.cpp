@@ -3,6 +3,7 @@
 // written out in the test puts it; conventions (world-to-camera quaternion qw qx qy qz, pixel
 // origin at the top-left corner) and refusals.
 #include "cameras/camera_file.h"
+#include "test_temporary_directory.h"
 #include "cameras/colmap_model_reader.h"
 #include "test_support.h"
 

@@ -4,6 +4,7 @@
 // conventions the projection must agree with) and from brute-force quadrature of radiance()
 // lookups; the real maps of data-cache/hdr are read when present.
 #include "lighting/environment_map.h"
+#include "test_temporary_directory.h"
 #include "radiance/basis.h"
 #include "radiance/lebedev_quadrature.h"
 #include "radiance/sh_rotation.h"

@@ -2,6 +2,7 @@
 // reference implementation's save_ply) read back value for value in every format, property order and
 // degree; bad files refused with what is wrong.
 #include "splats/gaussian_splat_ply.h"
+#include "test_temporary_directory.h"
 
 #include "splat_test_support.h"
 

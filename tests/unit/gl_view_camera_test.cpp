@@ -4,6 +4,7 @@
 // x_win = X0 + (ndc.x + 1) W / 2, y_win = Y0 + (ndc.y + 1) H / 2 (from the bottom), and the top-left
 // image rows u = x_win - X0, v = H - (y_win - Y0). PinholeCamera::project must agree to 1e-6 px.
 #include "camera/gl_view_camera.h"
+#include "test_temporary_directory.h"
 
 #include <gtest/gtest.h>
 

@@ -4,6 +4,7 @@
 // name the file. 16-bit PNG: exact round trips for 1 to 4 channels, 8-bit files read as code * 257,
 // truncated 16-bit files refused naming the file.
 #include "image/image_io.h"
+#include "test_temporary_directory.h"
 
 #include "test_support.h"
 

@@ -4,6 +4,7 @@
 // uncovered pixels (the mask is the union of both silhouettes); the memory formula on a tiny mesh
 // against hand arithmetic; the heat map's colour ramp; the PNG output; refusals.
 #include "render/image_space_error.h"
+#include "test_temporary_directory.h"
 
 #include "geometry/primitive_meshes.h"
 #include "image/image_io.h"

@@ -3,6 +3,7 @@
 // plane, cos^s vs exp(-s/2 tan^2) differ by at most ~0.54 / s) or recomputed here by brute force
 // from the definition, never taken from the code under test.
 #include "bake/lean_maps.h"
+#include "test_temporary_directory.h"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>

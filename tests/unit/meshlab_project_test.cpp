@@ -3,6 +3,7 @@
 // values bit for bit, relative paths), a project as MeshLab writes it, binary cameras, and the
 // refusal of malformed files with a message.
 #include "io/meshlab_project.h"
+#include "test_temporary_directory.h"
 
 #include <gtest/gtest.h>
 

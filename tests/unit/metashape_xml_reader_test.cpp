@@ -3,6 +3,7 @@
 // chunk transform (rotation, translation, scale) and the camera-to-chunk transform; several
 // sensors; disabled and unaligned cameras skipped and counted; refusals.
 #include "cameras/camera_file.h"
+#include "test_temporary_directory.h"
 #include "cameras/metashape_xml_reader.h"
 #include "test_support.h"
 

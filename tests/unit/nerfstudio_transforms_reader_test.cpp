@@ -1,6 +1,7 @@
 // nerfstudio transforms.json written here by hand: OpenGL camera axes (camera-to-world, looking
 // along -z), global and per-frame intrinsics, OpenCV distortion; refusals.
 #include "cameras/camera_file.h"
+#include "test_temporary_directory.h"
 #include "cameras/nerfstudio_transforms_reader.h"
 
 #include <gtest/gtest.h>

@@ -2,6 +2,7 @@
 // triangulation, texture from mtllib/map_Kd, per-vertex normals from vn, exact write-read round
 // trips (with and without texture and normals), and refusals naming the file and the line.
 #include "io/obj_mesh.h"
+#include "test_temporary_directory.h"
 
 #include <gtest/gtest.h>
 

@@ -3,6 +3,7 @@
 // samples/fetch_data.sh has filled the data cache, the CGAL meshes are read with their documented
 // counts (docs data.md).
 #include "io/off_reader.h"
+#include "test_temporary_directory.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,5 @@
 #include "io/ply_stream_reader.h"
+#include "test_temporary_directory.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,5 @@
 #include "io/radiance_ply.h"
+#include "test_temporary_directory.h"
 
 #include <gtest/gtest.h>
 

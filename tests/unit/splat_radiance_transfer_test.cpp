@@ -6,6 +6,7 @@
 // (the target), both its mean colour and toward directions over each vertex's hemisphere.
 // The other tests pin down the weighting rules: near, in front, size limit, counting, refusal.
 #include "splats/splat_radiance_transfer.h"
+#include "test_temporary_directory.h"
 
 #include "geometry/primitive_meshes.h"
 #include "radiance/radiance_evaluation.h"

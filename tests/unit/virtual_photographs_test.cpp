@@ -3,6 +3,7 @@
 // intersection, Lambert + normalised Blinn-Phong written out), supersampling as the mean of the
 // sub-pixel values, background, antialiased silhouettes, cast shadows, PNG output.
 #include "acquisition/virtual_photographs.h"
+#include "test_temporary_directory.h"
 
 #include "image/image_io.h"
 
