@@ -80,6 +80,7 @@ int kindOverride = -1;          // 0 half-edge, 1 full
 double attributeWeightOverride = -1.0;
 double perceptualOverride = -1.0;
 double passFractionOverride = -1.0;
+int alongBoundaryOverride = -1;  // --along-boundary: EdgeCollapseOptions::collapseAlongBoundary
 std::vector<std::string> rplyInputs;  // extra meshes: radiance PLY files (e.g. fitted from rendered photographs)
 bool quick = false;
 bool armadilloError = true;
@@ -263,6 +264,7 @@ rad::RadianceSimplificationResult runOurs(const rad::RadianceMesh& mesh, std::si
     rad::RadianceSimplificationOptions options;  // the filter's defaults
     options.collapse.targetFaceCount = targetFaces;
     options.collapse.threads = threads;
+    if (alongBoundaryOverride >= 0) options.collapse.collapseAlongBoundary = alongBoundaryOverride != 0;
     if (lazyOverride >= 0) options.collapse.lazyRepricing = lazyOverride != 0;
     if (geometryWeightOverride >= 0.0) {
         options.collapse.geometryWeight = geometryWeightOverride;
@@ -434,6 +436,7 @@ int main(int argc, char** argv) {
         else if (a == "--attribute-weight") attributeWeightOverride = std::atof(v.c_str());
         else if (a == "--pass-fraction") passFractionOverride = std::atof(v.c_str());
         else if (a == "--rply") rplyInputs.push_back(v);
+        else if (a == "--along-boundary") alongBoundaryOverride = std::atoi(v.c_str());
         else {
             std::fprintf(stderr, "unknown option %s\n", a.c_str());
             return 2;

@@ -95,7 +95,14 @@ public:
                                "attributeWeight x 1.5e-6 against geometryWeight: at the defaults, 0.015 % of the geometry's, "
                                "the balance measured best in images (docs/design-notes.md)."));
         par.addParam(RichBool("preserveBoundary", defaults.preserveBoundary, "Preserve boundary",
-                              "Never move or remove a vertex on a mesh boundary."));
+                              "Keep the mesh's boundary (holes, a scan's open base) where it is. Off: boundary "
+                              "vertices move and disappear like the others."));
+        par.addParam(RichBool("collapseAlongBoundary", defaults.collapseAlongBoundary, "Collapse along the boundary",
+                              "With 'Preserve boundary' and the radiance quadric's full collapses: boundary vertices "
+                              "may still merge with a neighbour along the boundary, the survivor taking the boundary "
+                              "vertex's place, priced by boundary planes (Garland & Heckbert 1997), so that a long "
+                              "boundary does not keep its full resolution at coarse levels. Off, and for the other "
+                              "metrics: a boundary vertex never moves or disappears."));
         par.addParam(RichInt("minValence", 0, "Minimum valence", "Forbid collapses leaving a vertex with fewer neighbours (0: no bound; Vanhoey et al. 2010 use 4)."));
         par.addParam(RichInt("maxValence", 0, "Maximum valence", "Forbid collapses leaving a vertex with more neighbours (0: no bound; Vanhoey et al. 2010 use 11)."));
         par.addParam(RichFloat("maxNormalChange", float(defaults.maxNormalDeviationDegrees), "Maximum normal change (degrees)",
@@ -127,6 +134,7 @@ public:
         options.collapse.geometryWeight = par.getFloat("geometryWeight");
         options.collapse.attributeWeight = par.getFloat("attributeWeight");
         options.collapse.preserveBoundary = par.getBool("preserveBoundary");
+        options.collapse.collapseAlongBoundary = par.getBool("collapseAlongBoundary");
         options.collapse.minValence = par.getInt("minValence");
         options.collapse.maxValence = par.getInt("maxValence");
         options.collapse.maxNormalDeviationDegrees = par.getFloat("maxNormalChange");
@@ -211,6 +219,13 @@ public:
             ctx.log(formatLine("Input defects handled: %zu faces repeating a vertex removed, %zu duplicate faces "
                                "removed (later copies of a triangle), %zu zero-area faces simplified like the others",
                                result.facesRepeatingAVertexRemoved, result.duplicateFacesRemoved, result.zeroAreaFaces));
+        if (result.boundaryEdges > 0)
+            ctx.log(formatLine("Open mesh: %zu boundary edges, %s", result.boundaryEdges,
+                               !options.collapse.preserveBoundary ? "free to move like the other edges"
+                               : options.collapse.collapseAlongBoundary && options.collapse.kind == rad::CollapseKind::Full &&
+                                       options.metric == rad::SimplificationMetric::RadianceQuadric
+                                   ? "kept in place, their vertices merged along the boundary"
+                                   : "kept in place with all their vertices"));
         const rad::EdgeCollapseResult& r = result.collapse;
         ctx.log(formatLine("Simplified %zu -> %zu faces (%zu vertices) with the %s metric, %s collapse: %zu collapses in %.2f s "
             "(%zu to this layer), cost of its last collapse %.4g; coarsest level %zu faces, last cost %.4g (%s)%s",

@@ -38,6 +38,8 @@ void usage(std::ostream& out) {
            "  --attribute-weight W     weight of the metric (lambda for lightfield2010) [0.99]\n"
            "  --valence MIN,MAX        valence bounds, e.g. 4,11 (Vanhoey et al. 2010) [none]\n"
            "  --free-boundary          let boundary vertices move and disappear\n"
+           "  --fixed-boundary         never merge boundary vertices, even along the boundary (radiance\n"
+           "                           quadric, full collapses; by default they merge along it)\n"
            "  --eager                  re-price touched vertices at once instead of lazily\n"
            "  --pass-fraction F        full collapses under the radiance quadric: passes of at most this\n"
            "                           fraction of the edges (after meshoptimizer); 0: one global queue [0.3]\n"
@@ -72,6 +74,10 @@ int run(int argc, char** argv) {
         }
         if (a == "--free-boundary") {
             options.collapse.preserveBoundary = false;
+            continue;
+        }
+        if (a == "--fixed-boundary") {
+            options.collapse.collapseAlongBoundary = false;
             continue;
         }
         if (a == "--eager") {

@@ -45,16 +45,21 @@ std::string TriangleMesh::validate() const {
     return {};
 }
 
-std::size_t countNonManifoldEdges(std::vector<std::uint64_t>& undirectedEdgeKeys) {
+EdgeCensus countEdgesByFaces(std::vector<std::uint64_t>& undirectedEdgeKeys) {
     sortInParallel(undirectedEdgeKeys.begin(), undirectedEdgeKeys.end(), std::less<std::uint64_t>());
-    std::size_t nonManifold = 0;
+    EdgeCensus census;
     for (std::size_t i = 0; i < undirectedEdgeKeys.size();) {
         std::size_t j = i;
         while (j < undirectedEdgeKeys.size() && undirectedEdgeKeys[j] == undirectedEdgeKeys[i]) ++j;
-        if (j - i > 2) ++nonManifold;
+        if (j - i > 2) ++census.nonManifold;
+        if (j - i == 1) ++census.boundary;
         i = j;
     }
-    return nonManifold;
+    return census;
+}
+
+std::size_t countNonManifoldEdges(std::vector<std::uint64_t>& undirectedEdgeKeys) {
+    return countEdgesByFaces(undirectedEdgeKeys).nonManifold;
 }
 
 }  // namespace rad

@@ -34,8 +34,13 @@ inline std::uint64_t undirectedEdgeKey(std::uint64_t a, std::uint64_t b) {
     return a < b ? (a << 32) | b : (b << 32) | a;
 }
 
-// Number of distinct edges whose key appears more than twice (an edge on more than two faces: the
-// input checks' "non-manifold edge"). Sorts the keys in place.
+// Distinct edges by how many faces share them: more than two (the input checks' "non-manifold
+// edge") and exactly one (a boundary edge). Sorts the keys in place.
+struct EdgeCensus {
+    std::size_t nonManifold = 0, boundary = 0;
+};
+EdgeCensus countEdgesByFaces(std::vector<std::uint64_t>& undirectedEdgeKeys);
+// countEdgesByFaces(...).nonManifold.
 std::size_t countNonManifoldEdges(std::vector<std::uint64_t>& undirectedEdgeKeys);
 
 }  // namespace rad

@@ -93,11 +93,82 @@ public:
                       metric_->costDependsOnEndpointsOnly();
         if (localCosts_) dormant_.assign(mesh.vertexCount(), 0);
         if (options.kind == CollapseKind::Full) listedMark_.assign(mesh.vertexCount(), 0);
+        alongBoundary_ = localCosts_ && options_.preserveBoundary && options_.collapseAlongBoundary;
+        if (alongBoundary_) classifyBoundaryVertices();
     }
 
     EdgeCollapseResult run(const std::function<void(const CollapseStep&)>& onStep);
 
 private:
+    // --- boundary -----------------------------------------------------------------------------
+    enum BoundaryKind : std::uint8_t {
+        kInterior = 0,
+        kOnBoundary = 1,  // one open fan: may collapse along the boundary (collapseAlongBoundary)
+        kFixed = 2,       // a non-manifold edge or several open fans: never moves
+    };
+
+    // A vertex's faces as one closed fan (interior), one open fan (on the boundary), or anything
+    // else (fixed). In a fan each neighbour is the 'a' of at most one face and the 'b' of at most
+    // one; a closed fan has every neighbour as both, an open one exactly one neighbour as an 'a'
+    // only (and one as a 'b' only).
+    static BoundaryKind boundaryKind(const std::vector<StarFace>& star) {
+        int onlyA = 0, onlyB = 0;
+        for (const StarFace& f : star) {
+            int aAsA = 0, aAsB = 0, bAsA = 0, bAsB = 0;
+            for (const StarFace& g : star) {
+                aAsA += g.a == f.a;
+                aAsB += g.b == f.a;
+                bAsA += g.a == f.b;
+                bAsB += g.b == f.b;
+            }
+            if (aAsA > 1 || aAsB > 1 || bAsA > 1 || bAsB > 1) return kFixed;
+            onlyA += aAsB == 0;
+            onlyB += bAsA == 0;
+        }
+        if (onlyA == 0 && onlyB == 0) return kInterior;
+        return onlyA == 1 && onlyB == 1 ? kOnBoundary : kFixed;
+    }
+
+    void classifyBoundaryVertices() {
+        const long n = static_cast<long>(mesh_.vertexCount());
+        boundaryKind_.assign(mesh_.vertexCount(), kInterior);
+        const int threads = options_.threads > 0 ? options_.threads : omp_get_max_threads();
+#pragma omp parallel num_threads(threads)
+        {
+            std::vector<StarFace> star;
+#pragma omp for schedule(static)
+            for (long v = 0; v < n; ++v) {
+                if (!mesh_.vertexAlive(static_cast<std::uint32_t>(v))) continue;
+                mesh_.star(static_cast<std::uint32_t>(v), star);
+                boundaryKind_[v] = boundaryKind(star);
+            }
+        }
+    }
+
+    // collapseAlongBoundary: where edge (v0, v1) may place its survivor. Neither end on the
+    // boundary: anywhere; one end: at that end; both ends along a boundary edge: at either end;
+    // otherwise nowhere (a fixed end, or a chord between two boundary vertices, which would pinch).
+    enum class PlacementRule { Anywhere, AtV0, AtV1, AtEitherEnd, Nowhere };
+    PlacementRule placementRule(std::uint32_t v0, std::uint32_t v1) const {
+        if (!alongBoundary_) return PlacementRule::Anywhere;
+        const std::uint8_t k0 = boundaryKind_[v0], k1 = boundaryKind_[v1];
+        if (k0 == kFixed || k1 == kFixed) return PlacementRule::Nowhere;
+        if (k0 == kInterior) return k1 == kInterior ? PlacementRule::Anywhere : PlacementRule::AtV1;
+        if (k1 == kInterior) return PlacementRule::AtV0;
+        return mesh_.edgeFaceCount(v0, v1) == 1 ? PlacementRule::AtEitherEnd : PlacementRule::Nowhere;
+    }
+
+    bool placedByRule(std::uint32_t v0, std::uint32_t v1, const Eigen::Vector3d& position) const {
+        switch (placementRule(v0, v1)) {
+            case PlacementRule::Anywhere: return true;
+            case PlacementRule::AtV0: return position == mesh_.position(v0);
+            case PlacementRule::AtV1: return position == mesh_.position(v1);
+            case PlacementRule::AtEitherEnd: return position == mesh_.position(v0) || position == mesh_.position(v1);
+            case PlacementRule::Nowhere: break;
+        }
+        return false;
+    }
+
     // --- validity -----------------------------------------------------------------------------
     // Faces of `star` on the edge to v (the apexes are the other vertex of those faces).
     static int edgeFaces(const std::vector<StarFace>& star, std::uint32_t v, std::uint32_t apex[2]) {
@@ -160,8 +231,13 @@ private:
         if (needStar1) {
             mesh_.star(v1, w.star1);
             const bool open1 = CollapseMesh::isOpenStar(w.star1);
-            if (options_.preserveBoundary ? (open0 || open1) : (open0 && open1 && edgeFaceCount != 1))
+            if (alongBoundary_ && (open0 || open1)) {
+                // The placement rule was applied when the edge was priced; the stars may have
+                // changed since (a vertex that became boundary has a new version, so not here).
+                if (!placedByRule(v0, v1, position)) return false;
+            } else if (options_.preserveBoundary ? (open0 || open1) : (open0 && open1 && edgeFaceCount != 1)) {
                 return false;  // boundary kept, or an interior edge between two boundary vertices would pinch
+            }
         } else if (open0) {
             return false;
         }
@@ -272,6 +348,9 @@ private:
     QueueEntry priceEdge(std::uint32_t v0, std::uint32_t v1) const {
         QueueEntry entry{kInfinity, v0, v1, version_[v0], version_[v1], {0.0, 0.0, 0.0}};
         if (!mesh_.vertexAlive(v0) || !mesh_.vertexAlive(v1)) return entry;
+        const PlacementRule rule = placementRule(v0, v1);
+        if (rule == PlacementRule::Nowhere) return entry;
+        if (rule != PlacementRule::Anywhere) return priceAtEnds(v0, v1, rule, entry);
         const Placement place = placeEdge(v0, v1);
         for (int k = 0; k < 3; ++k) entry.position[k] = place.position[k];
         EdgeQuery query;  // no stars: what a metric whose cost depends on the two ends only gets
@@ -289,6 +368,25 @@ private:
         double cost = geometryWeight_ * place.geometricError;
         if (useMetric_) cost += options_.attributeWeight * metric_->priceEdge(mesh_, query);
         entry.cost = std::isfinite(cost) ? cost : kInfinity;
+        return entry;
+    }
+
+    // collapseAlongBoundary (costs of the two ends only): the cheaper of the ends the rule allows.
+    QueueEntry priceAtEnds(std::uint32_t v0, std::uint32_t v1, PlacementRule rule, QueueEntry entry) const {
+        const auto consider = [&](std::uint32_t end) {
+            EdgeQuery query;
+            query.v0 = v0;
+            query.v1 = v1;
+            query.position = mesh_.position(end);
+            query.s = end == v1 ? 1.0 : 0.0;
+            const double cost = options_.attributeWeight * metric_->priceEdge(mesh_, query);
+            if (std::isfinite(cost) && cost < entry.cost) {
+                entry.cost = cost;
+                for (int k = 0; k < 3; ++k) entry.position[k] = query.position[k];
+            }
+        };
+        if (rule != PlacementRule::AtV0) consider(v1);
+        if (rule != PlacementRule::AtV1) consider(v0);
         return entry;
     }
 
@@ -399,6 +497,9 @@ private:
     double geometryWeight_ = 0.0;
     bool useMetric_ = false;
     bool localCosts_ = false;            // full mode, metric's costs depend on the two ends only
+    // EdgeCollapseOptions::collapseAlongBoundary in effect, and each vertex's place (BoundaryKind).
+    bool alongBoundary_ = false;
+    std::vector<std::uint8_t> boundaryKind_;
     std::vector<std::uint8_t> dormant_;  // localCosts_: has an edge dropped as invalid since last priced
     // Passes with a metric whose updates can be deferred: the pass's collapses, applied to the mesh,
     // awaiting the metric's update and the step's report (flushDeferred).
@@ -490,6 +591,8 @@ void Simplifier::applyCollapse(const QueueEntry& top, EdgeCollapseResult& result
         }
         mesh_.setPosition(v1, place.position);
         mesh_.collapse(v0, v1);
+        // The survivor sits where a boundary end was (the placement rule): it is on the boundary.
+        if (alongBoundary_) boundaryKind_[v1] = std::max(boundaryKind_[v0], boundaryKind_[v1]);
     }
     ++result.collapses;
     result.lastCost = top.cost;

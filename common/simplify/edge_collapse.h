@@ -34,6 +34,13 @@ struct EdgeCollapseOptions {
     double geometryWeight = 0.01;                                 // sec. 4.4
     double attributeWeight = 0.99;
     bool preserveBoundary = true;
+    // With preserveBoundary, full collapses under a cost that depends on the two ends only (the
+    // accumulated radiance quadric) may still merge a boundary vertex with a neighbour along the
+    // boundary, or an interior vertex onto a boundary vertex: the survivor takes the boundary
+    // vertex's place, so the boundary's vertices stay a subset of the original ones (meshoptimizer
+    // collapses its border vertices the same way). Otherwise, and for other metrics, boundary
+    // vertices never move. Vertices on non-manifold edges or with several boundary fans never move.
+    bool collapseAlongBoundary = true;
     double maxNormalDeviationDegrees = 90.0;  // a surviving face may turn by at most this much
     int minValence = 0;                       // 0: no bound
     int maxValence = 0;                       // 0: no bound

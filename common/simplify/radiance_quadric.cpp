@@ -27,6 +27,7 @@ constexpr int kPlanes = 3;   // the faces' planes in normalised coordinates (the
 constexpr int kLocal = 13;   // the attribute planes' squares about the vertex's reference and origin
 constexpr int kSummed = 13;  // the part of the block that two quadrics add as they are (kLocal moves)
 constexpr int kGeometric = 23;
+constexpr double kBoundaryPlaneWeight = 1000.0;  // addBoundaryPlanes
 static_assert(kGeometric == 23, "FaceQuadric::geometric holds one vertex's block");
 
 // d sRGB / d linear at L (IEC 61966-2-1), the local scale of an error in 8-bit units.
@@ -198,9 +199,34 @@ void RadianceQuadricMetric::buildVertexQuadrics(const CollapseMesh& mesh, const 
                         for (int k = 0; k < kGeometric; ++k) q[k] += face.geometric[k];
                         addFacePlanes(face, t[corner]);
                     }
+                    if (options_.boundaryPlanes) addBoundaryPlanes(mesh, t);
                 }
             }
         }
+    }
+}
+
+// Boundary constraint planes (Garland & Heckbert 1997 sec. 5): for each edge of the face that no
+// other face shares, the plane through the edge perpendicular to the face, added to both ends. The
+// face planes do not see a boundary vertex slide along the surface, so without these a collapse
+// along a curved boundary would cut its corners for free. Weighted by the edge's squared length
+// times kBoundaryPlaneWeight (in the face planes' units, an area: a strong penalty, as Garland &
+// Heckbert advise; measured against 100: docs/design-notes.md, "Collapsing along the boundary").
+void RadianceQuadricMetric::addBoundaryPlanes(const CollapseMesh& mesh, const std::uint32_t* t) {
+    for (int e = 0; e < 3; ++e) {
+        const std::uint32_t a = t[e], b = t[(e + 1) % 3];
+        if (mesh.edgeFaceCount(a, b) != 1) continue;
+        const Eigen::Vector3d p0 = normalise(mesh.position(t[0])), p1 = normalise(mesh.position(t[1])),
+                              p2 = normalise(mesh.position(t[2]));
+        const Eigen::Vector3d faceNormal = (p1 - p0).cross(p2 - p0);
+        const Eigen::Vector3d pa = normalise(mesh.position(a)), edge = normalise(mesh.position(b)) - pa;
+        const Eigen::Vector3d across = edge.cross(faceNormal);
+        const double length = across.norm();
+        if (!(length > 0.0)) continue;
+        const Eigen::Vector3d normal = across / length;
+        const double weight = kBoundaryPlaneWeight * edge.squaredNorm();
+        for (const std::uint32_t v : {a, b})
+            addSquaredLinear(geometric_.data() + std::size_t(v) * kGeometric + kPlanes, weight, normal, -normal.dot(pa));
     }
 }
 

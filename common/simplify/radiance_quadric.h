@@ -30,6 +30,9 @@ struct RadianceQuadricOptions {
     // 1), so that a dark region's change counts as much as it shows. 0: linear radiance.
     double perceptualExponent = 0.0;
     int threads = 0;               // building the quadrics; 0: OpenMP default
+    // Boundary planes (Garland & Heckbert 1997) on the mesh's boundary edges; false skips looking
+    // for them (a caller that knows the mesh is closed).
+    bool boundaryPlanes = true;
 };
 
 class RadianceQuadricMetric : public CollapseMetric {
@@ -98,6 +101,7 @@ private:
     void addFacePlanes(const FaceQuadric& face, std::uint32_t v);
     static std::vector<float> perceptualChannelWeights(const RadianceField& field, double exponent);
     void buildVertexQuadrics(const CollapseMesh& mesh, const std::vector<float>& channelWeight);
+    void addBoundaryPlanes(const CollapseMesh& mesh, const std::uint32_t* corners);
     bool faceQuadric(const CollapseMesh& mesh, const std::uint32_t* corners, const std::vector<float>& channelWeight,
                      FaceQuadric& out) const;
     void reduce(const Sum& q, double* reduced) const;  // min over s of Q(p, s), a quadric in p: 10 values

@@ -114,7 +114,7 @@ std::string plural(std::size_t n, const char* word) {
 // checkSimplificationInput, also giving the faces simplifyRadianceMesh drops (found once: a sort of
 // every face) when the mesh is valid enough to look at them.
 std::string inputProblem(const RadianceMesh& mesh, SimplificationMetric metric, CollapseKind kind,
-                         UnusableFaces& unusable) {
+                         UnusableFaces& unusable, std::size_t& boundaryEdges) {
     if (mesh.faceCount() == 0)
         return "the mesh has no faces: edge-collapse simplification needs a triangle mesh (reconstruct a surface "
                "from a point cloud first, e.g. 'Surface Reconstruction: Screened Poisson')";
@@ -143,7 +143,9 @@ std::string inputProblem(const RadianceMesh& mesh, SimplificationMetric metric, 
         const std::uint32_t* t = mesh.faces.data() + 3 * f;
         for (int k = 0; k < 3; ++k) edges.push_back(undirectedEdgeKey(t[k], t[(k + 1) % 3]));
     }
-    const std::size_t nonManifold = countNonManifoldEdges(edges);
+    const EdgeCensus census = countEdgesByFaces(edges);
+    const std::size_t nonManifold = census.nonManifold;
+    boundaryEdges = census.boundary;
     if (nonManifold > 0)
         return "the mesh has " + plural(nonManifold, "non-manifold edge") +
                " (shared by more than two faces): run 'Cleaning and Repairing: Repair non Manifold Edges' and try again";
@@ -182,7 +184,8 @@ std::size_t estimatedSimplificationBytes(const RadianceMesh& mesh, const Radianc
 
 std::string checkSimplificationInput(const RadianceMesh& mesh, SimplificationMetric metric, CollapseKind kind) {
     UnusableFaces unusable;
-    return inputProblem(mesh, metric, kind, unusable);
+    std::size_t boundaryEdges = 0;
+    return inputProblem(mesh, metric, kind, unusable, boundaryEdges);
 }
 
 RadianceSimplificationResult simplifyRadianceMesh(RadianceMesh mesh, const RadianceSimplificationOptions& options) {
@@ -191,7 +194,9 @@ RadianceSimplificationResult simplifyRadianceMesh(RadianceMesh mesh, const Radia
     UnusableFaces unusable;
     // Memory first: the input checks below already sort every face and edge.
     if (const std::string problem = refusalForMemory(mesh, options); !problem.empty()) throw SimplificationError(problem);
-    if (const std::string problem = inputProblem(mesh, options.metric, options.collapse.kind, unusable); !problem.empty())
+    std::size_t boundaryEdges = 0;
+    if (const std::string problem = inputProblem(mesh, options.metric, options.collapse.kind, unusable, boundaryEdges);
+        !problem.empty())
         throw SimplificationError(problem);
     removeFaces(mesh, unusable.drop);
     if (mesh.faceCount() == 0)
@@ -205,6 +210,10 @@ RadianceSimplificationResult simplifyRadianceMesh(RadianceMesh mesh, const Radia
     result.facesRepeatingAVertexRemoved = unusable.repeatingAVertex;
     result.duplicateFacesRemoved = unusable.duplicates;
     result.zeroAreaFaces = countZeroAreaFaces(mesh);
+    result.boundaryEdges = boundaryEdges;
+    // A closed mesh has no boundary to collapse along or to hold with planes: neither is looked for.
+    EdgeCollapseOptions collapse = options.collapse;
+    if (boundaryEdges == 0) collapse.collapseAlongBoundary = false;
     result.progressive.kind = options.collapse.kind;
     result.progressive.base = std::move(mesh);
     const RadianceMesh& base = result.progressive.base;
@@ -247,6 +256,7 @@ RadianceSimplificationResult simplifyRadianceMesh(RadianceMesh mesh, const Radia
             quadric.radianceWeight = options.collapse.attributeWeight * kRadianceQuadricBalance;
             quadric.threads = options.collapse.threads;
             quadric.perceptualExponent = options.perceptualExponent;
+            quadric.boundaryPlanes = boundaryEdges > 0;
             metric = std::make_unique<RadianceQuadricMetric>(collapseMesh, *field, quadric);
         }
             break;
@@ -259,7 +269,7 @@ RadianceSimplificationResult simplifyRadianceMesh(RadianceMesh mesh, const Radia
     ProgressiveRecorder recorder(result.progressive, recordedField);
     result.progressive.steps.reserve(base.vertexCount());
     result.progressive.faceCountAfter.reserve(base.vertexCount());
-    result.collapse = simplifyByEdgeCollapse(collapseMesh, metric.get(), options.collapse,
+    result.collapse = simplifyByEdgeCollapse(collapseMesh, metric.get(), collapse,
                                              [&](const CollapseStep& step) { recorder(step); });
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;

@@ -58,6 +58,7 @@ struct RadianceSimplificationResult {
     std::size_t facesRepeatingAVertexRemoved = 0;  // dropped before simplifying (the base lacks them)
     std::size_t duplicateFacesRemoved = 0;         // later copies of a triangle, dropped likewise
     std::size_t zeroAreaFaces = 0;                 // of the base, simplified like the others
+    std::size_t boundaryEdges = 0;                 // of the base (0: a closed mesh)
     double seconds = 0.0;                 // setup + simplification (not extraction)
 };
 

@@ -32,7 +32,7 @@ EXPECTED_PARAMETERS = {
             "minSamples", "reflected", "quality", "setColor", "validation", "robust", "exposureCompensation",
             "fitModel", "heldOutEvery"],
     h.SIMPLIFY: ["metric", "collapse", "targetFaces", "targetPercentage", "lodLevels", "geometryWeight",
-                 "attributeWeight", "preserveBoundary", "minValence", "maxValence", "maxNormalChange", "lazy",
+                 "attributeWeight", "preserveBoundary", "collapseAlongBoundary", "minValence", "maxValence", "maxNormalChange", "lazy",
                  "progressiveFile"],
     h.TRANSFER: ["order", "rays", "occluders", "albedo", "rayOffset"],
     h.ADAPTIVE: ["budget", "budgetFactor", "measure", "alpha", "threshold"],

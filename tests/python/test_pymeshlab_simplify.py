@@ -143,6 +143,31 @@ def test_open_strip_stops_at_its_boundary(tmp_path):
     assert ms.current_mesh().face_number() == 18 and ms.current_mesh().vertex_number() == 20
 
 
+def test_open_grid_merges_along_its_boundary_under_the_radiance_quadric(tmp_path):
+    """A 12 x 12 grid of quads (288 faces, 48 boundary vertices) with created radiance, simplified by
+    the default radiance quadric and full collapses to 10 % (28 faces): merging boundary vertices along
+    the boundary (the default) reaches it, keeping all 48 cannot (a polygon of 48 vertices needs 46
+    triangles). Either way the square keeps its outline: its area and its corners."""
+    vertices, faces = h.grid(12, 12)
+    path = h.write_ascii_ply(tmp_path / "grid.ply", vertices, faces)
+    for along in (True, False):
+        ms = h.load(path)
+        ms.apply_filter(h.CREATE)
+        ms.apply_filter(h.SIMPLIFY, **simplify_parameters(metric=4, collapse=1, targetpercentage=0.1,
+                                                          collapsealongboundary=along))
+        out = saved(ms, 0, tmp_path / f"along_{along}.rply")
+        if along:
+            assert out.face_count <= 28, out.face_count
+        else:
+            assert out.face_count >= 46, out.face_count
+        p = out.positions
+        corners = {(x, y) for x, y in p[:, :2].tolist() if x in (0.0, 12.0) and y in (0.0, 12.0)}
+        assert corners == {(0.0, 0.0), (12.0, 0.0), (0.0, 12.0), (12.0, 12.0)}
+        a, b, c = p[out.faces[:, 0]], p[out.faces[:, 1]], p[out.faces[:, 2]]
+        doubled = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+        assert np.all(doubled > 0) and abs(0.5 * doubled.sum() - 144.0) < 1e-3
+
+
 # ---------------------------------------------------------------------------------------------------
 # Refusals: our message in the exception, the MeshSet as it was (layers, vertices, faces, colours).
 

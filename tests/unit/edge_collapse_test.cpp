@@ -337,6 +337,109 @@ TEST(EdgeCollapse, PassesStopAtTheLargestError) {
     EXPECT_GT(bounded.result.finalFaceCount, full.result.finalFaceCount);
 }
 
+// A flat mesh with one constant PB(2) function everywhere, simplified under the radiance quadric
+// with full collapses: every collapse that keeps the outline costs nothing.
+struct FlatRun {
+    rad::EdgeCollapseResult result;
+    std::vector<float> positions;
+    std::vector<std::uint32_t> faces;
+    std::vector<std::uint8_t> alive;  // of the input's vertices
+    std::vector<float> finalPositions;  // of the input's vertices, where alive
+};
+FlatRun simplifyFlat(const rad::TriangleMesh& flat, bool alongBoundary, std::size_t targetFaces) {
+    rad::RadianceField field(rad::BasisSpec{rad::BasisKind::HemisphericalPolynomial, 2}, flat.vertexCount());
+    std::fill(field.coefficients.begin(), field.coefficients.end(), 0.5f);
+    for (std::size_t v = 0; v < flat.vertexCount(); ++v) rad::storeFrame(rad::frameFromNormal(Eigen::Vector3d::UnitZ()), field.frame(v));
+    CollapseMesh mesh = toCollapseMesh(flat);
+    rad::RadianceQuadricMetric metric(mesh, field);
+    EdgeCollapseOptions options;
+    options.kind = CollapseKind::Full;
+    options.targetFaceCount = targetFaces;
+    options.collapseAlongBoundary = alongBoundary;
+    FlatRun run;
+    run.result = rad::simplifyByEdgeCollapse(mesh, &metric, options);
+    for (std::uint32_t v = 0; v < flat.vertexCount(); ++v) {
+        run.alive.push_back(mesh.vertexAlive(v));
+        const Eigen::Vector3d p = mesh.position(v);
+        run.finalPositions.insert(run.finalPositions.end(), {float(p.x()), float(p.y()), float(p.z())});
+    }
+    std::vector<std::uint32_t> map;
+    mesh.compact(run.positions, run.faces, map);
+    return run;
+}
+
+// The vertices of the compacted mesh that lie on a boundary edge.
+std::set<std::uint32_t> boundaryVertices(const std::vector<std::uint32_t>& faces) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> use;
+    for (std::size_t f = 0; f < faces.size() / 3; ++f)
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t a = faces[3 * f + k], b = faces[3 * f + (k + 1) % 3];
+            ++use[{std::min(a, b), std::max(a, b)}];
+        }
+    std::set<std::uint32_t> out;
+    for (const auto& [edge, count] : use)
+        if (count == 1) out.insert({edge.first, edge.second});
+    return out;
+}
+
+TEST(EdgeCollapse, TheRadianceQuadricCollapsesAlongTheBoundaryAndKeepsTheOutline) {
+    const rad::TriangleMesh g = grid(12);  // 13 x 13 vertices, 48 on the boundary, 288 faces
+    const FlatRun along = simplifyFlat(g, true, 8);
+    EXPECT_LE(along.result.finalFaceCount, 8u);
+    const Topology t = topology(along.faces, along.positions.size() / 3);
+    EXPECT_EQ(t.nonManifoldEdges, 0u);
+    EXPECT_EQ(static_cast<long>(t.vertices) - static_cast<long>(t.edges) + static_cast<long>(t.faces), 1);  // a disc
+    double area = 0.0;
+    for (std::size_t i = 0; i < along.faces.size() / 3; ++i) {
+        const float* a = &along.positions[3 * along.faces[3 * i]];
+        const float* b = &along.positions[3 * along.faces[3 * i + 1]];
+        const float* c = &along.positions[3 * along.faces[3 * i + 2]];
+        const double z = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        EXPECT_GT(z, 0.0);  // no flip
+        area += 0.5 * z;
+    }
+    // The boundary planes make moving a corner cost, sliding along a straight side not: the square
+    // is whole, and its boundary vertices are original ones on its sides.
+    EXPECT_NEAR(area, 1.0, 1e-6);
+    const std::set<std::uint32_t> boundary = boundaryVertices(along.faces);
+    EXPECT_LT(boundary.size(), 12u);
+    std::set<std::pair<float, float>> corners;
+    for (std::uint32_t v : boundary) {
+        const float x = along.positions[3 * v], y = along.positions[3 * v + 1];
+        EXPECT_TRUE(x == 0.0f || y == 0.0f || x == 1.0f || y == 1.0f) << x << " " << y;
+        if ((x == 0.0f || x == 1.0f) && (y == 0.0f || y == 1.0f)) corners.insert({x, y});
+    }
+    EXPECT_EQ(corners.size(), 4u);
+
+    // Without it the 48 boundary vertices stay: a polygon of 48 vertices needs 46 triangles.
+    const FlatRun locked = simplifyFlat(g, false, 8);
+    EXPECT_GE(locked.result.finalFaceCount, 46u);
+    for (std::uint32_t v = 0; v < g.vertexCount(); ++v) {
+        const float x = g.positions[3 * v], y = g.positions[3 * v + 1];
+        if (x == 0.0f || y == 0.0f || x == 1.0f || y == 1.0f) EXPECT_TRUE(locked.alive[v]) << v;
+    }
+}
+
+TEST(EdgeCollapse, AVertexJoiningTwoFansNeverMovesWhenCollapsingAlongTheBoundary) {
+    // Two squares touching at one corner (a non-manifold vertex): it has two open fans.
+    rad::TriangleMesh m = grid(6);
+    const rad::TriangleMesh second = grid(6);
+    const std::uint32_t shared = 6 * 7 + 6;  // (1, 1) of the first square
+    const auto base = static_cast<std::uint32_t>(m.vertexCount());
+    for (std::size_t v = 0; v < second.vertexCount(); ++v)
+        m.positions.insert(m.positions.end(), {second.positions[3 * v] + 1.0f, second.positions[3 * v + 1] + 1.0f, 0.0f});
+    for (std::uint32_t i : second.faces) m.faces.push_back(i == 0 ? shared : base + i);  // its (0, 0) is (1, 1)
+    ASSERT_EQ(m.positions[3 * shared], 1.0f);
+    ASSERT_EQ(m.positions[3 * shared + 1], 1.0f);
+    const FlatRun run = simplifyFlat(m, true, 10);
+    EXPECT_TRUE(run.alive[shared]);
+    EXPECT_EQ(run.finalPositions[3 * shared], 1.0f);
+    EXPECT_EQ(run.finalPositions[3 * shared + 1], 1.0f);
+    const Topology t = topology(run.faces, run.positions.size() / 3);
+    EXPECT_EQ(t.nonManifoldEdges, 0u);
+    EXPECT_LT(run.result.finalFaceCount, 40u);  // both squares did simplify
+}
+
 TEST(EdgeCollapse, RefusesInconsistentOptions) {
     CollapseMesh mesh = toCollapseMesh(rad::makeIcosphere(1));
     ProtectingMetric metric({});

@@ -103,6 +103,9 @@ TEST(RadianceQuadric, PbFramesTurnedAboutTheNormalDescribeTheSameFunction) {
     const rad::RadianceQuadricMetric metric(mesh, field);
     double largest = 0.0;
     for (std::uint32_t v0 = 0; v0 < grid.vertices(); ++v0) {
+        // Not from the border: the boundary planes price moving a corner (BoundaryPlanesPrice... below).
+        const int i = int(v0) % grid.n, j = int(v0) / grid.n;
+        if (i == 0 || j == 0 || i == grid.n - 1 || j == grid.n - 1) continue;
         std::vector<std::uint32_t> ring;
         mesh.neighbours(v0, ring);
         for (std::uint32_t v1 : ring) largest = std::max(largest, halfEdgeCost(metric, mesh, v0, v1));
@@ -125,8 +128,33 @@ TEST(RadianceQuadric, RadianceChangeCostsAndMatchesTheAreaWeightedSum) {
     const rad::RadianceQuadricMetric metric(mesh, field);
     const double away = halfEdgeCost(metric, mesh, grid.at(2, 2), grid.at(3, 2));
     EXPECT_GT(away, 1e-6);
-    // A vertex far from the bump keeps costing nothing.
-    EXPECT_NEAR(halfEdgeCost(metric, mesh, grid.at(0, 4) == 0 ? 0 : grid.at(4, 4), grid.at(3, 4)), 0.0, 1e-9);
+    // A vertex whose faces do not reach the bump keeps costing nothing.
+    EXPECT_NEAR(halfEdgeCost(metric, mesh, grid.at(1, 3), grid.at(0, 3)), 0.0, 1e-9);
+}
+
+TEST(RadianceQuadric, BoundaryPlanesPriceMovingACornerNotSlidingAlongAStraightSide) {
+    // A flat grid with one function everywhere: the faces' planes and the attribute planes cost
+    // nothing anywhere in the plane; the boundary planes (Garland & Heckbert 1997) do, off the
+    // boundary's line.
+    const Grid grid(6);
+    rad::CollapseMesh mesh = grid.mesh();
+    rad::RadianceField field({rad::BasisKind::HemisphericalPolynomial, 2}, grid.vertices());
+    std::fill(field.coefficients.begin(), field.coefficients.end(), 0.4f);
+    for (std::size_t v = 0; v < grid.vertices(); ++v) rad::storeFrame(rad::frameFromNormal(Vector3d::UnitZ()), field.frame(v));
+    const rad::RadianceQuadricMetric metric(mesh, field);
+    const auto fullCost = [&](std::uint32_t v0, std::uint32_t v1, const Vector3d& at) {
+        rad::EdgeQuery q;
+        q.v0 = v0;
+        q.v1 = v1;
+        q.position = at;
+        q.s = 1.0;
+        return metric.priceEdge(mesh, q);
+    };
+    const std::uint32_t side = grid.at(2, 0), next = grid.at(3, 0), corner = grid.at(0, 0), inside = grid.at(2, 2);
+    EXPECT_NEAR(fullCost(side, next, mesh.position(next)), 0.0, 1e-12);    // along a straight side
+    EXPECT_NEAR(fullCost(inside, side, mesh.position(side)), 0.0, 1e-12);  // an interior vertex onto the side
+    EXPECT_GT(fullCost(corner, grid.at(1, 0), mesh.position(grid.at(1, 0))), 1e-4);  // the corner cut off
+    EXPECT_GT(fullCost(side, inside, mesh.position(inside)), 1e-4);                   // the side pulled in
 }
 
 TEST(RadianceQuadric, CostsDoNotDependOnTheScansSizeOrTheRadianceRange) {

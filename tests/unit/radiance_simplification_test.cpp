@@ -1,7 +1,9 @@
 // simplifyRadianceMesh (simplify/radiance_simplification.h) on the defects of real scans.
 #include "simplify/radiance_simplification.h"
 
+#include "geometry/primitive_meshes.h"
 #include "radiance/material_radiance.h"
+#include "radiance/radiance_frame.h"
 #include "test_support.h"
 
 #include <gtest/gtest.h>
@@ -54,6 +56,43 @@ TEST(RadianceSimplification, ZeroAreaFacesAndFacesRepeatingAVertexAreSimplifiedN
         ASSERT_TRUE(std::isfinite(coarse.radiance->coefficients[i]));
     // Still a flat grid: no vertex left the plane z = 0.
     for (std::size_t v = 0; v < coarse.vertexCount(); ++v) EXPECT_EQ(coarse.positions[3 * v + 2], 0.0f);
+}
+
+TEST(RadianceSimplification, AnOpenScanCountsItsBoundaryAndMergesAlongIt) {
+    // The defect-free grid: 8 x 8 vertices, 28 of them on the boundary, 28 boundary edges.
+    rad::RadianceMesh mesh = gridWithDefects();
+    mesh.faces.resize(mesh.faces.size() - 6);
+    ASSERT_EQ(mesh.faceCount(), 98u);
+    rad::RadianceSimplificationOptions options;  // the defaults: the radiance quadric, full collapses
+    options.collapse.targetFaceCount = 12;
+    const rad::RadianceSimplificationResult along = rad::simplifyRadianceMesh(mesh, options);
+    EXPECT_EQ(along.boundaryEdges, 28u);
+    // A polygon of 28 kept vertices needs 26 triangles: the target is reached only along the boundary.
+    EXPECT_LE(along.collapse.finalFaceCount, 12u);
+    const rad::RadianceMesh coarse = along.progressive.extract(along.progressive.steps.size());
+    for (std::size_t v = 0; v < coarse.vertexCount(); ++v) EXPECT_EQ(coarse.positions[3 * v + 2], 0.0f);
+    int corners = 0;
+    for (std::size_t v = 0; v < coarse.vertexCount(); ++v)
+        corners += std::abs(coarse.positions[3 * v]) == 1.0f && std::abs(coarse.positions[3 * v + 1]) == 1.0f;
+    EXPECT_EQ(corners, 4);  // the boundary planes keep the square's corners
+
+    options.collapse.collapseAlongBoundary = false;
+    const rad::RadianceSimplificationResult fixed = rad::simplifyRadianceMesh(mesh, options);
+    EXPECT_GE(fixed.collapse.finalFaceCount, 26u);
+    EXPECT_EQ(fixed.collapse.stop, rad::StopReason::NoValidCollapse);
+
+    // A closed mesh has none.
+    const rad::TriangleMesh sphere = rad::makeIcosphere(2);
+    rad::RadianceMesh closed;
+    closed.positions = sphere.positions;
+    closed.faces = sphere.faces;
+    closed.radiance = rad::RadianceField({rad::BasisKind::HemisphericalPolynomial, 1}, sphere.vertexCount());
+    for (std::size_t v = 0; v < sphere.vertexCount(); ++v)
+        rad::storeFrame(rad::frameFromNormal(Eigen::Vector3d(sphere.positions[3 * v], sphere.positions[3 * v + 1],
+                                                             sphere.positions[3 * v + 2]).normalized()),
+                        closed.radiance->frame(v));
+    options.collapse.targetFaceCount = 40;
+    EXPECT_EQ(rad::simplifyRadianceMesh(closed, options).boundaryEdges, 0u);
 }
 
 TEST(RadianceSimplification, DuplicateFacesAreRemovedAndCounted) {
