@@ -30,7 +30,9 @@
 //
 //   bench_vs_meshoptimizer [--data DIR (data-cache)] [--only bunny,elephant,sphere,armadillo]
 //                          [--quick] [--weights 0.1,0.5,2,8,32] [--threads 2] [--views 16] [--size 512]
+//                          [--rply FITTED.rply ... [--open-below AXIS:FRACTION (cut its bottom off: an open scan)]]
 //                          [--lazy 0|1] [--geometry-weight W] [--pass-fraction F (0: the global queue)]
+//                          [--along-boundary 0|1]
 //                          (experiments away from the defaults)
 #include "acquisition/camera_rig.h"
 #include "acquisition/sample_scene_radiance_mesh.h"
@@ -49,6 +51,7 @@
 #include <meshoptimizer.h>
 
 #include <algorithm>
+#include <limits>
 #include <cfloat>
 #include <chrono>
 #include <cmath>
@@ -180,6 +183,30 @@ rad::RadianceMesh compactMesh(const rad::RadianceMesh& original, const std::vect
     }
     out.radiance = std::move(f);
     return out;
+}
+
+// An open scan made from a closed one: the faces with a corner in the lowest `fraction` of the
+// bounding box along `axis` removed (as a statue scanned standing on its base), unused vertices dropped.
+struct OpenBelow {
+    int axis = -1;  // -1: the --rply meshes as they are
+    double fraction = 0.1;
+} openBelow;
+
+rad::RadianceMesh cutOffBelow(const rad::RadianceMesh& mesh, int axis, double fraction) {
+    float lo = std::numeric_limits<float>::max(), hi = std::numeric_limits<float>::lowest();
+    for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
+        lo = std::min(lo, mesh.positions[3 * v + axis]);
+        hi = std::max(hi, mesh.positions[3 * v + axis]);
+    }
+    const float cut = static_cast<float>(lo + fraction * (hi - lo));
+    std::vector<unsigned> kept;
+    for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
+        const std::uint32_t* t = &mesh.faces[3 * f];
+        bool below = false;
+        for (int k = 0; k < 3; ++k) below = below || mesh.positions[3 * t[k] + axis] < cut;
+        if (!below) kept.insert(kept.end(), t, t + 3);
+    }
+    return compactMesh(mesh, kept);
 }
 
 struct Attributes {
@@ -437,6 +464,15 @@ int main(int argc, char** argv) {
         else if (a == "--pass-fraction") passFractionOverride = std::atof(v.c_str());
         else if (a == "--rply") rplyInputs.push_back(v);
         else if (a == "--along-boundary") alongBoundaryOverride = std::atoi(v.c_str());
+        else if (a == "--open-below") {
+            const std::size_t colon = v.find(':');
+            openBelow.axis = std::atoi(v.substr(0, colon).c_str());
+            openBelow.fraction = colon == std::string::npos ? 0.1 : std::atof(v.substr(colon + 1).c_str());
+            if (openBelow.axis < 0 || openBelow.axis > 2 || !(openBelow.fraction > 0.0 && openBelow.fraction < 1.0)) {
+                std::fprintf(stderr, "--open-below AXIS:FRACTION, e.g. 1:0.15 (axis 0-2, fraction in (0, 1))\n");
+                return 2;
+            }
+        }
         else {
             std::fprintf(stderr, "unknown option %s\n", a.c_str());
             return 2;
@@ -473,6 +509,11 @@ int main(int argc, char** argv) {
         for (const std::string& path : rplyInputs) {
             imageOptions.up = Eigen::Vector3d::UnitY();
             rad::RadianceMesh mesh = rad::readRadiancePly(path);
+            if (openBelow.axis >= 0) {
+                mesh = cutOffBelow(mesh, openBelow.axis, openBelow.fraction);
+                std::printf("%s: faces with a corner in the lowest %.0f %% of axis %d cut off: %zu vertices, %zu faces\n",
+                            path.c_str(), 100.0 * openBelow.fraction, openBelow.axis, mesh.vertexCount(), mesh.faceCount());
+            }
             compareOnMesh(path.c_str(), mesh, verdict);
         }
         if (wants("armadillo")) {
