@@ -158,8 +158,8 @@ private:
         return mesh_.edgeFaceCount(v0, v1) == 1 ? PlacementRule::AtEitherEnd : PlacementRule::Nowhere;
     }
 
-    bool placedByRule(std::uint32_t v0, std::uint32_t v1, const Eigen::Vector3d& position) const {
-        switch (placementRule(v0, v1)) {
+    bool placedByRule(PlacementRule rule, std::uint32_t v0, std::uint32_t v1, const Eigen::Vector3d& position) const {
+        switch (rule) {
             case PlacementRule::Anywhere: return true;
             case PlacementRule::AtV0: return position == mesh_.position(v0);
             case PlacementRule::AtV1: return position == mesh_.position(v1);
@@ -232,9 +232,11 @@ private:
             mesh_.star(v1, w.star1);
             const bool open1 = CollapseMesh::isOpenStar(w.star1);
             if (alongBoundary_ && (open0 || open1)) {
-                // The placement rule was applied when the edge was priced; the stars may have
-                // changed since (a vertex that became boundary has a new version, so not here).
-                if (!placedByRule(v0, v1, position)) return false;
+                // Only where the placement rule (applied when the edge was priced) puts the survivor:
+                // the boundary stays where it was. A rule of Anywhere here would mean a boundary end
+                // classified as interior: refused, never moved.
+                const PlacementRule rule = placementRule(v0, v1);
+                if (rule == PlacementRule::Anywhere || !placedByRule(rule, v0, v1, position)) return false;
             } else if (options_.preserveBoundary ? (open0 || open1) : (open0 && open1 && edgeFaceCount != 1)) {
                 return false;  // boundary kept, or an interior edge between two boundary vertices would pinch
             }
@@ -371,7 +373,8 @@ private:
         return entry;
     }
 
-    // collapseAlongBoundary (costs of the two ends only): the cheaper of the ends the rule allows.
+    // collapseAlongBoundary (costs of the two ends only, so no memoryless QEM term): the cheaper of
+    // the ends the rule allows.
     QueueEntry priceAtEnds(std::uint32_t v0, std::uint32_t v1, PlacementRule rule, QueueEntry entry) const {
         const auto consider = [&](std::uint32_t end) {
             EdgeQuery query;
