@@ -153,13 +153,19 @@ def test_open_grid_merges_along_its_boundary_under_the_radiance_quadric(tmp_path
     for along in (True, False):
         ms = h.load(path)
         ms.apply_filter(h.CREATE)
+        progressive = tmp_path / f"along_{along}.rpm"
         ms.apply_filter(h.SIMPLIFY, **simplify_parameters(metric=4, collapse=1, targetpercentage=0.1,
-                                                          collapsealongboundary=along))
+                                                          collapsealongboundary=along,
+                                                          progressivefile=str(progressive)))
         out = saved(ms, 0, tmp_path / f"along_{along}.rply")
         if along:
             assert out.face_count <= 28, out.face_count
         else:
             assert out.face_count >= 46, out.face_count
+        # The progressive mesh, replayed by the C++ tool, gives exactly the layer's faces.
+        h.run_tool("simplify_radiance", progressive, "-o", tmp_path / f"replay_{along}", "--ratios", "0.1")
+        replay = rply.read_rply(str(tmp_path / f"replay_{along}_100.rply"))
+        assert h.face_triples(out.positions, out.faces) == h.face_triples(replay.positions, replay.faces)
         p = out.positions
         corners = {(x, y) for x, y in p[:, :2].tolist() if x in (0.0, 12.0) and y in (0.0, 12.0)}
         assert corners == {(0.0, 0.0), (12.0, 0.0), (0.0, 12.0), (12.0, 12.0)}
