@@ -466,7 +466,24 @@ private:
         std::vector<QueueEntry> entries;  // priced edges; stale ones are dropped when ranking
         std::vector<std::uint32_t> affected, touched;
         std::vector<std::uint8_t> marked;  // in touched
+        // Checks made ahead, in parallel, for a chunk of the ranked entries (checkAhead), and the
+        // vertices whose star or version the chunk's collapses have changed since (changed).
+        std::vector<std::uint8_t> verdict;
+        std::vector<std::uint8_t> changed;
+        std::vector<std::uint32_t> changedList;
     };
+    enum Verdict : std::uint8_t { kStale, kForbidden, kAllowed };
+    // stale() and stillAllowed() of entries [begin, end) against the mesh as it is, in parallel.
+    void checkAhead(PassState& state, std::size_t begin, std::size_t end) const;
+    // Whether a check made ahead still holds: neither end's star nor version changed since. A
+    // collapse changes the stars of its two ends and of the survivor's ring only, and validity
+    // reads the stars of the two ends, their neighbours' positions (a moved neighbour is the
+    // survivor, whose ring holds both ends) and the faces between the apexes (which change only
+    // when an apex is an end of the collapse, whose ring again holds both ends). The minimum
+    // valence reads the apexes' valences, which change farther away: no checks ahead with it.
+    bool checkedAheadStillHolds(const PassState& state, const QueueEntry& e) const {
+        return !state.changed[e.a] && !state.changed[e.b];
+    }
     // Appends the finite entries of priced_.
     void keepPriced(std::vector<QueueEntry>& entries) const;
     // Rank: drops stale and dropped entries, sorts the cheapest to the front; returns how many.
@@ -699,17 +716,51 @@ std::size_t Simplifier::rankPass(std::vector<QueueEntry>& entries) const {
     return take;
 }
 
+void Simplifier::checkAhead(PassState& state, std::size_t begin, std::size_t end) const {
+    const int threads = options_.threads > 0 ? options_.threads : omp_get_max_threads();
+    const long n = static_cast<long>(end - begin);
+#pragma omp parallel for schedule(dynamic, 16) num_threads(threads)
+    for (long k = 0; k < n; ++k) {
+        const QueueEntry& e = state.entries[begin + std::size_t(k)];
+        state.verdict[std::size_t(k)] = stale(e) ? kStale : stillAllowed(e) ? kAllowed : kForbidden;
+    }
+}
+
+// The validity checks, most of a pass's serial time, are made ahead in parallel for chunks of the
+// ranked entries; an entry next to a collapse made since its check is checked again in order. The
+// collapses are those of the serial loop, whatever the thread count.
 bool Simplifier::performPass(PassState& state, std::size_t take, EdgeCollapseResult& result,
                              const std::function<void(const CollapseStep&)>& onStep) {
+    constexpr std::size_t kChunk = 2048;
+    const int threads = options_.threads > 0 ? options_.threads : omp_get_max_threads();
+    const bool ahead = threads > 1 && options_.minValence == 0;
+    if (ahead) {
+        state.verdict.resize(kChunk);
+        if (state.changed.size() != mesh_.vertexCount()) state.changed.assign(mesh_.vertexCount(), 0);
+        for (std::uint32_t v : state.changedList) state.changed[v] = 0;  // a pass that stopped early
+        state.changedList.clear();
+    }
     state.touched.clear();
-    std::size_t performed = 0;
+    std::size_t performed = 0, chunkBegin = 0, chunkEnd = 0;
     for (std::size_t i = 0; i < take && mesh_.aliveFaceCount() > options_.targetFaceCount; ++i) {
         QueueEntry& e = state.entries[i];
-        if (stale(e)) {
+        if (ahead && i == chunkEnd) {
+            for (std::uint32_t v : state.changedList) state.changed[v] = 0;
+            state.changedList.clear();
+            chunkBegin = i;
+            chunkEnd = std::min(take, i + kChunk);
+            checkAhead(state, chunkBegin, chunkEnd);
+        }
+        Verdict check;
+        if (ahead && checkedAheadStillHolds(state, e))
+            check = static_cast<Verdict>(state.verdict[i - chunkBegin]);
+        else
+            check = stale(e) ? kStale : stillAllowed(e) ? kAllowed : kForbidden;
+        if (check == kStale) {
             ++result.staleEntries;
             continue;
         }
-        if (!stillAllowed(e)) {
+        if (check == kForbidden) {
             ++result.staleEntries;
             dormant_[e.a] = dormant_[e.b] = 1;
             e.cost = kInfinity;  // dropped; priced again when a collapse touches an end
@@ -729,6 +780,17 @@ bool Simplifier::performPass(PassState& state, std::size_t take, EdgeCollapseRes
                 state.marked[v] = 1;
                 state.touched.push_back(v);
             }
+        if (ahead) {  // the ends and the survivor's ring (ring_, filled by applyCollapse)
+            const auto change = [&](std::uint32_t v) {
+                if (!state.changed[v]) {
+                    state.changed[v] = 1;
+                    state.changedList.push_back(v);
+                }
+            };
+            change(e.a);
+            change(e.b);
+            for (std::uint32_t v : ring_) change(v);
+        }
         reportCollapseProgress();
     }
     return true;
