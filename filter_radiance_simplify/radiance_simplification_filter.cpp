@@ -219,6 +219,9 @@ public:
             ctx.log(formatLine("Input defects handled: %zu faces repeating a vertex removed, %zu duplicate faces "
                                "removed (later copies of a triangle), %zu zero-area faces simplified like the others",
                                result.facesRepeatingAVertexRemoved, result.duplicateFacesRemoved, result.zeroAreaFaces));
+        if (result.nonManifoldEdges > 0)
+            ctx.log(formatLine("Non-manifold edges: %zu (more than two faces), kept as they are with their vertices",
+                               result.nonManifoldEdges));
         if (result.boundaryEdges > 0)
             ctx.log(formatLine("Open mesh: %zu boundary edges, %s", result.boundaryEdges,
                                !options.collapse.preserveBoundary ? "free to move like the other edges"

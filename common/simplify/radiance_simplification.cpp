@@ -114,7 +114,7 @@ std::string plural(std::size_t n, const char* word) {
 // checkSimplificationInput, also giving the faces simplifyRadianceMesh drops (found once: a sort of
 // every face) when the mesh is valid enough to look at them.
 std::string inputProblem(const RadianceMesh& mesh, SimplificationMetric metric, CollapseKind kind,
-                         UnusableFaces& unusable, std::size_t& boundaryEdges) {
+                         bool preserveBoundary, UnusableFaces& unusable, EdgeCensus& census) {
     if (mesh.faceCount() == 0)
         return "the mesh has no faces: edge-collapse simplification needs a triangle mesh (reconstruct a surface "
                "from a point cloud first, e.g. 'Surface Reconstruction: Screened Poisson')";
@@ -133,7 +133,8 @@ std::string inputProblem(const RadianceMesh& mesh, SimplificationMetric metric, 
 
     // Faces repeating a vertex and repeated triangles are dropped by simplifyRadianceMesh, zero-area
     // faces are collapsed like any other (they are the cheapest collapses there are): none of them is
-    // a reason to refuse. What is left must be a 2-manifold.
+    // a reason to refuse. Non-manifold edges are kept as they are when the boundary is preserved (the
+    // vertices of an edge on more than two faces have open fans: they never move); otherwise refused.
     const std::size_t nf = mesh.faceCount();
     unusable = findUnusableFaces(mesh);
     std::vector<std::uint64_t> edges;
@@ -143,12 +144,11 @@ std::string inputProblem(const RadianceMesh& mesh, SimplificationMetric metric, 
         const std::uint32_t* t = mesh.faces.data() + 3 * f;
         for (int k = 0; k < 3; ++k) edges.push_back(undirectedEdgeKey(t[k], t[(k + 1) % 3]));
     }
-    const EdgeCensus census = countEdgesByFaces(edges);
-    const std::size_t nonManifold = census.nonManifold;
-    boundaryEdges = census.boundary;
-    if (nonManifold > 0)
-        return "the mesh has " + plural(nonManifold, "non-manifold edge") +
-               " (shared by more than two faces): run 'Cleaning and Repairing: Repair non Manifold Edges' and try again";
+    census = countEdgesByFaces(edges);
+    if (census.nonManifold > 0 && !preserveBoundary)
+        return "the mesh has " + plural(census.nonManifold, "non-manifold edge") +
+               " (shared by more than two faces), which only a preserved boundary keeps where they are: turn 'Preserve "
+               "boundary' on, or run 'Cleaning and Repairing: Repair non Manifold Edges' and try again";
     return {};
 }
 
@@ -182,10 +182,11 @@ std::size_t estimatedSimplificationBytes(const RadianceMesh& mesh, const Radianc
     return static_cast<std::size_t>(nv * perVertex + nf * perFace);
 }
 
-std::string checkSimplificationInput(const RadianceMesh& mesh, SimplificationMetric metric, CollapseKind kind) {
+std::string checkSimplificationInput(const RadianceMesh& mesh, SimplificationMetric metric, CollapseKind kind,
+                                     bool preserveBoundary) {
     UnusableFaces unusable;
-    std::size_t boundaryEdges = 0;
-    return inputProblem(mesh, metric, kind, unusable, boundaryEdges);
+    EdgeCensus census;
+    return inputProblem(mesh, metric, kind, preserveBoundary, unusable, census);
 }
 
 RadianceSimplificationResult simplifyRadianceMesh(RadianceMesh mesh, const RadianceSimplificationOptions& options) {
@@ -194,10 +195,12 @@ RadianceSimplificationResult simplifyRadianceMesh(RadianceMesh mesh, const Radia
     UnusableFaces unusable;
     // Memory first: the input checks below already sort every face and edge.
     if (const std::string problem = refusalForMemory(mesh, options); !problem.empty()) throw SimplificationError(problem);
-    std::size_t boundaryEdges = 0;
-    if (const std::string problem = inputProblem(mesh, options.metric, options.collapse.kind, unusable, boundaryEdges);
+    EdgeCensus census;
+    if (const std::string problem =
+            inputProblem(mesh, options.metric, options.collapse.kind, options.collapse.preserveBoundary, unusable, census);
         !problem.empty())
         throw SimplificationError(problem);
+    const std::size_t boundaryEdges = census.boundary;
     removeFaces(mesh, unusable.drop);
     if (mesh.faceCount() == 0)
         throw SimplificationError("every face of the mesh repeats a vertex (no area): there is no surface to simplify");
@@ -211,6 +214,7 @@ RadianceSimplificationResult simplifyRadianceMesh(RadianceMesh mesh, const Radia
     result.duplicateFacesRemoved = unusable.duplicates;
     result.zeroAreaFaces = countZeroAreaFaces(mesh);
     result.boundaryEdges = boundaryEdges;
+    result.nonManifoldEdges = census.nonManifold;
     // A closed mesh has no boundary to collapse along or to hold with planes: neither is looked for.
     EdgeCollapseOptions collapse = options.collapse;
     if (boundaryEdges == 0) collapse.collapseAlongBoundary = false;

@@ -59,16 +59,18 @@ struct RadianceSimplificationResult {
     std::size_t duplicateFacesRemoved = 0;         // later copies of a triangle, dropped likewise
     std::size_t zeroAreaFaces = 0;                 // of the base, simplified like the others
     std::size_t boundaryEdges = 0;                 // of the base (0: a closed mesh)
+    std::size_t nonManifoldEdges = 0;              // of the base, kept with their vertices (preserved boundary)
     double seconds = 0.0;                 // setup + simplification (not extraction)
 };
 
 // Empty when `mesh` can be simplified with `metric`; otherwise a sentence saying what is wrong and
 // how to fix it in MeshLab: no faces, invalid arrays, radiance missing (for the metrics that need
 // it) or of mismatched size, non-finite values, coordinates beyond float precision, non-manifold edges
-// (more than two faces, once the dropped faces are gone). Faces repeating a vertex, repeated triangles
-// and faces of zero area are accepted (see simplifyRadianceMesh).
+// (more than two faces, once the dropped faces are gone) unless the boundary is preserved (then their
+// vertices, whose fans are open, never move). Faces repeating a vertex, repeated triangles and faces
+// of zero area are accepted (see simplifyRadianceMesh).
 std::string checkSimplificationInput(const RadianceMesh& mesh, SimplificationMetric metric,
-                                     CollapseKind kind = CollapseKind::HalfEdge);
+                                     CollapseKind kind = CollapseKind::HalfEdge, bool preserveBoundary = true);
 
 // Simplifies (the mesh is taken by value: move it in to avoid a copy; it becomes the progressive
 // mesh's base, without its faces that repeat a vertex and without the later copies of a triangle

@@ -2,7 +2,8 @@
 # "Radiance-Aware Simplification" on bad input, through the real meshlabserver: a clear message in
 # the log, no crash, and the layer saved unchanged:
 #  - a mesh without radiance data (radiance metric); - a target not below the face count;
-#  - a non-manifold edge (three faces on one edge); - a point cloud.
+#  - a non-manifold edge (three faces on one edge) with a free boundary; - a point cloud.
+# A non-manifold edge with a preserved boundary is kept as it is and counted in the log.
 # A repeated face is not refused: it is removed, counted in the log, and the rest simplified.
 source "$(dirname "$0")/lib.sh"
 TOOLS="$RADIANCE_BUILD_DIR/tools"
@@ -45,7 +46,14 @@ write("nonmanifold", verts + [(0.5, -0.5, 1.0), (0.5, -0.5, -1.0)], faces + [(1,
 write("duplicate", verts, faces + [faces[3]])
 write("points", verts, [])
 PY
-expect_refusal nonmanifold "non-manifold edge" "$WORK/nonmanifold.ply" "$WORK/geometry.mlx"
+# A non-manifold edge: refused with a free boundary (naming both fixes), kept as it is with a preserved one.
+edit_mlx "$WORK/geometry.mlx" "$WORK/geometry_free.mlx" preserveBoundary=false
+expect_refusal nonmanifold "turn 'Preserve boundary' on, or run 'Cleaning and Repairing: Repair non Manifold Edges'" \
+    "$WORK/nonmanifold.ply" "$WORK/geometry_free.mlx"
+run_meshlabserver "$WORK/nonmanifold.log" -i "$WORK/nonmanifold.ply" -s "$WORK/geometry.mlx" -o "$WORK/nonmanifold.out.ply" \
+    || { cat "$WORK/nonmanifold.log" >&2; fail "the strip with a non-manifold edge failed"; }
+grep -qF "Non-manifold edges: 1 (more than two faces), kept as they are with their vertices" "$WORK/nonmanifold.log" \
+    || { cat "$WORK/nonmanifold.log" >&2; fail "the non-manifold edge is not in the log"; }
 expect_refusal point_cloud "has no faces" "$WORK/points.ply" "$WORK/geometry.mlx"
 # The clean strip (with boundary) simplifies as far as its boundary allows.
 run_meshlabserver "$WORK/strip.log" -i "$WORK/strip.ply" -s "$WORK/geometry.mlx" -o "$WORK/strip.out.ply" \

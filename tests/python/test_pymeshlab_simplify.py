@@ -199,16 +199,33 @@ def test_refuses_full_collapse_on_a_pb_field(striped, tmp_path):
     assert striped.read_bytes() == (tmp_path / "after.rply").read_bytes(), "the refused filter changed the layer"
 
 
+def strip_with_a_non_manifold_edge():
+    """The 2 x 8 strip with two more faces on the edge (0, 1): three faces on one edge."""
+    vertices, faces = h.grid(8, 2)
+    return vertices + [(0.5, -0.5, 1.0), (0.5, -0.5, -1.0)], faces + [(1, 0, 27), (0, 1, 28)]
+
+
 @pytest.mark.parametrize("case,message", [("nonmanifold", "non-manifold edge"), ("points", "has no faces")])
 def test_refuses_bad_geometry(case, message, tmp_path):
-    vertices, faces = h.grid(8, 2)
-    if case == "nonmanifold":  # two more faces on the edge (0, 1): three faces on one edge
-        vertices = vertices + [(0.5, -0.5, 1.0), (0.5, -0.5, -1.0)]
-        faces = faces + [(1, 0, 27), (0, 1, 28)]
+    if case == "nonmanifold":  # refused only with a free boundary, naming both fixes
+        vertices, faces = strip_with_a_non_manifold_edge()
+        message = "turn 'Preserve boundary' on, or run 'Cleaning and Repairing: Repair non Manifold Edges'"
     else:
-        faces = []
+        vertices, faces = h.grid(8, 2)[0], []
     ms = h.load(h.write_ascii_ply(tmp_path / f"{case}.ply", vertices, faces))
-    h.expect_refusal(ms, h.SIMPLIFY, message, **simplify_parameters(metric=3, targetpercentage=0.5))
+    h.expect_refusal(ms, h.SIMPLIFY, message,
+                     **simplify_parameters(metric=3, targetpercentage=0.5, preserveboundary=False))
+
+
+def test_a_non_manifold_edge_is_kept_with_a_preserved_boundary(tmp_path):
+    """The strip's interior vertices go; the edge on three faces keeps its vertices where they are."""
+    vertices, faces = strip_with_a_non_manifold_edge()
+    ms = h.load(h.write_ascii_ply(tmp_path / "nonmanifold.ply", vertices, faces))
+    ms.apply_filter(h.SIMPLIFY, **simplify_parameters(metric=3, targetpercentage=0.5))
+    out = ms.current_mesh()
+    assert out.face_number() < len(faces)
+    kept = {tuple(p) for p in out.vertex_matrix().tolist()}
+    assert {tuple(vertices[0]), tuple(vertices[1])} <= kept
 
 
 def test_a_repeated_face_is_removed_and_the_rest_simplified(tmp_path):

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <string>
 
 namespace {
@@ -113,13 +114,45 @@ TEST(RadianceSimplification, DuplicateFacesAreRemovedAndCounted) {
     EXPECT_LE(r.collapse.finalFaceCount, 40u);
 }
 
-TEST(RadianceSimplification, NonManifoldEdgesAreRefusedWithTheFix) {
+TEST(RadianceSimplification, NonManifoldEdgesAreKeptWhereTheyAreOrRefusedWithTheFix) {
     rad::RadianceMesh mesh = gridWithDefects();
+    mesh.faces.resize(mesh.faces.size() - 6);  // the defect-free grid
     mesh.faces.insert(mesh.faces.end(), {0, 1, 50});  // with the grid's face: three faces on the
     mesh.faces.insert(mesh.faces.end(), {1, 0, 51});  // border edge (0, 1)
-    const std::string problem = rad::checkSimplificationInput(mesh, rad::SimplificationMetric::Radiance);
+    // A free boundary would let the edge's vertices move: refused, naming both fixes.
+    const std::string problem = rad::checkSimplificationInput(mesh, rad::SimplificationMetric::Radiance,
+                                                              rad::CollapseKind::HalfEdge, false);
     EXPECT_NE(problem.find("1 non-manifold edge"), std::string::npos) << problem;
     EXPECT_NE(problem.find("Repair non Manifold Edges"), std::string::npos) << problem;
+    EXPECT_NE(problem.find("Preserve boundary"), std::string::npos) << problem;
+    // A preserved boundary keeps the edge and its two vertices as they are, for both collapse kinds.
+    EXPECT_EQ(rad::checkSimplificationInput(mesh, rad::SimplificationMetric::Radiance), "");
+    for (const rad::CollapseKind kind : {rad::CollapseKind::Full, rad::CollapseKind::HalfEdge}) {
+        rad::RadianceSimplificationOptions options;
+        options.collapse.kind = kind;
+        options.collapse.targetFaceCount = 20;
+        const rad::RadianceSimplificationResult r = rad::simplifyRadianceMesh(mesh, options);
+        EXPECT_EQ(r.nonManifoldEdges, 1u);
+        EXPECT_LT(r.collapse.finalFaceCount, 60u);  // the rest simplified
+        const rad::RadianceMesh coarse = r.progressive.extract(r.progressive.steps.size());
+        bool firstKept = false, secondKept = false;
+        for (std::size_t v = 0; v < coarse.vertexCount(); ++v) {
+            const float* p = &coarse.positions[3 * v];
+            firstKept = firstKept || (p[0] == mesh.positions[0] && p[1] == mesh.positions[1] && p[2] == mesh.positions[2]);
+            secondKept = secondKept || (p[0] == mesh.positions[3] && p[1] == mesh.positions[4] && p[2] == mesh.positions[5]);
+        }
+        EXPECT_TRUE(firstKept && secondKept);
+        // No edge gained faces: at most the three of the input's non-manifold edge.
+        std::map<std::pair<std::uint32_t, std::uint32_t>, int> use;
+        for (std::size_t f = 0; f < coarse.faceCount(); ++f)
+            for (int k = 0; k < 3; ++k) {
+                const std::uint32_t a = coarse.faces[3 * f + k], b = coarse.faces[3 * f + (k + 1) % 3];
+                ++use[{std::min(a, b), std::max(a, b)}];
+            }
+        int most = 0;
+        for (const auto& [edge, count] : use) most = std::max(most, count);
+        EXPECT_LE(most, 3);
+    }
 }
 
 TEST(RadianceSimplification, InvalidOptionsAreRefusedBeforeAnyWork) {
