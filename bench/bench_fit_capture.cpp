@@ -7,7 +7,7 @@
 //                     [--meshlab-colors COLORS.ply] [--lobe-degree L] [--specular-prior P] [--lobe-ridge R]
 //                     [--cosine 0|1] [--factor-curve 0|1] [--lobe-samples N] [--iterations N]
 //                     [--refit-iterations N] [--choice-iterations N]
-//                     [--in-sample 1] [--rejected-constant 1] [--diagnose-view J]
+//                     [--in-sample 1] [--rejected-constant 0|1] [--diagnose-view J]
 //
 // Rasters K, 2K, ... (1-based, the order of the project, as the filter's heldOutEvery) are held out;
 // the others are fitted with each model (radiance_from_views.h, the filter's defaults otherwise).
@@ -64,10 +64,10 @@ int main(int argc, char** argv) {
     SharedFitOptions sharedOptions;
     bool inSample = false;
     int diagnoseView = -1;  // --diagnose-view J: where the J-th held-out view (0-based) loses to the constant
-    bool rejectedConstant = false;  // --rejected-constant 1: the shared fit's rejected vertices get the constant (as before)  // --in-sample 1: fit on ALL rasters (held-out ones included): the model's capacity
+    int rejectedConstant = -1;  // --rejected-constant 0|1: the shared fit's rejected vertices get the per-vertex fit (0) or the constant (1, the default)  // --in-sample 1: fit on ALL rasters (held-out ones included): the model's capacity
     for (int i = 2; i + 1 < argc; i += 2) {
         if (!std::strcmp(argv[i], "--held-out-every")) every = std::atoi(argv[i + 1]);
-        else if (!std::strcmp(argv[i], "--rejected-constant")) rejectedConstant = std::atoi(argv[i + 1]) != 0;
+        else if (!std::strcmp(argv[i], "--rejected-constant")) rejectedConstant = std::atoi(argv[i + 1]);
         else if (!std::strcmp(argv[i], "--diagnose-view")) diagnoseView = std::atoi(argv[i + 1]);
         else if (!std::strcmp(argv[i], "--in-sample")) inSample = std::atoi(argv[i + 1]) != 0;
         else if (!std::strcmp(argv[i], "--cosine")) sharedOptions.cosineFactor = std::atoi(argv[i + 1]) != 0;
@@ -145,7 +145,7 @@ int main(int argc, char** argv) {
             RadianceFromViewsOptions options;
             options.fit.basis = *basis;
             options.shared = sharedOptions;
-            options.sharedRejectedPerVertex = !rejectedConstant;
+            if (rejectedConstant >= 0) options.sharedRejectedPerVertex = rejectedConstant == 0;
             options.model = name == "per-vertex" ? FitModel::PerVertex : name == "shared" ? FitModel::Shared : FitModel::Automatic;
             const double t0 = now();
             std::vector<CalibratedView> fitted = training;

@@ -56,8 +56,10 @@ struct RadianceFromViewsOptions {
     int validationEvery = 5;        // Automatic: every k-th usable view is left out of the comparison fit (>= 2)
     // Shared: vertices where the shared function does not predict the vertex's own left-out samples
     // better than the constant get the per-vertex fit (which validates itself against the constant)
-    // instead of the constant mean colour.
-    bool sharedRejectedPerVertex = true;
+    // instead of the constant mean colour. Off by default: on six of seven Mitsuba captures the
+    // constant is as good or better on held-out photographs and the fit takes a quarter less time
+    // (docs/design-notes.md, "The vertices the shared fit does not win").
+    bool sharedRejectedPerVertex = false;
     double maxViewLoss = 0.02;      // Automatic: largest relative loss of Shared in one left-out view (>= 0)
     ViewSamplingOptions sampling;   // depth tolerance, grazing angle, border margin
     bool fillUnseen = true;         // fill unseen vertices from their neighbours

@@ -698,6 +698,7 @@ TEST(RadianceFromViews, SharedFitGivesTheVerticesItDoesNotWinThePerVertexFit) {
     // The plain cosine factor: with the fitted factor curve the shared function wins at every vertex
     // of this scene (nothing left to test).
     options.shared.fitFactorCurve = false;
+    options.sharedRejectedPerVertex = true;  // not the default: measured, docs/design-notes.md
     const auto r = rad::fitRadianceFromViews(s.mesh, s.views(), options);
     ASSERT_EQ(r.modelUsed, rad::FitModel::Shared);
     const rad::RobustRadianceFitter fitter(options.fit);
