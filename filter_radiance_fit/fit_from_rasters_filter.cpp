@@ -171,7 +171,8 @@ void logModelChoice(FilterContext& ctx, const rad::RadianceFromViewsOptions& opt
     if (result.modelUsed == rad::FitModel::Shared)
         ctx.log(formatLine("Shared fit (SH%d lobe of the reflected direction): %zu vertices diffuse + scaled "
                            "lobe; the others (where it did not predict their own left-out photographs better than "
-                           "the constant) the per-vertex fit.", result.lobeDegree, result.sharedVertices));
+                           "the constant) %s.", result.lobeDegree, result.sharedVertices,
+                           options.sharedRejectedPerVertex ? "the per-vertex fit" : "their constant mean colour"));
     if (options.fit.robustIterations > 0 || result.saturatedSamples > 0)
         ctx.log(formatLine("Robust weights: %zu samples down-weighted as outliers, %zu samples at saturation "
                            "given 1 %% weight.", result.robustDownweighted, result.saturatedSamples));
