@@ -79,6 +79,26 @@ bool CollapseMesh::isOpenStar(const std::vector<StarFace>& star) {
     return false;
 }
 
+// In a fan each neighbour is the 'a' of at most one face and the 'b' of at most one; a closed fan has
+// every neighbour as both, an open one exactly one neighbour as an 'a' only (and one as a 'b' only).
+CollapseMesh::StarShape CollapseMesh::starShape(const std::vector<StarFace>& star) {
+    int onlyA = 0, onlyB = 0;
+    for (const StarFace& f : star) {
+        int aAsA = 0, aAsB = 0, bAsA = 0, bAsB = 0;
+        for (const StarFace& g : star) {
+            aAsA += g.a == f.a;
+            aAsB += g.b == f.a;
+            bAsA += g.a == f.b;
+            bAsB += g.b == f.b;
+        }
+        if (aAsA > 1 || aAsB > 1 || bAsA > 1 || bAsB > 1) return StarShape::Other;
+        onlyA += aAsB == 0;
+        onlyB += bAsA == 0;
+    }
+    if (onlyA == 0 && onlyB == 0) return StarShape::ClosedFan;
+    return onlyA == 1 && onlyB == 1 ? StarShape::OneOpenFan : StarShape::Other;
+}
+
 bool CollapseMesh::onBoundary(std::uint32_t v) const {
     std::vector<StarFace> around;
     star(v, around);

@@ -57,6 +57,11 @@ public:
     // The same test on a star already at hand: the fan is closed when every neighbour appears once
     // as an 'a' and once as a 'b'.
     static bool isOpenStar(const std::vector<StarFace>& star);
+    // What an open star is: one open fan (a vertex on a manifold boundary), or anything else (an
+    // edge on more than two faces, several fans meeting at the vertex). isOpenStar(star) is
+    // starShape(star) != ClosedFan; this one costs twice as many comparisons.
+    enum class StarShape : std::uint8_t { ClosedFan, OneOpenFan, Other };  // ordered: the more constrained last
+    static StarShape starShape(const std::vector<StarFace>& star);
 
     // Replaces v0 by v1 in every face around v0, kills the faces that contained both, kills v0.
     // Used for half-edge collapses (v1 keeps its position) and full ones (the caller moves v1

@@ -79,6 +79,32 @@ bool contains(const std::vector<std::uint32_t>& list, std::uint32_t v) {
     return std::find(list.begin(), list.end(), v) != list.end();
 }
 
+// A set of vertices: the list in the order of insertion and a mark per vertex, so that inserting and
+// testing cost O(1) and emptying costs the set's size, not the mesh's.
+class MarkedVertices {
+public:
+    void reset(std::size_t vertexCount) {
+        mark_.assign(vertexCount, 0);
+        list_.clear();
+    }
+    std::size_t vertexCount() const { return mark_.size(); }
+    bool has(std::uint32_t v) const { return mark_[v] != 0; }
+    void insert(std::uint32_t v) {
+        if (mark_[v]) return;
+        mark_[v] = 1;
+        list_.push_back(v);
+    }
+    void clear() {
+        for (std::uint32_t v : list_) mark_[v] = 0;
+        list_.clear();
+    }
+    const std::vector<std::uint32_t>& list() const { return list_; }
+
+private:
+    std::vector<std::uint8_t> mark_;
+    std::vector<std::uint32_t> list_;
+};
+
 class Simplifier {
 public:
     Simplifier(CollapseMesh& mesh, CollapseMetric* metric, const EdgeCollapseOptions& options)
@@ -92,7 +118,7 @@ public:
         localCosts_ = options_.kind == CollapseKind::Full && useMetric_ && geometryWeight_ == 0.0 &&
                       metric_->costDependsOnEndpointsOnly();
         if (localCosts_) dormant_.assign(mesh.vertexCount(), 0);
-        if (options.kind == CollapseKind::Full) listedMark_.assign(mesh.vertexCount(), 0);
+        if (options.kind == CollapseKind::Full) listed_.reset(mesh.vertexCount());
         alongBoundary_ = localCosts_ && options_.preserveBoundary && options_.collapseAlongBoundary;
         if (alongBoundary_) classifyBoundaryVertices();
     }
@@ -101,37 +127,13 @@ public:
 
 private:
     // --- boundary -----------------------------------------------------------------------------
-    enum BoundaryKind : std::uint8_t {
-        kInterior = 0,
-        kOnBoundary = 1,  // one open fan: may collapse along the boundary (collapseAlongBoundary)
-        kFixed = 2,       // a non-manifold edge or several open fans: never moves
-    };
-
-    // A vertex's faces as one closed fan (interior), one open fan (on the boundary), or anything
-    // else (fixed). In a fan each neighbour is the 'a' of at most one face and the 'b' of at most
-    // one; a closed fan has every neighbour as both, an open one exactly one neighbour as an 'a'
-    // only (and one as a 'b' only).
-    static BoundaryKind boundaryKind(const std::vector<StarFace>& star) {
-        int onlyA = 0, onlyB = 0;
-        for (const StarFace& f : star) {
-            int aAsA = 0, aAsB = 0, bAsA = 0, bAsB = 0;
-            for (const StarFace& g : star) {
-                aAsA += g.a == f.a;
-                aAsB += g.b == f.a;
-                bAsA += g.a == f.b;
-                bAsB += g.b == f.b;
-            }
-            if (aAsA > 1 || aAsB > 1 || bAsA > 1 || bAsB > 1) return kFixed;
-            onlyA += aAsB == 0;
-            onlyB += bAsA == 0;
-        }
-        if (onlyA == 0 && onlyB == 0) return kInterior;
-        return onlyA == 1 && onlyB == 1 ? kOnBoundary : kFixed;
-    }
+    // collapseAlongBoundary: each vertex's star as CollapseMesh::StarShape. One open fan may collapse
+    // along the boundary; any other open star (a non-manifold edge, several fans) never moves.
+    using StarShape = CollapseMesh::StarShape;
 
     void classifyBoundaryVertices() {
         const long n = static_cast<long>(mesh_.vertexCount());
-        boundaryKind_.assign(mesh_.vertexCount(), kInterior);
+        starShape_.assign(mesh_.vertexCount(), StarShape::ClosedFan);
         const int threads = options_.threads > 0 ? options_.threads : omp_get_max_threads();
 #pragma omp parallel num_threads(threads)
         {
@@ -140,7 +142,7 @@ private:
             for (long v = 0; v < n; ++v) {
                 if (!mesh_.vertexAlive(static_cast<std::uint32_t>(v))) continue;
                 mesh_.star(static_cast<std::uint32_t>(v), star);
-                boundaryKind_[v] = boundaryKind(star);
+                starShape_[v] = CollapseMesh::starShape(star);
             }
         }
     }
@@ -151,10 +153,10 @@ private:
     enum class PlacementRule { Anywhere, AtV0, AtV1, AtEitherEnd, Nowhere };
     PlacementRule placementRule(std::uint32_t v0, std::uint32_t v1) const {
         if (!alongBoundary_) return PlacementRule::Anywhere;
-        const std::uint8_t k0 = boundaryKind_[v0], k1 = boundaryKind_[v1];
-        if (k0 == kFixed || k1 == kFixed) return PlacementRule::Nowhere;
-        if (k0 == kInterior) return k1 == kInterior ? PlacementRule::Anywhere : PlacementRule::AtV1;
-        if (k1 == kInterior) return PlacementRule::AtV0;
+        const StarShape s0 = starShape_[v0], s1 = starShape_[v1];
+        if (s0 == StarShape::Other || s1 == StarShape::Other) return PlacementRule::Nowhere;
+        if (s0 == StarShape::ClosedFan) return s1 == StarShape::ClosedFan ? PlacementRule::Anywhere : PlacementRule::AtV1;
+        if (s1 == StarShape::ClosedFan) return PlacementRule::AtV0;
         return mesh_.edgeFaceCount(v0, v1) == 1 ? PlacementRule::AtEitherEnd : PlacementRule::Nowhere;
     }
 
@@ -464,15 +466,15 @@ private:
     // What one pass hands the next.
     struct PassState {
         std::vector<QueueEntry> entries;  // priced edges; stale ones are dropped when ranking
-        std::vector<std::uint32_t> affected, touched;
-        std::vector<std::uint8_t> marked;  // in touched
+        std::vector<std::uint32_t> affected;
+        MarkedVertices touched;  // whose edges are priced again for the next pass
         // Checks made ahead, in parallel, for a chunk of the ranked entries (checkAhead), and the
         // vertices whose star or version the chunk's collapses have changed since (changed).
         std::vector<std::uint8_t> verdict;
-        std::vector<std::uint8_t> changed;
-        std::vector<std::uint32_t> changedList;
+        MarkedVertices changed;
     };
     enum Verdict : std::uint8_t { kStale, kForbidden, kAllowed };
+    Verdict verdictOf(const QueueEntry& e) const { return stale(e) ? kStale : stillAllowed(e) ? kAllowed : kForbidden; }
     // stale() and stillAllowed() of entries [begin, end) against the mesh as it is, in parallel.
     void checkAhead(PassState& state, std::size_t begin, std::size_t end) const;
     // Whether a check made ahead still holds: neither end's star nor version changed since. A
@@ -482,7 +484,7 @@ private:
     // when an apex is an end of the collapse, whose ring again holds both ends). The minimum
     // valence reads the apexes' valences, which change farther away: no checks ahead with it.
     bool checkedAheadStillHolds(const PassState& state, const QueueEntry& e) const {
-        return !state.changed[e.a] && !state.changed[e.b];
+        return !state.changed.has(e.a) && !state.changed.has(e.b);
     }
     // Appends the finite entries of priced_.
     void keepPriced(std::vector<QueueEntry>& entries) const;
@@ -506,8 +508,7 @@ private:
     std::vector<QueueEntry> priced_;
     std::vector<std::pair<std::uint32_t, std::uint32_t>> edges_;
     std::vector<std::uint32_t> around_;
-    std::vector<std::uint32_t> listed_;        // price()'s alive vertices, each once...
-    std::vector<std::uint8_t> listedMark_;     // ...marked while it runs (full mode)
+    MarkedVertices listed_;            // price()'s alive vertices, each once, while it runs (full mode)
     std::vector<std::uint32_t> ring_;  // applyCollapse's scratch
     // Progress of one run: faces at its start, faces to remove, the next report's count and step.
     std::size_t startFaces_ = 0, nextReport_ = 0, reportStep_ = 1;
@@ -517,9 +518,9 @@ private:
     double geometryWeight_ = 0.0;
     bool useMetric_ = false;
     bool localCosts_ = false;            // full mode, metric's costs depend on the two ends only
-    // EdgeCollapseOptions::collapseAlongBoundary in effect, and each vertex's place (BoundaryKind).
+    // EdgeCollapseOptions::collapseAlongBoundary in effect, and each vertex's star.
     bool alongBoundary_ = false;
-    std::vector<std::uint8_t> boundaryKind_;
+    std::vector<StarShape> starShape_;
     std::vector<std::uint8_t> dormant_;  // localCosts_: has an edge dropped as invalid since last priced
     // Passes with a metric whose updates can be deferred: the pass's collapses, applied to the mesh,
     // awaiting the metric's update and the step's report (flushDeferred).
@@ -545,20 +546,17 @@ void Simplifier::price(const std::vector<std::uint32_t>& vertices) {
         // Every edge once, without sorting them: an edge between two listed vertices is taken from
         // its lower end only.
         edges_.clear();
-        listed_.clear();
         for (std::uint32_t v : vertices)
-            if (mesh_.vertexAlive(v) && !listedMark_[v]) {
-                listedMark_[v] = 1;
-                listed_.push_back(v);
-            }
+            if (mesh_.vertexAlive(v)) listed_.insert(v);
+        const std::vector<std::uint32_t>& listed = listed_.list();
         const auto gather = [&](std::uint32_t v, std::vector<std::uint32_t>& around,
                                 std::vector<std::pair<std::uint32_t, std::uint32_t>>& out) {
             mesh_.neighbours(v, around);
             for (std::uint32_t u : around)
-                if (!listedMark_[u] || v < u) out.emplace_back(std::min(u, v), std::max(u, v));
+                if (!listed_.has(u) || v < u) out.emplace_back(std::min(u, v), std::max(u, v));
         };
-        const long listed = static_cast<long>(listed_.size());
-        if (parallelWorth(listed)) {
+        const long listedCount = static_cast<long>(listed.size());
+        if (parallelWorth(listedCount)) {
             // Contiguous ranges of the list per thread, joined in thread order: the same edges in
             // the same order as one thread would list them.
             std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> parts(threads);
@@ -567,13 +565,13 @@ void Simplifier::price(const std::vector<std::uint32_t>& vertices) {
                 std::vector<std::uint32_t> around;
                 std::vector<std::pair<std::uint32_t, std::uint32_t>>& mine = parts[omp_get_thread_num()];
 #pragma omp for schedule(static)
-                for (long i = 0; i < listed; ++i) gather(listed_[i], around, mine);
+                for (long i = 0; i < listedCount; ++i) gather(listed[std::size_t(i)], around, mine);
             }
             for (const auto& part : parts) edges_.insert(edges_.end(), part.begin(), part.end());
         } else {
-            for (std::uint32_t v : listed_) gather(v, around_, edges_);
+            for (std::uint32_t v : listed) gather(v, around_, edges_);
         }
-        for (std::uint32_t v : listed_) listedMark_[v] = 0;
+        listed_.clear();
         priced_.resize(edges_.size());
         const long n = static_cast<long>(edges_.size());
         // Which end survives: the slot with the larger index, so that the choice is stable.
@@ -612,7 +610,7 @@ void Simplifier::applyCollapse(const QueueEntry& top, EdgeCollapseResult& result
         mesh_.setPosition(v1, place.position);
         mesh_.collapse(v0, v1);
         // The survivor sits where a boundary end was (the placement rule): it is on the boundary.
-        if (alongBoundary_) boundaryKind_[v1] = std::max(boundaryKind_[v0], boundaryKind_[v1]);
+        if (alongBoundary_) starShape_[v1] = std::max(starShape_[v0], starShape_[v1]);
     }
     ++result.collapses;
     result.lastCost = top.cost;
@@ -659,7 +657,7 @@ void Simplifier::applyCollapse(const QueueEntry& top, EdgeCollapseResult& result
 void Simplifier::runInPasses(EdgeCollapseResult& result, const std::function<void(const CollapseStep&)>& onStep) {
     deferUpdates_ = metric_->updatesCanBeDeferred();
     PassState state;
-    state.marked.assign(mesh_.vertexCount(), 0);
+    state.touched.reset(mesh_.vertexCount());
     price(allVertices());
     // The first pricing covers every edge: its array becomes the pass's entries (not a copy of them;
     // the ranking drops the forbidden ones), and the list of edges goes, so that neither holds every
@@ -722,7 +720,7 @@ void Simplifier::checkAhead(PassState& state, std::size_t begin, std::size_t end
 #pragma omp parallel for schedule(dynamic, 16) num_threads(threads)
     for (long k = 0; k < n; ++k) {
         const QueueEntry& e = state.entries[begin + std::size_t(k)];
-        state.verdict[std::size_t(k)] = stale(e) ? kStale : stillAllowed(e) ? kAllowed : kForbidden;
+        state.verdict[std::size_t(k)] = verdictOf(e);
     }
 }
 
@@ -736,26 +734,20 @@ bool Simplifier::performPass(PassState& state, std::size_t take, EdgeCollapseRes
     const bool ahead = threads > 1 && options_.minValence == 0;
     if (ahead) {
         state.verdict.resize(kChunk);
-        if (state.changed.size() != mesh_.vertexCount()) state.changed.assign(mesh_.vertexCount(), 0);
-        for (std::uint32_t v : state.changedList) state.changed[v] = 0;  // a pass that stopped early
-        state.changedList.clear();
+        if (state.changed.vertexCount() != mesh_.vertexCount()) state.changed.reset(mesh_.vertexCount());
     }
     state.touched.clear();
     std::size_t performed = 0, chunkBegin = 0, chunkEnd = 0;
     for (std::size_t i = 0; i < take && mesh_.aliveFaceCount() > options_.targetFaceCount; ++i) {
         QueueEntry& e = state.entries[i];
         if (ahead && i == chunkEnd) {
-            for (std::uint32_t v : state.changedList) state.changed[v] = 0;
-            state.changedList.clear();
+            state.changed.clear();
             chunkBegin = i;
             chunkEnd = std::min(take, i + kChunk);
             checkAhead(state, chunkBegin, chunkEnd);
         }
-        Verdict check;
-        if (ahead && checkedAheadStillHolds(state, e))
-            check = static_cast<Verdict>(state.verdict[i - chunkBegin]);
-        else
-            check = stale(e) ? kStale : stillAllowed(e) ? kAllowed : kForbidden;
+        const Verdict check =
+            ahead && checkedAheadStillHolds(state, e) ? static_cast<Verdict>(state.verdict[i - chunkBegin]) : verdictOf(e);
         if (check == kStale) {
             ++result.staleEntries;
             continue;
@@ -775,21 +767,11 @@ bool Simplifier::performPass(PassState& state, std::size_t take, EdgeCollapseRes
         }
         applyCollapse(e, result, onStep, state.affected);
         ++performed;
-        for (std::uint32_t v : state.affected)
-            if (!state.marked[v]) {
-                state.marked[v] = 1;
-                state.touched.push_back(v);
-            }
+        for (std::uint32_t v : state.affected) state.touched.insert(v);
         if (ahead) {  // the ends and the survivor's ring (ring_, filled by applyCollapse)
-            const auto change = [&](std::uint32_t v) {
-                if (!state.changed[v]) {
-                    state.changed[v] = 1;
-                    state.changedList.push_back(v);
-                }
-            };
-            change(e.a);
-            change(e.b);
-            for (std::uint32_t v : ring_) change(v);
+            state.changed.insert(e.a);
+            state.changed.insert(e.b);
+            for (std::uint32_t v : ring_) state.changed.insert(v);
         }
         reportCollapseProgress();
     }
@@ -808,8 +790,8 @@ void Simplifier::flushDeferred(const std::function<void(const CollapseStep&)>& o
 }
 
 void Simplifier::updatePass(PassState& state) {
-    for (std::uint32_t v : state.touched) state.marked[v] = 0;
-    price(state.touched);
+    price(state.touched.list());
+    state.touched.clear();
     keepPriced(state.entries);
 }
 

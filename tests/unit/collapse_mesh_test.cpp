@@ -56,6 +56,30 @@ TEST(CollapseMesh, BoundaryAndEdgeCounts) {
     EXPECT_EQ(n, (std::vector<std::uint32_t>{1, 2, 3, 4, 5, 6}));
 }
 
+TEST(CollapseMesh, StarShapeTellsOneOpenFanFromTheRest) {
+    using Shape = CollapseMesh::StarShape;
+    // Written by hand as (a, b) pairs, not read from a mesh.
+    const std::vector<StarFace> closed = {{1, 2}, {2, 3}, {3, 4}, {4, 1}};
+    const std::vector<StarFace> open = {{1, 2}, {2, 3}, {3, 4}};
+    const std::vector<StarFace> twoFans = {{1, 2}, {2, 3}, {5, 6}, {6, 7}};      // a bowtie
+    const std::vector<StarFace> threeOnAnEdge = {{1, 2}, {2, 3}, {3, 1}, {1, 4}};  // 1 is an 'a' twice
+    const std::vector<StarFace> flipped = {{1, 2}, {3, 2}, {3, 4}, {4, 1}};       // one face turned over
+    EXPECT_EQ(CollapseMesh::starShape(closed), Shape::ClosedFan);
+    EXPECT_EQ(CollapseMesh::starShape(open), Shape::OneOpenFan);
+    EXPECT_EQ(CollapseMesh::starShape(twoFans), Shape::Other);
+    EXPECT_EQ(CollapseMesh::starShape(threeOnAnEdge), Shape::Other);
+    EXPECT_EQ(CollapseMesh::starShape(flipped), Shape::Other);
+    for (const auto* star : {&closed, &open, &twoFans, &threeOnAnEdge, &flipped})
+        EXPECT_EQ(CollapseMesh::isOpenStar(*star), CollapseMesh::starShape(*star) != Shape::ClosedFan);
+    // On a mesh: the hexagon's centre and a ring vertex.
+    const CollapseMesh mesh = hexagonFan();
+    std::vector<StarFace> star;
+    mesh.star(0, star);
+    EXPECT_EQ(CollapseMesh::starShape(star), Shape::ClosedFan);
+    mesh.star(1, star);
+    EXPECT_EQ(CollapseMesh::starShape(star), Shape::OneOpenFan);
+}
+
 TEST(CollapseMesh, CollapseKillsTheEdgeFacesAndRewiresTheOthers) {
     CollapseMesh mesh = hexagonFan();
     std::vector<std::uint32_t> killed;
