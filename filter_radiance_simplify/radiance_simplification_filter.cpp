@@ -224,11 +224,9 @@ public:
                                result.nonManifoldEdges));
         if (result.boundaryEdges > 0)
             ctx.log(formatLine("Open mesh: %zu boundary edges, %s", result.boundaryEdges,
-                               !options.collapse.preserveBoundary ? "free to move like the other edges"
-                               : options.collapse.collapseAlongBoundary && options.collapse.kind == rad::CollapseKind::Full &&
-                                       options.metric == rad::SimplificationMetric::RadianceQuadric
-                                   ? "kept in place, their vertices merged along the boundary"
-                                   : "kept in place with all their vertices"));
+                               !options.collapse.preserveBoundary     ? "free to move like the other edges"
+                               : result.collapse.collapsedAlongBoundary ? "kept in place, their vertices merged along the boundary"
+                                                                        : "kept in place with all their vertices"));
         const rad::EdgeCollapseResult& r = result.collapse;
         ctx.log(formatLine("Simplified %zu -> %zu faces (%zu vertices) with the %s metric, %s collapse: %zu collapses in %.2f s "
             "(%zu to this layer), cost of its last collapse %.4g; coarsest level %zu faces, last cost %.4g (%s)%s",

@@ -798,6 +798,7 @@ void Simplifier::updatePass(PassState& state) {
 EdgeCollapseResult Simplifier::run(const std::function<void(const CollapseStep&)>& onStep) {
     EdgeCollapseResult result;
     result.stop = StopReason::TargetReached;
+    result.collapsedAlongBoundary = alongBoundary_;
     startFaces_ = mesh_.aliveFaceCount();
     if (startFaces_ > options_.targetFaceCount) {
         work_ = static_cast<double>(startFaces_ - options_.targetFaceCount);

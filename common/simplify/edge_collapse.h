@@ -84,6 +84,7 @@ struct EdgeCollapseResult {
     StopReason stop = StopReason::TargetReached;
     std::size_t repricedVertices = 0;  // half-edge mode: vertex pricings; full mode: edge pricings
     std::size_t staleEntries = 0;      // popped entries found outdated
+    bool collapsedAlongBoundary = false;  // collapseAlongBoundary was in effect (its metric and kind)
 };
 
 // Simplifies `mesh` in place. `metric` may be null (geometry only). `onStep` (may be empty) is

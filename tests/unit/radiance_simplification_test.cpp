@@ -68,6 +68,7 @@ TEST(RadianceSimplification, AnOpenScanCountsItsBoundaryAndMergesAlongIt) {
     options.collapse.targetFaceCount = 12;
     const rad::RadianceSimplificationResult along = rad::simplifyRadianceMesh(mesh, options);
     EXPECT_EQ(along.boundaryEdges, 28u);
+    EXPECT_TRUE(along.collapse.collapsedAlongBoundary);
     // A polygon of 28 kept vertices needs 26 triangles: the target is reached only along the boundary.
     EXPECT_LE(along.collapse.finalFaceCount, 12u);
     const rad::RadianceMesh coarse = along.progressive.extract(along.progressive.steps.size());
@@ -80,6 +81,11 @@ TEST(RadianceSimplification, AnOpenScanCountsItsBoundaryAndMergesAlongIt) {
     options.collapse.collapseAlongBoundary = false;
     const rad::RadianceSimplificationResult fixed = rad::simplifyRadianceMesh(mesh, options);
     EXPECT_GE(fixed.collapse.finalFaceCount, 26u);
+    EXPECT_FALSE(fixed.collapse.collapsedAlongBoundary);
+    options.collapse.collapseAlongBoundary = true;
+    options.collapse.kind = rad::CollapseKind::HalfEdge;  // only full collapses under the quadric merge along it
+    EXPECT_FALSE(rad::simplifyRadianceMesh(mesh, options).collapse.collapsedAlongBoundary);
+    options.collapse.kind = rad::CollapseKind::Full;
     EXPECT_EQ(fixed.collapse.stop, rad::StopReason::NoValidCollapse);
 
     // A closed mesh has none.
@@ -93,7 +99,9 @@ TEST(RadianceSimplification, AnOpenScanCountsItsBoundaryAndMergesAlongIt) {
                                                              sphere.positions[3 * v + 2]).normalized()),
                         closed.radiance->frame(v));
     options.collapse.targetFaceCount = 40;
-    EXPECT_EQ(rad::simplifyRadianceMesh(closed, options).boundaryEdges, 0u);
+    const rad::RadianceSimplificationResult closedResult = rad::simplifyRadianceMesh(closed, options);
+    EXPECT_EQ(closedResult.boundaryEdges, 0u);
+    EXPECT_FALSE(closedResult.collapse.collapsedAlongBoundary);  // nothing to look for
 }
 
 TEST(RadianceSimplification, DuplicateFacesAreRemovedAndCounted) {
