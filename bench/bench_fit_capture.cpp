@@ -80,6 +80,7 @@ int main(int argc, char** argv) {
         else if (!std::strcmp(argv[i], "--refit-iterations")) sharedOptions.refitIterations = std::atoi(argv[i + 1]);
         else if (!std::strcmp(argv[i], "--choice-iterations")) sharedOptions.choiceIterations = std::atoi(argv[i + 1]);
         else if (!std::strcmp(argv[i], "--basis")) basisName = argv[i + 1];
+        else if (!std::strcmp(argv[i], "--guard")) sharedOptions.guardStandardErrors = std::atof(argv[i + 1]);
         else if (!std::strcmp(argv[i], "--models")) models = argv[i + 1];
         else if (!std::strcmp(argv[i], "--meshlab-colors")) meshlabColors = argv[i + 1];
         else {
@@ -193,6 +194,8 @@ int main(int argc, char** argv) {
                 std::vector<DirectionalSample> a(1), b(training.size());
                 const double angleEdges[] = {5, 10, 20, 30, 45, 180};
                 double excessA[6] = {0}, countA[6] = {0}, excessC[5] = {0}, countC[5] = {0}, signedC[5] = {0};
+                // and by the photograph's level (eighths of 0..255): where the squared error sits (highlights?)
+                double levelConstant[8] = {0}, levelFitted[8] = {0}, levelCount[8] = {0}, levelBias[8] = {0};
                 for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
                     if (!one.sampleVertex(v, a.data())) continue;
                     const std::size_t m = train.sampleVertex(v, b.data());
@@ -203,13 +206,22 @@ int main(int argc, char** argv) {
                         best = std::max(best, w.dot(Eigen::Vector3d(b[j].direction[0], b[j].direction[1], b[j].direction[2])));
                     const double angle = std::acos(std::min(1.0, best)) * 180.0 / M_PI;
                     const Eigen::Vector3d f = evaluateRadiance(r.field, v, w);
-                    double excess = 0.0, bias = 0.0;
+                    double excess = 0.0, bias = 0.0, level = 0.0, squaredConstant = 0.0, squaredFitted = 0.0, constantBias = 0.0;
                     for (int c = 0; c < 3; ++c) {
                         const double y = srgbLevel(a[0].rgb[c]);
                         const double ef = srgbLevel(f[c]) - y, ec = srgbLevel(constant[3 * v + c]) - y;
                         excess += ef * ef - ec * ec;
                         bias += (ef - ec) / 3.0;
+                        level += y / 3.0;
+                        squaredConstant += ec * ec;
+                        squaredFitted += ef * ef;
+                        constantBias += ec / 3.0;
                     }
+                    const int eighth = std::min(7, static_cast<int>(level / 32.0));
+                    levelConstant[eighth] += squaredConstant;
+                    levelFitted[eighth] += squaredFitted;
+                    levelBias[eighth] += constantBias;
+                    ++levelCount[eighth];
                     int k = 0;
                     while (angle > angleEdges[k]) ++k;
                     excessA[k] += excess;
@@ -223,6 +235,11 @@ int main(int argc, char** argv) {
                 std::printf("  held-out view %d: excess squared error fitted - constant (sum, vertices) by angle to the "
                             "nearest training direction:", diagnoseView);
                 for (int k = 0; k < 6; ++k) std::printf(" <=%g: %.0f (%.0f)", angleEdges[k], excessA[k], countA[k]);
+                std::printf("\n    by the photograph's level (squared error of the constant / of the fit, summed; vertices; "
+                            "the constant's mean error):");
+                for (int k = 0; k < 8; ++k)
+                    std::printf("\n      %3d-%3d: %.0f / %.0f (%.0f, %+.1f)", 32 * k, 32 * k + 31, levelConstant[k], levelFitted[k],
+                                levelCount[k], levelCount[k] > 0 ? levelBias[k] / levelCount[k] : 0.0);
                 std::printf("\n    by cos(view, normal) fifths:");
                 for (int k = 0; k < 5; ++k)
                     std::printf(" %.1f-%.1f: %.0f (%.0f vertices, fitted - constant %+.2f)", k / 5.0, (k + 1) / 5.0,

@@ -170,8 +170,9 @@ void logModelChoice(FilterContext& ctx, const rad::RadianceFromViewsOptions& opt
                            result.validationWorstViewRatio, 1.0 + options.maxViewLoss));
     if (result.modelUsed == rad::FitModel::Shared)
         ctx.log(formatLine("Shared fit (SH%d lobe of the reflected direction): %zu vertices diffuse + scaled "
-                           "lobe; the others (where it did not predict their own left-out photographs better than "
-                           "the constant) %s.", result.lobeDegree, result.sharedVertices,
+                           "lobe; the others (too few photographs, or where the constant predicted their own "
+                           "left-out photographs better by more than %g standard errors) %s.",
+                           result.lobeDegree, result.sharedVertices, options.shared.guardStandardErrors,
                            options.sharedRejectedPerVertex ? "the per-vertex fit" : "their constant mean colour"));
     if (options.fit.robustIterations > 0 || result.saturatedSamples > 0)
         ctx.log(formatLine("Robust weights: %zu samples down-weighted as outliers, %zu samples at saturation "
@@ -290,8 +291,9 @@ public:
                               "object, scaled per vertex (a distant light's highlight sits at the same reflected "
                               "direction everywhere; after the reflected parametrisation of Wood et al. 2000 and "
                               "the factorisations of Chen et al. 2002), written into the chosen basis; a vertex keeps "
-                              "it only where it predicts the vertex's own left-out photographs better than the "
-                              "constant, the others get the per-vertex fit. Automatic: both are fitted without every "
+                              "it unless its own photographs, each left out in turn, are predicted clearly better "
+                              "(by more than three standard errors) by its constant mean colour, which it then "
+                              "gets. Automatic: both are fitted without every "
                               "5th raster and compared raster by raster on those: the shared fit is used only when it "
                               "is better overall, in at least half of them and nowhere worse by more than 2 %; "
                               "otherwise the per-vertex fit (the log says which and why)."));

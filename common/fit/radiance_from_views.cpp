@@ -179,19 +179,27 @@ SampleSet gatherSamples(std::size_t n, const ViewSampler& sampler,
     {
         const int t = omp_get_thread_num(), nt = omp_get_num_threads();
         const std::size_t begin = n * t / nt, end = n * (t + 1) / nt;
-        std::vector<DirectionalSample> buffer(sampler.viewCount());
-        std::vector<int> viewOf(sampler.viewCount());
-        for (std::size_t v = begin; v < end && !loop.stopRequested(); ++v)
+        // Blocks of neighbouring vertices: their rays toward one camera are cast as one packet.
+        constexpr int kBlock = ViewSampler::kBlock;
+        const std::size_t viewCount = sampler.viewCount();
+        std::vector<DirectionalSample> buffer(kBlock * viewCount);
+        std::vector<int> viewOf(kBlock * viewCount);
+        std::size_t counts[kBlock];
+        for (std::size_t block = begin; block < end && !loop.stopRequested(); block += kBlock) {
+            const int count = static_cast<int>(std::min<std::size_t>(kBlock, end - block));
             loop.runItem(t == 0, [&] {
-                const std::size_t m = sampler.sampleVertex(v, buffer.data(), nullptr, viewOf.data());
-                for (std::size_t j = 0; j < m; ++j) {
-                    DirectionalSample s = buffer[j];
-                    saturated += weighSaturation(s, options) ? 1 : 0;
-                    parts[t].push_back(s);
-                    partViews[t].push_back(static_cast<std::uint32_t>(viewOf[j]));
+                sampler.sampleVertexBlock(block, count, buffer.data(), counts, nullptr, viewOf.data());
+                for (int k = 0; k < count; ++k) {
+                    for (std::size_t j = 0; j < counts[k]; ++j) {
+                        DirectionalSample s = buffer[k * viewCount + j];
+                        saturated += weighSaturation(s, options) ? 1 : 0;
+                        parts[t].push_back(s);
+                        partViews[t].push_back(static_cast<std::uint32_t>(viewOf[k * viewCount + j]));
+                    }
+                    set.offsets[block + k + 1] = counts[k];
                 }
-                set.offsets[v + 1] = m;
-            });
+            }, static_cast<std::size_t>(count));
+        }
     }
     loop.finish();
     for (std::size_t v = 0; v < n; ++v) set.offsets[v + 1] += set.offsets[v];
@@ -523,12 +531,14 @@ std::string RadianceFromViewsOptions::validate() const {
     return why.str();
 }
 
-// About an eighth of the mesh and at least kChoiceVertices vertices: measured, the choice was the same
-// on every capture (docs/fitting.md, "Choosing on part of the surface").
+// About an eighth of the mesh, at least kChoiceVertices and at most kMostChoiceVertices vertices:
+// measured, the choice was the same on every capture (docs/fitting.md, "Choosing on part of the
+// surface"); the cap keeps the choice's share of the fit small on scans of several 100k vertices.
 std::vector<std::uint8_t> automaticChoiceVertices(const TriangleMesh& mesh) {
-    constexpr std::size_t kChoiceVertices = 8192, kShare = 8;
+    constexpr std::size_t kChoiceVertices = 8192, kShare = 8, kMostChoiceVertices = 16384;
     const std::size_t n = mesh.vertexCount();
-    const std::size_t every = std::max<std::size_t>(1, n / std::max(kChoiceVertices, n / kShare));
+    const std::size_t picked = std::min(kMostChoiceVertices, std::max(kChoiceVertices, n / kShare));
+    const std::size_t every = std::max<std::size_t>(1, n / picked);
     std::vector<std::uint8_t> chosen(n, 1);
     if (every == 1) return chosen;
     const auto position = [&](std::size_t v) { return Eigen::Map<const Eigen::Vector3f>(mesh.positions.data() + 3 * v); };

@@ -181,6 +181,8 @@ std::string SharedFitOptions::validate() const {
         why << "the shared fit's Huber threshold must be > 0 (got " << huberThreshold << ")";
     else if (!(lobeRidge >= 0.0) || !std::isfinite(lobeRidge))
         why << "the shared lobe's regularisation must be finite and >= 0 (got " << lobeRidge << ")";
+    else if (!(guardStandardErrors >= 0.0) || !std::isfinite(guardStandardErrors))
+        why << "the shared fit's guard must be a finite number of standard errors >= 0 (got " << guardStandardErrors << ")";
     else if (lobeSampleBudget < 1000)
         why << "the shared lobe's sample budget must be at least 1000 (got " << lobeSampleBudget << ")";
     else if (octahedralResolution < 16 || octahedralResolution > 1024)
@@ -634,8 +636,11 @@ struct BasisProjector {
 BasisProjector buildBasisProjector(const BasisSpec& basis, const SharedModel& factor) {
     BasisProjector proj;
     const int K = proj.K = basis.coefficientCount();
-    proj.dirs = fibonacciHemisphere(112, 0.5);
-    constexpr int kRing = 24;
+    // About five directions per coefficient (PB4: 75), at most 136: the per-vertex projection is the
+    // conversion's largest cost, and on 416k vertices 136 directions for PB4's 15 coefficients gave
+    // the same held-out error as 75 (docs/design-notes.md, "The per-vertex guard of the shared fit").
+    const int hemisphere = std::clamp(4 * K, 56, 112), kRing = std::clamp(K, 12, 24);
+    proj.dirs = fibonacciHemisphere(hemisphere, 0.5);
     for (int i = 0; i < kRing; ++i) {
         const double a = 2.0 * M_PI * (i + 0.5) / kRing;
         proj.dirs.insert(proj.dirs.end(), {std::cos(a), std::sin(a), 0.0});
@@ -776,12 +781,19 @@ struct VertexPair {
     double d[3], sc[3], inv[3][3];
 };
 
-// Whether d + s g predicts the vertex's own samples left out one at a time better than the mean
-// colour, in first-order sRGB levels.
-bool sharedBeatsConstant(const VertexPair& pair, const double mean[3], const VertexSampleSums& vs,
-                         const ConversionScratch& scratch) {
-    double looShared = 0.0, looConstant = 0.0;
-    for (int j = 0; j < vs.m; ++j)
+// The errors of d + s g and of the mean colour at the vertex's own samples, each left out one at a
+// time, in first-order sRGB levels (squared, summed over samples and channels).
+struct LeaveOneOutErrors {
+    double shared = 0.0, constant = 0.0;
+    double differenceSquares = 0.0;  // sum over samples of (shared - constant at that sample)^2
+    int samples = 0;
+};
+LeaveOneOutErrors leaveOneOutErrors(const VertexPair& pair, const double mean[3], const VertexSampleSums& vs,
+                                    const ConversionScratch& scratch) {
+    LeaveOneOutErrors out;
+    out.samples = vs.m;
+    for (int j = 0; j < vs.m; ++j) {
+        double difference = 0.0;
         for (int c = 0; c < 3; ++c) {
             const double gj = scratch.g[3 * j + c], yj = scratch.y[3 * j + c];
             const double scale = scratch.a[j] * srgbSlope2(yj);
@@ -789,10 +801,25 @@ bool sharedBeatsConstant(const VertexPair& pair, const double mean[3], const Ver
             const double es = (yj - pair.d[c] - pair.sc[c] * gj) / std::max(1.0 - hs, 1e-3);
             const double hc = scratch.raw[j] / vs.meanW;
             const double ec = (yj - mean[c]) / std::max(1.0 - hc, 1e-3);
-            looShared += scale * es * es;
-            looConstant += scale * ec * ec;
+            out.shared += scale * es * es;
+            out.constant += scale * ec * ec;
+            difference += scale * (es * es - ec * ec);
         }
-    return looShared < looConstant;
+        out.differenceSquares += difference * difference;
+    }
+    return out;
+}
+
+// Whether the constant predicts the left-out samples better than d + s g by more than
+// `standardErrors` standard errors of the mean per-sample difference (0: better at all).
+bool constantClearlyBetter(const LeaveOneOutErrors& e, double standardErrors) {
+    const double m = e.samples;
+    if (!(m > 0.0)) return false;
+    const double meanDifference = (e.shared - e.constant) / m;
+    if (!(meanDifference > 0.0)) return false;
+    if (standardErrors <= 0.0 || m < 2.0) return true;
+    const double variance = std::max(0.0, e.differenceSquares / m - meanDifference * meanDifference) * m / (m - 1.0);
+    return meanDifference > standardErrors * std::sqrt(variance / m);
 }
 
 // Weighted RMS residual of the stored function (shared or constant) at the vertex's samples.
@@ -848,7 +875,8 @@ Conversion convertVertex(const ConversionInput& in, const ConversionOutputs& out
         const double lambda = in.options.specularPrior * vs.sums[c].W * in.model.lobeEnergy[c];
         solvePair(vs.sums[c], lambda, priorS[c], pair.d[c], pair.sc[c], pair.inv[c]);
     }
-    const bool keepShared = vs.m >= in.fit.minSamples && vs.m >= 2 && sharedBeatsConstant(pair, mean, vs, scratch);
+    const bool keepShared = vs.m >= in.fit.minSamples && vs.m >= 2 &&
+                            !constantClearlyBetter(leaveOneOutErrors(pair, mean, vs, scratch), in.options.guardStandardErrors);
     std::vector<double>& out = scratch.out;
     std::fill(out.begin(), out.end(), 0.0);
     if (keepShared) {

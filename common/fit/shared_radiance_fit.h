@@ -40,7 +40,7 @@ struct SharedFitOptions {
     int choiceIterations = 4;
     int robustIterations = 4;        // of them, the last ones use Huber weights (0: none)
     double huberThreshold = 3.0;     // > 0, in robust standard deviations
-    double lobeRidge = 0.03;         // >= 0: Tikhonov weight of G (times 1 + l(l+1), relative to trace / M)
+    double lobeRidge = 0.01;         // >= 0: Tikhonov weight of G (times 1 + l(l+1), relative to trace / M)
     std::size_t lobeSampleBudget = 50000;  // >= 1000: samples the G step uses at most (about)
     int octahedralResolution = 128;  // 16..1024: table of G for the per-vertex steps
     // The lobe term is s_v * (n_v . w)_+ * G(r_v(w)) (the irradiance cosine at the mirror
@@ -51,6 +51,14 @@ struct SharedFitOptions {
     // fitted in the alternation, starting from the cosine and pulled weakly toward it (a metal's
     // Fresnel brightening at grazing angles offsets the cosine; a plastic's does not).
     bool fitFactorCurve = true;
+    // The per-vertex guard: a vertex keeps d + s * lobe unless its own samples, each left out in
+    // turn, are predicted better by its constant mean colour by more than this many standard errors
+    // of the per-sample difference. The lobe is validated for the whole capture (the automatic
+    // choice's left-out rasters); ten samples of one vertex rarely show where it predicts a
+    // highlight nobody photographed there, so a vertex's own evidence overrides it only when clear
+    // (docs/design-notes.md, "The per-vertex guard of the shared fit"). 0: whenever the constant is
+    // better at all (the rule until 2026-11-29). >= 0.
+    double guardStandardErrors = 3.0;
     std::string validate() const;
 };
 

@@ -11,6 +11,15 @@ namespace rad {
 namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kAutomaticDepthToleranceFraction = 1e-4;
+
+void addCounters(SamplingCounters* to, const SamplingCounters& from) {
+    if (!to) return;
+    to->facing += from.facing;
+    to->inFrame += from.inFrame;
+    to->raysCast += from.raysCast;
+    to->occluded += from.occluded;
+    to->samples += from.samples;
+}
 }  // namespace
 
 std::string checkView(const CalibratedView& view) {
@@ -81,57 +90,120 @@ ViewSampler::ViewSampler(const TriangleMesh& mesh, std::vector<CalibratedView> v
 
 ViewSampler::~ViewSampler() = default;
 
+bool ViewSampler::vertexFrame(std::size_t v, Eigen::Vector3d& X, Eigen::Vector3d& n) const {
+    if (v >= vertexCount_) return false;
+    X = Eigen::Vector3d(positions_[3 * v], positions_[3 * v + 1], positions_[3 * v + 2]);
+    n = Eigen::Vector3d(normals_[3 * v], normals_[3 * v + 1], normals_[3 * v + 2]);
+    const double len = n.norm();
+    if (!(len > 0.0) || !std::isfinite(len)) return false;
+    n /= len;
+    return true;
+}
+
+bool ViewSampler::facesAndProjects(std::size_t i, const Eigen::Vector3d& X, const Eigen::Vector3d& n, Candidate& c,
+                                   SamplingCounters& counters) const {
+    const CalibratedView& view = views_[i];
+    // Cheapest tests first: facing (a dot product) rejects about half of the views.
+    const Eigen::Vector3d toCamera = view.camera.center - X;
+    c.distance = toCamera.norm();
+    if (!(c.distance > 0.0)) return false;
+    c.w = toCamera / c.distance;
+    c.cosine = n.dot(c.w);
+    if (!(c.cosine >= cosGrazing_) || !(c.cosine > 0.0)) return false;
+    ++counters.facing;
+    if (!view.camera.project(X, c.u, c.v) || !view.camera.isInside(c.u, c.v, margin_)) return false;
+    ++counters.inFrame;
+    return true;
+}
+
+bool ViewSampler::takeSample(std::size_t i, const Candidate& c, DirectionalSample& s) const {
+    if (!sampleBilinearLinear(views_[i].image, c.u, c.v, s.rgb)) return false;
+    s.direction[0] = static_cast<float>(c.w.x());
+    s.direction[1] = static_cast<float>(c.w.y());
+    s.direction[2] = static_cast<float>(c.w.z());
+    s.weight = static_cast<float>(c.cosine);
+    return true;
+}
+
+
 std::size_t ViewSampler::sampleVertex(std::size_t v, DirectionalSample* out, SamplingCounters* counters,
                                       int* viewOfSample) const {
-    if (v >= vertexCount_) return 0;
-    const Eigen::Vector3d X(positions_[3 * v], positions_[3 * v + 1], positions_[3 * v + 2]);
-    Eigen::Vector3d n(normals_[3 * v], normals_[3 * v + 1], normals_[3 * v + 2]);
-    const double len = n.norm();
-    if (!(len > 0.0) || !std::isfinite(len)) return 0;
-    n /= len;
+    Eigen::Vector3d X, n;
+    if (!vertexFrame(v, X, n)) return 0;
     const Eigen::Vector3f origin = X.cast<float>();
     std::size_t count = 0;
     SamplingCounters local;
+    Candidate c;
     for (std::size_t i = 0; i < views_.size(); ++i) {
-        const CalibratedView& view = views_[i];
-        // Cheapest tests first: facing (a dot product) rejects about half of the views.
-        const Eigen::Vector3d toCamera = view.camera.center - X;
-        const double distance = toCamera.norm();
-        if (!(distance > 0.0)) continue;
-        const Eigen::Vector3d w = toCamera / distance;
-        const double cosine = n.dot(w);
-        if (!(cosine >= cosGrazing_) || !(cosine > 0.0)) continue;
-        ++local.facing;
-        double u, vv;
-        if (!view.camera.project(X, u, vv) || !view.camera.isInside(u, vv, margin_)) continue;
-        ++local.inFrame;
+        if (!facesAndProjects(i, X, n, c, local)) continue;
         if (scene_) {
-            const double tNear = depthTolerance_, tFar = distance - depthTolerance_;
+            const double tNear = depthTolerance_, tFar = c.distance - depthTolerance_;
             if (!(tFar > tNear)) continue;  // the camera sits on the surface: no meaningful sample
             ++local.raysCast;
-            if (scene_->occluded(origin, w.cast<float>(), static_cast<float>(tNear), static_cast<float>(tFar))) {
+            if (scene_->occluded(origin, c.w.cast<float>(), static_cast<float>(tNear), static_cast<float>(tFar))) {
                 ++local.occluded;
                 continue;
             }
         }
-        DirectionalSample& s = out[count];
-        if (!sampleBilinearLinear(view.image, u, vv, s.rgb)) continue;
-        s.direction[0] = static_cast<float>(w.x());
-        s.direction[1] = static_cast<float>(w.y());
-        s.direction[2] = static_cast<float>(w.z());
-        s.weight = static_cast<float>(cosine);
+        if (!takeSample(i, c, out[count])) continue;
         if (viewOfSample) viewOfSample[count] = static_cast<int>(i);
         ++count;
     }
     local.samples = count;
-    if (counters) {
-        counters->facing += local.facing;
-        counters->inFrame += local.inFrame;
-        counters->raysCast += local.raysCast;
-        counters->occluded += local.occluded;
-        counters->samples += local.samples;
-    }
+    addCounters(counters, local);
     return count;
+}
+
+void ViewSampler::sampleVertexBlock(std::size_t first, int count, DirectionalSample* out, std::size_t* counts,
+                                    SamplingCounters* counters, int* viewOfSample) const {
+    count = std::max(0, std::min(count, kBlock));
+    const std::size_t viewCount = views_.size();
+    Eigen::Vector3d X[kBlock], n[kBlock];
+    bool usable[kBlock];
+    for (int k = 0; k < count; ++k) {
+        counts[k] = 0;
+        usable[k] = vertexFrame(first + k, X[k], n[k]);
+    }
+    SamplingCounters local;
+    Candidate c[kBlock];
+    RayPacket16 rays;
+    for (std::size_t i = 0; i < viewCount; ++i) {
+        std::uint32_t candidates = 0, cast = 0;
+        for (int k = 0; k < count; ++k) {
+            if (!usable[k] || !facesAndProjects(i, X[k], n[k], c[k], local)) continue;
+            candidates |= 1u << k;
+            if (!scene_) continue;
+            const double tNear = depthTolerance_, tFar = c[k].distance - depthTolerance_;
+            if (!(tFar > tNear)) {  // the camera sits on the surface: no meaningful sample
+                candidates &= ~(1u << k);
+                continue;
+            }
+            rays.originX[k] = static_cast<float>(X[k].x());
+            rays.originY[k] = static_cast<float>(X[k].y());
+            rays.originZ[k] = static_cast<float>(X[k].z());
+            rays.directionX[k] = static_cast<float>(c[k].w.x());
+            rays.directionY[k] = static_cast<float>(c[k].w.y());
+            rays.directionZ[k] = static_cast<float>(c[k].w.z());
+            rays.tNear[k] = static_cast<float>(tNear);
+            rays.tFar[k] = static_cast<float>(tFar);
+            cast |= 1u << k;
+        }
+        if (cast) {
+            const std::uint32_t occluded = scene_->occluded16(rays, cast);
+            local.raysCast += static_cast<std::size_t>(__builtin_popcount(cast));
+            local.occluded += static_cast<std::size_t>(__builtin_popcount(occluded));
+            candidates &= ~occluded;
+        }
+        for (int k = 0; k < count; ++k) {
+            if (!((candidates >> k) & 1u)) continue;
+            const std::size_t slot = std::size_t(k) * viewCount + counts[k];
+            if (!takeSample(i, c[k], out[slot])) continue;
+            if (viewOfSample) viewOfSample[slot] = static_cast<int>(i);
+            ++counts[k];
+        }
+    }
+    for (int k = 0; k < count; ++k) local.samples += counts[k];
+    addCounters(counters, local);
 }
 
 }  // namespace rad

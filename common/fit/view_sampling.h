@@ -75,8 +75,29 @@ public:
     // range. Thread-safe; no allocation.
     std::size_t sampleVertex(std::size_t v, DirectionalSample* out, SamplingCounters* counters = nullptr,
                              int* viewOfSample = nullptr) const;
+    // The samples of vertices first .. first + count - 1 (count <= kBlock): the same samples in the
+    // same order as sampleVertex gives them one by one, vertex first + k's in out[k * viewCount() ..]
+    // (and viewOfSample likewise), their number in counts[k]. The occlusion rays of the block toward
+    // one camera go to Embree as one packet: neighbouring vertices' rays to one camera are coherent,
+    // and a packet traverses the tree once for all of them.
+    static constexpr int kBlock = 16;
+    void sampleVertexBlock(std::size_t first, int count, DirectionalSample* out, std::size_t* counts,
+                           SamplingCounters* counters = nullptr, int* viewOfSample = nullptr) const;
 
 private:
+    // The tests before the occlusion ray: whether view i sees vertex X (unit normal n) facing it and
+    // inside its image; fills the direction w, the cosine, the projection (u, v), the camera distance.
+    struct Candidate {
+        Eigen::Vector3d w;
+        double cosine = 0.0, u = 0.0, v = 0.0, distance = 0.0;
+    };
+    bool facesAndProjects(std::size_t i, const Eigen::Vector3d& X, const Eigen::Vector3d& n, Candidate& c,
+                          SamplingCounters& counters) const;
+    // The sample of a candidate that passed the occlusion test: false when the image refuses it.
+    bool takeSample(std::size_t i, const Candidate& c, DirectionalSample& s) const;
+    // The vertex's position and unit normal; false when its normal is zero or not finite.
+    bool vertexFrame(std::size_t v, Eigen::Vector3d& X, Eigen::Vector3d& n) const;
+
     const float* positions_ = nullptr;
     const float* normals_ = nullptr;
     std::size_t vertexCount_ = 0;

@@ -1,6 +1,6 @@
 // The shared fit (fit/shared_radiance_fit.h): exact recovery where its model holds, a better
-// prediction of an unphotographed highlight than the per-vertex fit from sparse views, and the
-// per-vertex fallback to the constant on a matte, noisy field.
+// prediction of an unphotographed highlight than the per-vertex fit from sparse views, no invented
+// highlight on a matte, noisy field, and the per-vertex guard on a matte patch of a glossy object.
 #include "fit/robust_radiance_fit.h"
 #include "fit/shared_radiance_fit.h"
 #include "radiance/radiance_evaluation.h"
@@ -216,7 +216,7 @@ TEST(SharedRadianceFit, PredictsAnUnphotographedHighlightBetterThanThePerVertexF
   }
 }
 
-TEST(SharedRadianceFit, MatteNoisyFieldFallsBackToTheConstantAtMostVertices) {
+TEST(SharedRadianceFit, MatteNoisyFieldInventsNoHighlight) {
     std::mt19937 rng(5);
     const std::size_t n = 1000;
     Field f = makeField(n, rng, 0.0);  // no view dependence at all
@@ -232,23 +232,83 @@ TEST(SharedRadianceFit, MatteNoisyFieldFallsBackToTheConstantAtMostVertices) {
         set.offsets.push_back(set.samples.size());
     }
     rad::RobustFitOptions fit;
-    rad::SharedFitOptions options;
-    const rad::SharedModel model = rad::fitSharedModel(f.normals, {}, {}, set, nullptr, options);
-    rad::RadianceField field = framedField(f, fit);
-    std::vector<float> mean(3 * n), residual(n);
-    std::vector<std::uint8_t> status(n);
-    const rad::SharedConversionStats stats =
-        rad::writeSharedRadiance(model, set, nullptr, {}, {}, fit, options, field, mean, residual, status);
-    EXPECT_EQ(stats.shared + stats.constant + stats.tooFew, n);
-    EXPECT_GT(stats.constant, stats.shared);
-    // Every vertex's function stays close to its true (constant) colour: no invented highlight.
-    double worst = 0.0;
+    for (const double guard : {0.0, rad::SharedFitOptions().guardStandardErrors}) {
+        SCOPED_TRACE(guard);
+        rad::SharedFitOptions options;
+        options.guardStandardErrors = guard;
+        const rad::SharedModel model = rad::fitSharedModel(f.normals, {}, {}, set, nullptr, options);
+        rad::RadianceField field = framedField(f, fit);
+        std::vector<float> mean(3 * n), residual(n);
+        std::vector<std::uint8_t> status(n);
+        const rad::SharedConversionStats stats =
+            rad::writeSharedRadiance(model, set, nullptr, {}, {}, fit, options, field, mean, residual, status);
+        EXPECT_EQ(stats.shared + stats.constant + stats.tooFew, n);
+        // The strict guard takes the constant wherever it predicts the left-out samples better at
+        // all: on pure noise, at most vertices.
+        if (guard == 0.0) EXPECT_GT(stats.constant, stats.shared);
+        // Every vertex's function stays close to its true (constant) colour: no invented highlight.
+        double worst = 0.0;
+        for (std::size_t v = 0; v < n; ++v) {
+            const Vector3d nv(f.normals[3 * v], f.normals[3 * v + 1], f.normals[3 * v + 2]);
+            const Vector3d w = randomAbove(rng, nv);
+            worst = std::max(worst, (rad::evaluateRadiance(field, v, w) - f.diffuse[v]).cwiseAbs().maxCoeff());
+        }
+        EXPECT_LT(worst, 0.1);
+    }
+}
+
+TEST(SharedRadianceFit, TheGuardGivesAMattePatchOnAGlossyObjectItsConstant) {
+    // 900 glossy vertices teach the lobe; 100 matte ones have the same kind of samples but no
+    // highlight. Without a neighbour prior their scale is pulled toward 1, i.e. toward the lobe:
+    // the guard must notice, from their own samples, that it predicts highlights they do not show.
+    std::mt19937 rng(21);
+    const std::size_t n = 1000, matte = 100;
+    Field f = makeField(n, rng, 1.0);
+    f.cosine = true;  // the model's default factor
+    for (std::size_t v = 0; v < matte; ++v) f.specular[v] = Vector3d::Zero();
+    rad::SampleSet set;
+    set.offsets.push_back(0);
+    std::normal_distribution<double> noise(0.0, 0.02);
     for (std::size_t v = 0; v < n; ++v) {
         const Vector3d nv(f.normals[3 * v], f.normals[3 * v + 1], f.normals[3 * v + 2]);
-        const Vector3d w = randomAbove(rng, nv);
-        worst = std::max(worst, (rad::evaluateRadiance(field, v, w) - f.diffuse[v]).cwiseAbs().maxCoeff());
+        for (int j = 0; j < 30; ++j) {
+            const Vector3d w = randomAbove(rng, nv);
+            addSample(set, w, f.value(v, w) + Vector3d(noise(rng), noise(rng), noise(rng)), j);
+        }
+        set.offsets.push_back(set.samples.size());
     }
-    EXPECT_LT(worst, 0.1);
+    rad::RobustFitOptions fit;
+    const auto worstMatteHighlight = [&](double guard, std::size_t& glossyShared) {
+        rad::SharedFitOptions options;
+        options.guardStandardErrors = guard;
+        const rad::SharedModel model = rad::fitSharedModel(f.normals, {}, {}, set, nullptr, options);
+        rad::RadianceField field = framedField(f, fit);
+        std::vector<float> mean(3 * n), residual(n);
+        std::vector<std::uint8_t> status(n), kept;
+        rad::writeSharedRadiance(model, set, nullptr, {}, {}, fit, options, field, mean, residual, status, {}, &kept);
+        glossyShared = 0;
+        for (std::size_t v = matte; v < n; ++v) glossyShared += kept[v];
+        // Each matte vertex's function where the lobe peaks (the mirror direction of the light), when
+        // that direction is above its horizon: its true value there is its diffuse colour.
+        double worst = 0.0;
+        for (std::size_t v = 0; v < matte; ++v) {
+            const Vector3d nv(f.normals[3 * v], f.normals[3 * v + 1], f.normals[3 * v + 2]);
+            const Vector3d peak = rad::reflect(nv, kLight);
+            if (peak.dot(nv) < 0.3) continue;
+            worst = std::max(worst, (rad::evaluateRadiance(field, v, peak) - f.diffuse[v]).cwiseAbs().maxCoeff());
+        }
+        return worst;
+    };
+    std::size_t glossyShared = 0, glossySharedWithoutGuard = 0;
+    const double guarded = worstMatteHighlight(rad::SharedFitOptions().guardStandardErrors, glossyShared);
+    const double unguarded = worstMatteHighlight(1e9, glossySharedWithoutGuard);
+    // The lobe peaks at 1 (times 0.8-1 per channel): an invented highlight is most of that.
+    EXPECT_GT(unguarded, 0.3);
+    EXPECT_LT(guarded, 0.1);
+    // The glossy vertices keep the lobe, except where their own samples, none near their highlight,
+    // are fitted better by a constant than by the regularised lobe: not most of them.
+    EXPECT_GE(glossyShared, (n - matte) * 3 / 4) << glossyShared;
+    EXPECT_EQ(glossySharedWithoutGuard, n - matte);
 }
 
 TEST(SharedRadianceFit, WarmStartFromAFitWithoutSomeViewsReachesTheColdFit) {

@@ -159,6 +159,61 @@ TEST(ViewSampling, EveryVertexMatchesTheOracle) {
     EXPECT_EQ(counters.raysCast, counters.inFrame);
 }
 
+TEST(ViewSampling, BlocksOfVerticesMatchTheOracleViewByView) {
+    // The packet path: blocks of 16 vertices (and shorter ones at the end) against the brute-force
+    // oracle, three views, the occluder, the special normals and a vertex without a normal.
+    Scene s = makeScene();
+    const std::size_t noNormal = 40;
+    for (int k = 0; k < 3; ++k) s.mesh.normals[3 * noNormal + k] = 0.0f;
+    const rad::PinholeCamera second =
+        rad::PinholeCamera::lookAt(Vector3d(-0.6, 0.5, 2.5), Vector3d(0, 0, 0), Vector3d(0, 1, 0), 40.0, 96, 72);
+    const rad::PinholeCamera third =
+        rad::PinholeCamera::lookAt(Vector3d(0.2, 0.1, 1.5), Vector3d(0.2, 0.1, 0), Vector3d(0, 1, 0), 50.0, 96, 72);
+    const std::vector<rad::PinholeCamera> cameras = {s.camera, second, third};
+    std::vector<rad::CalibratedView> views;
+    for (const rad::PinholeCamera& c : cameras) views.push_back({c, s.image.view()});
+    const rad::ViewSampler sampler(s.mesh, views);
+    const std::size_t n = s.mesh.vertexCount(), viewCount = views.size();
+    std::vector<rad::DirectionalSample> out(rad::ViewSampler::kBlock * viewCount);
+    std::vector<int> viewOf(out.size());
+    std::size_t counts[rad::ViewSampler::kBlock];
+    rad::SamplingCounters counters;
+    std::size_t sampled = 0, occluded = 0;
+    for (const int blockSize : {16, 5, 1}) {
+        for (std::size_t first = 0; first < n; first += blockSize) {
+            const int count = static_cast<int>(std::min<std::size_t>(blockSize, n - first));
+            sampler.sampleVertexBlock(first, count, out.data(), counts, blockSize == 16 ? &counters : nullptr, viewOf.data());
+            for (int k = 0; k < count; ++k) {
+                const std::size_t v = first + k;
+                SCOPED_TRACE("vertex " + std::to_string(v) + ", blocks of " + std::to_string(blockSize));
+                std::size_t expected = 0;
+                for (std::size_t i = 0; i < viewCount; ++i) {
+                    const Expected e = v == noNormal ? Expected{}
+                                                     : oracle(s.mesh, v, cameras[i], s.image, 2.0, 80.0,
+                                                              sampler.depthTolerance(), true);
+                    if (blockSize == 16) occluded += e.facing && e.inFrame && e.occluded;
+                    if (!e.sampled) continue;
+                    ASSERT_LT(expected, counts[k]);
+                    const rad::DirectionalSample& got = out[k * viewCount + expected];
+                    EXPECT_EQ(viewOf[k * viewCount + expected], static_cast<int>(i));
+                    for (int c = 0; c < 3; ++c) {
+                        EXPECT_NEAR(got.direction[c], e.direction[c], 1e-6);
+                        EXPECT_NEAR(got.rgb[c], e.rgb[c], 1e-5);
+                    }
+                    EXPECT_NEAR(got.weight, e.weight, 1e-6);
+                    ++expected;
+                }
+                EXPECT_EQ(counts[k], expected);
+                if (blockSize == 16) sampled += expected;
+            }
+        }
+    }
+    EXPECT_GT(sampled, 1000u);
+    EXPECT_GT(occluded, 20u);
+    EXPECT_EQ(counters.samples, sampled);
+    EXPECT_EQ(counters.occluded, occluded);
+}
+
 TEST(ViewSampling, VertexInTheBorderMarginIsSkipped) {
     rad::TriangleMesh mesh;
     const rad::PinholeCamera cam =
