@@ -653,9 +653,17 @@ BasisProjector buildBasisProjector(const BasisSpec& basis, const SharedModel& fa
         evaluateBasis(basis, dirs[3 * i], dirs[3 * i + 1], dirs[3 * i + 2], tmp.data());
         for (int k = 0; k < K; ++k) B(i, k) = tmp[k];
     }
-    Eigen::MatrixXd BtB = B.transpose() * B;
+    // Least squares weighted by the cosine n.w, as the fit weighs its samples: the basis spends its
+    // few coefficients where photographs see the surface, not at the horizon, where they see it edge
+    // on or not at all (the floor keeps the horizon tame; measured: docs/design-notes.md, "The
+    // per-vertex guard of the shared fit").
+    constexpr double kHorizonWeight = 0.05;
+    Eigen::VectorXd weight(Nd);
+    for (int i = 0; i < Nd; ++i) weight[i] = std::max(dirs[3 * i + 2], kHorizonWeight);
+    const Eigen::MatrixXd BtW = B.transpose() * weight.asDiagonal();
+    Eigen::MatrixXd BtB = BtW * B;
     BtB.diagonal().array() += 1e-6 * BtB.trace() / K;
-    proj.P = BtB.ldlt().solve(B.transpose());
+    proj.P = BtB.ldlt().solve(BtW);
     for (int i = 0; i < Nd; ++i) proj.P.col(i) *= factor.factor(dirs[3 * i + 2]);
     std::vector<double> at(K), atReflected(K);
     const double x = 0.3141, y = 0.4718, z = std::sqrt(1.0 - x * x - y * y);
