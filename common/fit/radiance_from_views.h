@@ -54,8 +54,8 @@ struct RadianceFromViewsOptions {
     FitModel model = FitModel::Automatic;
     SharedFitOptions shared;
     int validationEvery = 5;        // Automatic: every k-th usable view is left out of the comparison fit (>= 2)
-    // Shared: vertices where the shared function does not predict the vertex's own left-out samples
-    // better than the constant get the per-vertex fit (which validates itself against the constant)
+    // Shared: vertices where the constant predicts the vertex's own left-out samples clearly better
+    // than the shared function (SharedFitOptions::guardStandardErrors) get the per-vertex fit (which validates itself against the constant)
     // instead of the constant mean colour. Off by default: on six of seven Mitsuba captures the
     // constant is as good or better on held-out photographs and the fit takes a quarter less time
     // (docs/design-notes.md, "The vertices the shared fit does not win").
