@@ -108,19 +108,23 @@ def vertex_normals(V, F):
     return N / np.where(length > 0, length, 1.0)
 
 
-def write_ply(path, V, F, normals=None, colors=None):
-    """Binary little-endian PLY: float x y z [nx ny nz] [float r g b], uchar-count int faces."""
+def write_ply(path, V, F, normals=None, colors=None, gloss=None):
+    """Binary little-endian PLY: float x y z [nx ny nz] [float r g b] [float gloss], uchar-count int faces."""
     fields = [("x", "<f4"), ("y", "<f4"), ("z", "<f4")]
     if normals is not None:
         fields += [("nx", "<f4"), ("ny", "<f4"), ("nz", "<f4")]
     if colors is not None:
         fields += [("r", "<f4"), ("g", "<f4"), ("b", "<f4")]
+    if gloss is not None:
+        fields += [("gloss_x", "<f4")]  # Mitsuba groups attributes by postfix: "gloss_x" loads as vertex_gloss
     vert = np.empty(len(V), dtype=fields)
     vert["x"], vert["y"], vert["z"] = V.T
     if normals is not None:
         vert["nx"], vert["ny"], vert["nz"] = normals.T
     if colors is not None:
         vert["r"], vert["g"], vert["b"] = colors.T
+    if gloss is not None:
+        vert["gloss_x"] = gloss
     face = np.empty(len(F), dtype=[("n", "u1"), ("i", "<i4", (3,))])
     face["n"] = 3
     face["i"] = F
@@ -142,6 +146,10 @@ MATERIALS = {
     "metal": dict(roughness=0.3, specular=0.5, metallic=0.9),
     "matte": dict(roughness=0.8, specular=0.1, metallic=0.0),
 }
+# "mixed": the plastic where a smooth per-vertex gloss field is 1, the matte where it is 0 (Mitsuba's
+# blendbsdf, weight = the gloss): a glossy object with matte regions, the case the shared fit's
+# per-vertex guard is there for.
+MIXED = ("matte", "plastic")
 
 
 def up_frame(up):
@@ -172,6 +180,18 @@ def albedo_field(V, seed):
         w = np.exp(-np.sum((X - centre) ** 2, axis=1) / (2 * radius ** 2))[:, None]
         col = col * (1 - w) + w * rng.uniform(0.1, 0.85, 3)[None, :]
     return np.clip(col, 0.12, 0.85)
+
+
+def gloss_field(V, seed):
+    """A smooth per-vertex weight in [0, 1] from positions: a random plane wave through the object,
+    sharpened, so that about half of the surface is glossy and half matte with soft borders."""
+    rng = np.random.default_rng(seed + 104729)
+    lo, hi = V.min(0), V.max(0)
+    X = (V - 0.5 * (lo + hi)) / float(np.linalg.norm(hi - lo))
+    k = rng.normal(size=3)
+    k *= 3.0 / np.linalg.norm(k)
+    wave = np.sin(2 * np.pi * (X @ k) + rng.uniform(0, 2 * np.pi))
+    return np.clip(0.5 + 2.0 * wave, 0.0, 1.0)
 
 
 def camera_views(n, centre, radius, up, seed, fov_y_deg, whole_sphere, distance_jitter=0.12):
@@ -270,15 +290,19 @@ def write_png(mi, path, array_u8):
 
 def build_scene(mi, args, render_ply, centre, radius, views, fov_x, hdr_path):
     u, a, b = up_frame(args.up)
-    material = MATERIALS[args.material]
+    def principled(material):
+        return {"type": "principled", "base_color": {"type": "mesh_attribute", "name": "vertex_color"},
+                "roughness": material["roughness"], "specular": material["specular"],
+                "metallic": material["metallic"]}
+    if args.material == "mixed":
+        bsdf = {"type": "blendbsdf", "weight": {"type": "mesh_attribute", "name": "vertex_gloss"},
+                "matte": principled(MATERIALS[MIXED[0]]), "glossy": principled(MATERIALS[MIXED[1]])}
+    else:
+        bsdf = principled(MATERIALS[args.material])
     scene = {
         "type": "scene",
         "integrator": {"type": "path", "max_depth": args.max_depth, "hide_emitters": True},
-        "object": {"type": "ply", "filename": render_ply, "face_normals": False,
-                   "bsdf": {"type": "principled",
-                            "base_color": {"type": "mesh_attribute", "name": "vertex_color"},
-                            "roughness": material["roughness"], "specular": material["specular"],
-                            "metallic": material["metallic"]}},
+        "object": {"type": "ply", "filename": render_ply, "face_normals": False, "bsdf": bsdf},
     }
     lights = []
     key_dir = 0.55 * a + 0.75 * u + 0.35 * b
@@ -331,7 +355,8 @@ def build_scene(mi, args, render_ply, centre, radius, views, fov_x, hdr_path):
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--mesh", required=True, help="OFF, PLY or OBJ")
-    p.add_argument("--material", choices=sorted(MATERIALS), default="plastic")
+    p.add_argument("--material", choices=sorted(MATERIALS) + ["mixed"], default="plastic",
+                   help="mixed: plastic and matte blended by a smooth per-vertex gloss field (truth/albedo.ply, gloss_x)")
     p.add_argument("--lights", choices=["keyfill", "studio"], default="keyfill")
     p.add_argument("--hdr", default=None, help="equirectangular environment map for --lights studio (EXR/HDR)")
     p.add_argument("--views", type=int, default=40)
@@ -367,7 +392,8 @@ def main(argv=None):
     albedo = albedo_field(V, args.seed)
     write_ply(os.path.join(out, "mesh.ply"), V, F, normals=N)
     render_ply = os.path.join(out, "truth", "albedo.ply")
-    write_ply(render_ply, V, F, normals=N, colors=albedo)
+    gloss = gloss_field(V, args.seed) if args.material == "mixed" else None
+    write_ply(render_ply, V, F, normals=N, colors=albedo, gloss=gloss)
 
     lo, hi = V.min(0), V.max(0)
     centre = 0.5 * (lo + hi)
@@ -450,8 +476,12 @@ def main(argv=None):
         arguments={k: v for k, v in vars(args).items()},
         mesh=dict(source=os.path.basename(args.mesh), vertices=int(len(V)), faces=int(len(F)),
                   bbox_min=lo.tolist(), bbox_max=hi.tolist(), bounding_radius=radius),
-        material=dict(type="principled", base_color="per-vertex albedo (truth/albedo.ply, r g b)",
-                      **MATERIALS[args.material]),
+        material=(dict(type="principled", base_color="per-vertex albedo (truth/albedo.ply, r g b)",
+                       **MATERIALS[args.material]) if args.material != "mixed" else
+                  dict(type="blendbsdf", weight="per-vertex gloss (truth/albedo.ply, gloss_x)",
+                       bsdf_weight_0=dict(type="principled", **MATERIALS[MIXED[0]]),
+                       bsdf_weight_1=dict(type="principled", **MATERIALS[MIXED[1]]),
+                       glossy_fraction=float(np.mean(gloss > 0.5)))),
         albedo="smooth field of positions: 3 sinusoids per channel + 5 soft patches, seeded; clamp [0.12, 0.85]",
         lights=lights,
         integrator=dict(type="path", max_depth=args.max_depth, hide_emitters=True),
