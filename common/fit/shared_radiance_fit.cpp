@@ -639,10 +639,10 @@ BasisProjector buildBasisProjector(const BasisSpec& basis, const SharedModel& fa
     // About five directions per coefficient (PB4: 75), at most 136: the per-vertex projection is the
     // conversion's largest cost, and on 416k vertices 136 directions for PB4's 15 coefficients gave
     // the same held-out error as 75 (docs/design-notes.md, "The per-vertex guard of the shared fit").
-    const int hemisphere = std::clamp(4 * K, 56, 112), kRing = std::clamp(K, 12, 24);
+    const int hemisphere = std::clamp(4 * K, 56, 112), ring = std::clamp(K, 12, 24);
     proj.dirs = fibonacciHemisphere(hemisphere, 0.5);
-    for (int i = 0; i < kRing; ++i) {
-        const double a = 2.0 * M_PI * (i + 0.5) / kRing;
+    for (int i = 0; i < ring; ++i) {
+        const double a = 2.0 * M_PI * (i + 0.5) / ring;
         proj.dirs.insert(proj.dirs.end(), {std::cos(a), std::sin(a), 0.0});
     }
     const std::vector<double>& dirs = proj.dirs;

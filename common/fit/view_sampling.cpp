@@ -1,6 +1,7 @@
 #include "fit/view_sampling.h"
 
 #include <algorithm>
+#include <bitset>
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
@@ -125,7 +126,6 @@ bool ViewSampler::takeSample(std::size_t i, const Candidate& c, DirectionalSampl
     return true;
 }
 
-
 std::size_t ViewSampler::sampleVertex(std::size_t v, DirectionalSample* out, SamplingCounters* counters,
                                       int* viewOfSample) const {
     Eigen::Vector3d X, n;
@@ -153,6 +153,8 @@ std::size_t ViewSampler::sampleVertex(std::size_t v, DirectionalSample* out, Sam
     addCounters(counters, local);
     return count;
 }
+
+static_assert(ViewSampler::kBlock <= RayPacket16::kSize, "a block's rays fill one packet");
 
 void ViewSampler::sampleVertexBlock(std::size_t first, int count, DirectionalSample* out, std::size_t* counts,
                                     SamplingCounters* counters, int* viewOfSample) const {
@@ -190,8 +192,8 @@ void ViewSampler::sampleVertexBlock(std::size_t first, int count, DirectionalSam
         }
         if (cast) {
             const std::uint32_t occluded = scene_->occluded16(rays, cast);
-            local.raysCast += static_cast<std::size_t>(__builtin_popcount(cast));
-            local.occluded += static_cast<std::size_t>(__builtin_popcount(occluded));
+            local.raysCast += std::bitset<kBlock>(cast).count();
+            local.occluded += std::bitset<kBlock>(occluded).count();
             candidates &= ~occluded;
         }
         for (int k = 0; k < count; ++k) {
