@@ -40,6 +40,7 @@ rad::RadianceFromViewsOptions fitOptionsFromParameters(const RichParameterList& 
     options.model = model == 1 ? rad::FitModel::PerVertex
                   : model == 2 ? rad::FitModel::Shared
                                : rad::FitModel::Automatic;
+    options.shared.guardStandardErrors = par.getFloat("sharedGuard");
     return options;
 }
 
@@ -297,6 +298,14 @@ public:
                               "5th raster and compared raster by raster on those: the shared fit is used only when it "
                               "is better overall, in at least half of them and nowhere worse by more than 2 %; "
                               "otherwise the per-vertex fit (the log says which and why)."));
+        par.addParam(RichFloat("sharedGuard", float(rad::SharedFitOptions().guardStandardErrors),
+                               "Shared fit: per-vertex guard (standard errors)",
+                               "A vertex keeps the shared diffuse + lobe function unless its own photographs, each "
+                               "left out in turn, are predicted better by its constant mean colour by more than this "
+                               "many standard errors; then it gets the constant. 0: whenever the constant is better "
+                               "at all (never worse than the constant on the vertex's own left-out photographs, but "
+                               "a vertex whose few photographs missed its highlight then loses the highlight the "
+                               "lobe predicts for it in other views)."));
         par.addParam(RichInt("heldOutEvery", 0, "Hold out every k-th raster",
                              "0: fit on every raster. k >= 2: rasters k, 2k, 3k... (in the order of the raster "
                              "list) are left out of the fit, and the log compares, on each of them, the fitted "

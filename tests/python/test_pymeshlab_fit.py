@@ -143,6 +143,26 @@ def test_shared_lobe_model_reproduces_a_uniform_glossy_material(photos, tmp_path
     assert difference > 1e-3, "the shared model returned the per-vertex functions"
 
 
+def test_shared_guard_keeps_the_lobe_unless_the_constant_is_clearly_better(photos, tmp_path):
+    """sharedguard: the shared function's per-vertex guard, in standard errors. With 0 a vertex takes
+    its constant whenever the constant predicts its own left-out photographs better at all; with the
+    default margin only where clearly better, so fewer vertices are constant (a constant PB function
+    has no coefficient beyond the first). A negative margin is refused."""
+    constant = {}
+    for guard in (0.0, 3.0):
+        ms = with_rasters(photos)
+        ms.apply_filter(h.FIT, **fit_parameters(fitmodel=2, sharedguard=guard))
+        path = tmp_path / f"fit_guard{guard}.rply"
+        ms.save_current_mesh(str(path))
+        coefficients = rply.read_rply(str(path)).coefficients
+        constant[guard] = int(np.count_nonzero(np.abs(coefficients[:, :, 1:]).max(axis=(1, 2)) == 0.0))
+    assert constant[3.0] < constant[0.0], constant
+    assert constant[0.0] > 0, constant
+    ms = with_rasters(photos)
+    h.expect_refusal(ms, h.FIT, "the shared fit's guard must be a finite number of standard errors >= 0 (got -1)",
+                     **fit_parameters(fitmodel=2, sharedguard=-1.0))
+
+
 def test_fit_is_a_real_fit_not_a_copy_of_any_one_photograph(photos, tmp_path):
     """Against a wrong camera (the photographs shuffled by one) the same check fails: the comparison
     is discriminating."""
