@@ -106,14 +106,19 @@ bool ViewSampler::facesAndProjects(std::size_t i, const Eigen::Vector3d& X, cons
     const CalibratedView& view = views_[i];
     // Cheapest tests first: facing (a dot product) rejects about half of the views.
     const Eigen::Vector3d toCamera = view.camera.center - X;
-    c.distance = toCamera.norm();
-    if (!(c.distance > 0.0)) return false;
-    c.w = toCamera / c.distance;
+    const double distance = toCamera.norm();
+    if (!(distance > 0.0)) return false;
+    c.w = toCamera / distance;
     c.cosine = n.dot(c.w);
     if (!(c.cosine >= cosGrazing_) || !(c.cosine > 0.0)) return false;
     ++counters.facing;
     if (!view.camera.project(X, c.u, c.v) || !view.camera.isInside(c.u, c.v, margin_)) return false;
     ++counters.inFrame;
+    if (!scene_) return true;
+    const double tNear = depthTolerance_, tFar = distance - depthTolerance_;
+    if (!(tFar > tNear)) return false;  // the camera sits on the surface: no meaningful sample
+    c.tNear = static_cast<float>(tNear);
+    c.tFar = static_cast<float>(tFar);
     return true;
 }
 
@@ -137,10 +142,8 @@ std::size_t ViewSampler::sampleVertex(std::size_t v, DirectionalSample* out, Sam
     for (std::size_t i = 0; i < views_.size(); ++i) {
         if (!facesAndProjects(i, X, n, c, local)) continue;
         if (scene_) {
-            const double tNear = depthTolerance_, tFar = c.distance - depthTolerance_;
-            if (!(tFar > tNear)) continue;  // the camera sits on the surface: no meaningful sample
             ++local.raysCast;
-            if (scene_->occluded(origin, c.w.cast<float>(), static_cast<float>(tNear), static_cast<float>(tFar))) {
+            if (scene_->occluded(origin, c.w.cast<float>(), c.tNear, c.tFar)) {
                 ++local.occluded;
                 continue;
             }
@@ -175,19 +178,14 @@ void ViewSampler::sampleVertexBlock(std::size_t first, int count, DirectionalSam
             if (!usable[k] || !facesAndProjects(i, X[k], n[k], c[k], local)) continue;
             candidates |= 1u << k;
             if (!scene_) continue;
-            const double tNear = depthTolerance_, tFar = c[k].distance - depthTolerance_;
-            if (!(tFar > tNear)) {  // the camera sits on the surface: no meaningful sample
-                candidates &= ~(1u << k);
-                continue;
-            }
             rays.originX[k] = static_cast<float>(X[k].x());
             rays.originY[k] = static_cast<float>(X[k].y());
             rays.originZ[k] = static_cast<float>(X[k].z());
             rays.directionX[k] = static_cast<float>(c[k].w.x());
             rays.directionY[k] = static_cast<float>(c[k].w.y());
             rays.directionZ[k] = static_cast<float>(c[k].w.z());
-            rays.tNear[k] = static_cast<float>(tNear);
-            rays.tFar[k] = static_cast<float>(tFar);
+            rays.tNear[k] = c[k].tNear;
+            rays.tFar[k] = c[k].tFar;
             cast |= 1u << k;
         }
         if (cast) {

@@ -85,11 +85,13 @@ public:
                            SamplingCounters* counters = nullptr, int* viewOfSample = nullptr) const;
 
 private:
-    // The tests before the occlusion ray: whether view i sees vertex X (unit normal n) facing it and
-    // inside its image; fills the direction w, the cosine, the projection (u, v), the camera distance.
+    // The tests before the occlusion ray: whether view i sees vertex X (unit normal n) facing it,
+    // inside its image and, when occlusion is tested, far enough from the camera for an occlusion
+    // interval; fills the direction w, the cosine, the projection (u, v) and that interval.
     struct Candidate {
         Eigen::Vector3d w;
-        double cosine = 0.0, u = 0.0, v = 0.0, distance = 0.0;
+        double cosine = 0.0, u = 0.0, v = 0.0;
+        float tNear = 0.0f, tFar = 0.0f;
     };
     bool facesAndProjects(std::size_t i, const Eigen::Vector3d& X, const Eigen::Vector3d& n, Candidate& c,
                           SamplingCounters& counters) const;
