@@ -161,14 +161,19 @@ void logModelChoice(FilterContext& ctx, const rad::RadianceFromViewsOptions& opt
                            "error in sRGB levels on them: per-vertex %.2f, shared diffuse + reflected lobe %.2f, "
                            "constant mean colour %.2f; shared better or equal in %zu of %zu left-out rasters, "
                            "worst raster shared / per-vertex %.3f (shared needs: better overall, at least half "
-                           "the rasters, none worse than %.3f).",
+                           "the rasters, none worse than %.3f: the larger of %.3f and its overall gain).",
                            options.validationEvery, result.validationViews, result.validationSamples,
                            result.validationVertices, result.meanColor.size() / 3,
                            result.validationVertices < result.meanColor.size() / 3 ? ", patches of the surface" : "",
                            result.modelUsed == rad::FitModel::Shared ? "shared" : "per vertex",
                            result.validationPerVertex, result.validationShared, result.validationConstant,
                            result.validationViewsSharedWins, result.validationViewsCompared,
-                           result.validationWorstViewRatio, 1.0 + options.maxViewLoss));
+                           result.validationWorstViewRatio,
+                           1.0 + std::max(options.maxViewLoss,
+                                          result.validationShared > 0.0
+                                              ? result.validationPerVertex / result.validationShared - 1.0
+                                              : 0.0),
+                           1.0 + options.maxViewLoss));
     if (result.modelUsed == rad::FitModel::Shared)
         ctx.log(formatLine("Shared fit (SH%d lobe of the reflected direction): %zu vertices diffuse + scaled "
                            "lobe; the others (too few photographs, or where the constant predicted their own "

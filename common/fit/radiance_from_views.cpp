@@ -473,9 +473,10 @@ FitModel chooseModelOnLeftOutViews(const TriangleMesh& mesh, const VertexAdjacen
         result.validationWorstViewRatio = std::max(result.validationWorstViewRatio, ratio);
     }
     result.modelValidated = true;
-    const bool sharedBetter = result.validationShared < result.validationPerVertex &&
-                              2 * result.validationViewsSharedWins >= result.validationViewsCompared &&
-                              result.validationWorstViewRatio <= 1.0 + options.maxViewLoss;
+    const bool sharedBetter = sharedWinsOnLeftOutViews(result.validationPerVertex, result.validationShared,
+                                                       result.validationViewsSharedWins,
+                                                       result.validationViewsCompared,
+                                                       result.validationWorstViewRatio, options.maxViewLoss);
     return sharedBetter ? FitModel::Shared : FitModel::PerVertex;
 }
 
@@ -534,6 +535,13 @@ std::string RadianceFromViewsOptions::validate() const {
 // About an eighth of the mesh, at least kChoiceVertices and at most kMostChoiceVertices vertices:
 // measured, the choice was the same on every capture (docs/fitting.md, "Choosing on part of the
 // surface"); the cap keeps the choice's share of the fit small on scans of several 100k vertices.
+bool sharedWinsOnLeftOutViews(double perVertexRms, double sharedRms, std::size_t sharedWins,
+                              std::size_t viewsCompared, double worstViewRatio, double maxViewLoss) {
+    if (!(sharedRms < perVertexRms) || 2 * sharedWins < viewsCompared) return false;
+    const double pooledGain = perVertexRms / sharedRms - 1.0;
+    return worstViewRatio <= 1.0 + std::max(maxViewLoss, pooledGain);
+}
+
 std::vector<std::uint8_t> automaticChoiceVertices(const TriangleMesh& mesh) {
     constexpr std::size_t kChoiceVertices = 8192, kShare = 8, kMostChoiceVertices = 16384;
     const std::size_t n = mesh.vertexCount();
