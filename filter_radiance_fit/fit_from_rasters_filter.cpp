@@ -301,7 +301,8 @@ public:
                               "(by more than three standard errors) by its constant mean colour, which it then "
                               "gets. Automatic: both are fitted without every "
                               "5th raster and compared raster by raster on those: the shared fit is used only when it "
-                              "is better overall, in at least half of them and nowhere worse by more than 2 %; "
+                              "is better overall, in at least half of them and in none worse by more than it gains "
+                              "overall (or 2 %, the larger); "
                               "otherwise the per-vertex fit (the log says which and why)."));
         par.addParam(RichFloat("sharedGuard", float(rad::SharedFitOptions().guardStandardErrors),
                                "Shared fit: per-vertex guard (standard errors)",
