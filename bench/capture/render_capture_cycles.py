@@ -196,6 +196,34 @@ def write_png(path, array_u8):
                 + chunk(b"IEND", b""))
 
 
+def filmic_encode8(scene, linear_rgb, exposure, tmp):
+    """8-bit RGB of exposure * linear_rgb through Blender's own colour management with the Filmic
+    view transform (no look): the float image is saved with the scene's view settings applied
+    (Image.save_render), read back as bytes."""
+    height, width = linear_rgb.shape[:2]
+    image = bpy.data.images.new("tone", width, height, alpha=True, float_buffer=True)
+    rgba = np.ones((height, width, 4), np.float32)
+    rgba[..., :3] = linear_rgb
+    image.pixels.foreach_set(rgba[::-1].ravel())  # Blender's rows start at the bottom
+    view, settings = scene.view_settings, scene.render.image_settings
+    saved = (view.view_transform, view.look, view.exposure, settings.file_format, settings.color_mode,
+             settings.color_depth)
+    view.view_transform, view.look, view.exposure = "Filmic", "None", math.log2(exposure)
+    settings.file_format, settings.color_mode, settings.color_depth = "PNG", "RGB", "8"
+    path = os.path.join(tmp, "tone.png")
+    try:
+        image.save_render(path, scene=scene)
+    finally:
+        (view.view_transform, view.look, view.exposure, settings.file_format, settings.color_mode,
+         settings.color_depth) = saved
+        bpy.data.images.remove(image)
+    png = bpy.data.images.load(path, check_existing=False)
+    values = np.empty(width * height * 4, np.float32)
+    png.pixels.foreach_get(values)  # a byte image's pixels are its stored values / 255
+    bpy.data.images.remove(png)
+    return np.round(values.reshape(height, width, 4)[::-1, :, :3] * 255.0).astype(np.uint8)
+
+
 # ---------------------------------------------------------------------------------------------------
 # Scene
 
@@ -452,6 +480,10 @@ def parse_args(argv):
     p.add_argument("--noise-twin", action="store_true", help="render every view again with other seeds into photos_twin/")
     p.add_argument("--twin-views", type=int, default=0,
                    help="with --noise-twin: re-render only this many views, evenly spaced (0: all)")
+    p.add_argument("--tone", choices=["standard", "filmic"], default="standard",
+                   help="standard: 8-bit sRGB of the exposed linear radiance (as render_capture.py); filmic: "
+                        "Blender's Filmic view transform (Blender 3.x's default) at the same exposure, a tone "
+                        "curve that is not sRGB, as a camera's is not")
     p.add_argument("--threads", type=int, default=2)
     p.add_argument("--out", required=True)
     return p.parse_args(argv)
@@ -503,8 +535,9 @@ def main(argv):
         if args.twin_views and args.twin_views < args.views:
             twin_ids = sorted(set(np.linspace(0, args.views - 1, args.twin_views).round().astype(int).tolist()))
         twins, twin_times = (render_all(args.seed * 100003 + 50021, "twin", twin_ids) if args.noise_twin else ([], []))
-    finally:
+    except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
+        raise
 
     fractions = np.array([covered_fraction(cam, V, N, img[..., 3]) for cam, img in zip(cameras, images)])
     coverage_ok = bool(fractions.min() > 0.97) and projection_error < 0.01
@@ -518,17 +551,21 @@ def main(argv):
     exposure = 1.0 / float(np.percentile(covered, 99.7))
     clipped = float(np.mean(covered * exposure >= 1.0))
 
+    def encode8(img):
+        if args.tone == "filmic":
+            return filmic_encode8(scene, img[..., :3], exposure, tmp)
+        return rc.srgb_encode8(img[..., :3] * exposure)
+
     names = [f"view_{i:03d}.png" for i in range(args.views)]
     labels = [f"view_{i:03d}" for i in range(args.views)]
     for img, name in zip(images, names):
-        write_png(os.path.join(out, "photos", name), rc.srgb_encode8(img[..., :3] * exposure))
+        write_png(os.path.join(out, "photos", name), encode8(img))
         write_png(os.path.join(out, "masks", name), np.round(np.clip(img[..., 3], 0, 1) * 255).astype(np.uint8))
     noise = None
     if twins:
         diffs = []
         for img, twin, name in zip([images[i] for i in twin_ids], twins, [names[i] for i in twin_ids]):
-            a8 = rc.srgb_encode8(img[..., :3] * exposure)
-            b8 = rc.srgb_encode8(twin[..., :3] * exposure)
+            a8, b8 = encode8(img), encode8(twin)
             write_png(os.path.join(out, "photos_twin", name), b8)
             both = (img[..., 3] > 0.999) & (twin[..., 3] > 0.999)
             diffs.append((a8[both].astype(float) - b8[both].astype(float)).ravel())
@@ -580,7 +617,10 @@ def main(argv):
         # from them), plus the Blender camera's matrix_world
         sensors=[dict(origin=o.tolist(), target=t.tolist(), up=u.tolist(), blender_matrix_world=m.tolist())
                  for (o, t, u), m in zip(views, blender_matrices)],
-        tone=dict(exposure=exposure, mapping="8-bit sRGB of clamp(exposure * linear radiance, 0, 1)",
+        tone=dict(exposure=exposure,
+                  mapping=("8-bit sRGB of clamp(exposure * linear radiance, 0, 1)" if args.tone == "standard" else
+                           "8-bit Blender Filmic view transform (look None) of exposure * linear radiance "
+                           "(view exposure log2(exposure) stops)"),
                   fraction_of_covered_pixels_clipped=clipped),
         noise_twin=noise,
         seeds=dict(rule="scene.cycles.seed per render", photos=f"{args.seed * 100003} + view",
@@ -591,6 +631,7 @@ def main(argv):
         render_seconds=dict(scene_setup=setup_s, photos_total=float(sum(times)),
                             photos_per_view_median=float(np.median(times)), twin_total=float(sum(twin_times))),
     )
+    shutil.rmtree(tmp, ignore_errors=True)
     with open(os.path.join(out, "capture.json"), "w") as f:
         json.dump(info, f, indent=1)
     print(f"wrote {out}: {args.views} views {args.width}x{args.height} at {args.spp} spp (Cycles), "
