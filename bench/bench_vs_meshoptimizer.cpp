@@ -26,13 +26,14 @@
 //   armadillo: armadillo.off midpoint-subdivided 3 times (1.66M vertices, interpolated normals),
 //            glossy PB(4) without shadows: time at 10 % (ours on 1 and on --threads threads vs
 //            meshoptimizer with 3 and 30 attribute floats and positions only) and each run's peak
-//            resident memory above the process's before it, image error too unless --armadillo-error 0.
+//            resident memory above the process's before it, image error too unless --armadillo-error 0;
+//            --armadillo-basis SH2: a field of 27 floats, all of which meshoptimizer takes (equal floats).
 //
 //   bench_vs_meshoptimizer [--data DIR (data-cache)] [--only bunny,elephant,sphere,armadillo]
 //                          [--quick] [--weights 0.1,0.5,2,8,32] [--threads 2] [--views 16] [--size 512]
 //                          [--rply FITTED.rply ... [--open-below AXIS:FRACTION (cut its bottom off: an open scan)]]
 //                          [--lazy 0|1] [--geometry-weight W] [--pass-fraction F (0: the global queue)]
-//                          [--along-boundary 0|1]
+//                          [--along-boundary 0|1] [--armadillo-error 0|1] [--armadillo-basis PB4|SH2]
 //                          (experiments away from the defaults)
 #include "acquisition/camera_rig.h"
 #include "acquisition/sample_scene_radiance_mesh.h"
@@ -87,6 +88,9 @@ int alongBoundaryOverride = -1;  // --along-boundary: EdgeCollapseOptions::colla
 std::vector<std::string> rplyInputs;  // extra meshes: radiance PLY files (e.g. fitted from rendered photographs)
 bool quick = false;
 bool armadilloError = true;
+// The armadillo's basis: PB4 by default; SH2 (27 floats, all of which meshoptimizer takes) for the
+// time at exactly equal attribute floats.
+rad::BasisSpec armadilloBasis{rad::BasisKind::HemisphericalPolynomial, 4};
 const double kLevels[] = {0.50, 0.25, 0.10, 0.05};
 
 // The exact radiance of a sample scene projected on a basis at every vertex (make_radiance_mesh),
@@ -372,10 +376,10 @@ void armadilloTime(const std::string& data) {
     rad::computeAreaWeightedNormals(scan);
     const auto tm = Clock::now();
     rad::TriangleMesh dense = rad::subdivideMidpoint(scan, 3, rad::SubdivisionNormals::Interpolate);
-    const rad::RadianceMesh original = sceneMesh(std::move(dense), rad::SampleMaterial::Glossy,
-                                                 {rad::BasisKind::HemisphericalPolynomial, 4}, Eigen::Vector3d::UnitY(), false);
-    std::printf("\n== armadillo x3 subdivided: %zu vertices, %zu faces, PB4 glossy (made in %.1f s); time to 10 %% ==\n",
-                original.vertexCount(), original.faceCount(), secondsSince(tm));
+    const rad::RadianceMesh original = sceneMesh(std::move(dense), rad::SampleMaterial::Glossy, armadilloBasis,
+                                                 Eigen::Vector3d::UnitY(), false);
+    std::printf("\n== armadillo x3 subdivided: %zu vertices, %zu faces, %s glossy (made in %.1f s); time to 10 %% ==\n",
+                original.vertexCount(), original.faceCount(), armadilloBasis.name().c_str(), secondsSince(tm));
     const std::size_t target = static_cast<std::size_t>(0.10 * original.faceCount());
     const std::vector<Attributes> sets = attributeSets(original);
     std::vector<Candidate> candidates;
@@ -457,6 +461,11 @@ int main(int argc, char** argv) {
         else if (a == "--lazy") lazyOverride = std::atoi(v.c_str());
         else if (a == "--geometry-weight") geometryWeightOverride = std::atof(v.c_str());
         else if (a == "--armadillo-error") armadilloError = v != "0";
+        else if (a == "--armadillo-basis") {
+            const auto basis = rad::BasisSpec::parse(v);
+            if (!basis) throw std::runtime_error("--armadillo-basis needs PB1..PB8 or SH0..SH10, got '" + v + "'");
+            armadilloBasis = *basis;
+        }
         else if (a == "--metric") metricOverride = std::atoi(v.c_str());
         else if (a == "--kind") kindOverride = std::atoi(v.c_str());
         else if (a == "--perceptual") perceptualOverride = std::atof(v.c_str());
