@@ -271,6 +271,79 @@ def write_mlp(path, cameras, image_files, labels, mesh_file=None):
         f.write("\n".join(lines))
 
 
+def render_photos_and_twins(render_view, args):
+    """Every view rendered (render_view(i, seed) -> float RGBA image), then with --noise-twin the
+    twin views (all, or --twin-views of them evenly spaced) with other seeds. Returns (images,
+    seconds per image, twin view indices, twin images, their seconds)."""
+    def render_all(seed_base, label, which):
+        images, times = [], []
+        for i in which:
+            t = time.time()
+            images.append(render_view(i, seed_base + i))
+            times.append(time.time() - t)
+            print(f"{label} view {i + 1}/{args.views}: {times[-1]:.1f} s", flush=True)
+        return images, times
+
+    images, times = render_all(args.seed * 100003, "photo", range(args.views))
+    twin_ids = list(range(args.views))
+    if args.twin_views and args.twin_views < args.views:
+        twin_ids = sorted(set(np.linspace(0, args.views - 1, args.twin_views).round().astype(int).tolist()))
+    twins, twin_times = (render_all(args.seed * 100003 + 50021, "twin", twin_ids) if args.noise_twin else ([], []))
+    return images, times, twin_ids, twins, twin_times
+
+
+def capture_exposure(images):
+    """One exposure per capture: the 99.7th percentile of the brightest channel over covered pixels
+    maps to 1. Returns (exposure, fraction of covered pixels clipped)."""
+    covered = np.concatenate([img[..., :3][img[..., 3] > 0.999].max(axis=1) for img in images])
+    exposure = 1.0 / float(np.percentile(covered, 99.7))
+    return exposure, float(np.mean(covered * exposure >= 1.0))
+
+
+def write_photographs(out, images, twin_ids, twins, encode8, save_png):
+    """photos/ and masks/ of every view, photos_twin/ of the twins (encode8(image) -> 8-bit RGB,
+    save_png(path, array)), and the photographs' own noise from the twins (None without them).
+    Returns (file names, raster labels, noise)."""
+    names = [f"view_{i:03d}.png" for i in range(len(images))]
+    labels = [f"view_{i:03d}" for i in range(len(images))]
+    for img, name in zip(images, names):
+        save_png(os.path.join(out, "photos", name), encode8(img))
+        save_png(os.path.join(out, "masks", name), np.round(np.clip(img[..., 3], 0, 1) * 255).astype(np.uint8))
+    if not twins:
+        return names, labels, None
+    diffs = []
+    for img, twin, name in zip([images[i] for i in twin_ids], twins, [names[i] for i in twin_ids]):
+        a8, b8 = encode8(img), encode8(twin)
+        save_png(os.path.join(out, "photos_twin", name), b8)
+        both = (img[..., 3] > 0.999) & (twin[..., 3] > 0.999)
+        diffs.append((a8[both].astype(float) - b8[both].astype(float)).ravel())
+    d = np.concatenate(diffs)
+    noise = dict(rms_difference_srgb_levels=float(np.sqrt(np.mean(d ** 2))),
+                 per_photo_rms_noise_srgb_levels=float(np.sqrt(np.mean(d ** 2) / 2)),
+                 views=[labels[i] for i in twin_ids] if len(twin_ids) < len(images) else "all",
+                 over="covered pixels (alpha = 1 in both renders), every twin view, every channel")
+    return names, labels, noise
+
+
+def write_projects_and_cameras(out, cameras, names, labels, twin_ids=None):
+    """project.mlp, project_with_mesh.mlp, project_twin.mlp (when twin_ids is given: the views
+    rendered twice) and cameras.json of a capture whose photographs are photos/NAME."""
+    write_mlp(os.path.join(out, "project.mlp"), cameras, [f"photos/{n}" for n in names], labels)
+    write_mlp(os.path.join(out, "project_with_mesh.mlp"), cameras, [f"photos/{n}" for n in names], labels,
+              mesh_file="mesh.ply")
+    if twin_ids is not None:
+        write_mlp(os.path.join(out, "project_twin.mlp"), [cameras[i] for i in twin_ids],
+                  [f"photos_twin/{names[i]}" for i in twin_ids], [labels[i] for i in twin_ids])
+    with open(os.path.join(out, "cameras.json"), "w") as f:
+        json.dump(dict(
+            convention="OpenCV: x_cam = R X + t (x right, y down, z forward), u = fx x/z + cx, v = fy y/z + cy, "
+                       "pixel centres at integer (u, v), (0, 0) = centre of the top-left pixel; "
+                       "centre = camera centre in world coordinates = -R^T t",
+            views=[dict(image=f"photos/{n}", width=c["width"], height=c["height"], fx=c["fx"], fy=c["fy"],
+                        cx=c["cx"], cy=c["cy"], R=c["R"].tolist(), t=c["t"].tolist(), centre=c["centre"].tolist())
+                   for n, c in zip(names, cameras)]), f, indent=1)
+
+
 # ---------------------------------------------------------------------------------------------------
 # Images
 
@@ -413,62 +486,15 @@ def main(argv=None):
         cameras.append(opencv_camera(np.array(s.world_transform().matrix, dtype=np.float64), fov_x,
                                      args.width, args.height))
 
-    def render_all(seed_base, label, which):
-        images, times = [], []
-        for i in which:
-            t = time.time()
-            img = np.array(mi.render(scene, sensor=i, seed=seed_base + i), dtype=np.float32)
-            times.append(time.time() - t)
-            images.append(img)
-            print(f"{label} view {i + 1}/{args.views}: {times[-1]:.1f} s", flush=True)
-        return images, times
+    images, times, twin_ids, twins, twin_times = render_photos_and_twins(
+        lambda i, seed: np.array(mi.render(scene, sensor=i, seed=seed), dtype=np.float32), args)
+    exposure, clipped = capture_exposure(images)
 
-    images, times = render_all(args.seed * 100003, "photo", range(args.views))
-    twin_ids = list(range(args.views))
-    if args.twin_views and args.twin_views < args.views:
-        twin_ids = sorted(set(np.linspace(0, args.views - 1, args.twin_views).round().astype(int).tolist()))
-    twins, twin_times = (render_all(args.seed * 100003 + 50021, "twin", twin_ids) if args.noise_twin else ([], []))
+    names, labels, noise = write_photographs(out, images, twin_ids, twins,
+                                             lambda img: srgb_encode8(img[..., :3] * exposure),
+                                             lambda path, array: write_png(mi, path, array))
 
-    # One exposure per capture: the 99.7th percentile of the brightest channel over covered pixels -> 1.
-    covered = np.concatenate([img[..., :3][img[..., 3] > 0.999].max(axis=1) for img in images])
-    exposure = 1.0 / float(np.percentile(covered, 99.7))
-    clipped = float(np.mean(covered * exposure >= 1.0))
-
-    names = [f"view_{i:03d}.png" for i in range(args.views)]
-    labels = [f"view_{i:03d}" for i in range(args.views)]
-    for img, name in zip(images, names):
-        write_png(mi, os.path.join(out, "photos", name), srgb_encode8(img[..., :3] * exposure))
-        write_png(mi, os.path.join(out, "masks", name), np.round(np.clip(img[..., 3], 0, 1) * 255).astype(np.uint8))
-    noise = None
-    if twins:
-        diffs = []
-        for img, twin, name in zip([images[i] for i in twin_ids], twins, [names[i] for i in twin_ids]):
-            a8 = srgb_encode8(img[..., :3] * exposure)
-            b8 = srgb_encode8(twin[..., :3] * exposure)
-            write_png(mi, os.path.join(out, "photos_twin", name), b8)
-            both = (img[..., 3] > 0.999) & (twin[..., 3] > 0.999)
-            diffs.append((a8[both].astype(float) - b8[both].astype(float)).ravel())
-        d = np.concatenate(diffs)
-        noise = dict(rms_difference_srgb_levels=float(np.sqrt(np.mean(d ** 2))),
-                     per_photo_rms_noise_srgb_levels=float(np.sqrt(np.mean(d ** 2) / 2)),
-                     views=[labels[i] for i in twin_ids] if len(twin_ids) < args.views else "all",
-                     over="covered pixels (alpha = 1 in both renders), every twin view, every channel")
-
-    write_mlp(os.path.join(out, "project.mlp"), cameras, [f"photos/{n}" for n in names], labels)
-    write_mlp(os.path.join(out, "project_with_mesh.mlp"), cameras, [f"photos/{n}" for n in names], labels,
-              mesh_file="mesh.ply")
-    if args.noise_twin:
-        write_mlp(os.path.join(out, "project_twin.mlp"), [cameras[i] for i in twin_ids],
-                  [f"photos_twin/{names[i]}" for i in twin_ids], [labels[i] for i in twin_ids])
-
-    with open(os.path.join(out, "cameras.json"), "w") as f:
-        json.dump(dict(
-            convention="OpenCV: x_cam = R X + t (x right, y down, z forward), u = fx x/z + cx, v = fy y/z + cy, "
-                       "pixel centres at integer (u, v), (0, 0) = centre of the top-left pixel; "
-                       "centre = camera centre in world coordinates = -R^T t",
-            views=[dict(image=f"photos/{n}", width=c["width"], height=c["height"], fx=c["fx"], fy=c["fy"],
-                        cx=c["cx"], cy=c["cy"], R=c["R"].tolist(), t=c["t"].tolist(), centre=c["centre"].tolist())
-                   for n, c in zip(names, cameras)]), f, indent=1)
+    write_projects_and_cameras(out, cameras, names, labels, twin_ids if args.noise_twin else None)
 
     info = dict(
         tool="bench/capture/render_capture.py", renderer="Mitsuba 3", mitsuba_version=mi.__version__,

@@ -521,20 +521,8 @@ def main(argv):
         projection_error = blender_projection_error(scene, cam_objects, cameras, V)
         print(f"self-check: Blender's projection vs the OpenCV cameras: max {projection_error:.2e} px", flush=True)
 
-        def render_all(seed_base, label, which):
-            images, times = [], []
-            for i in which:
-                t = time.time()
-                images.append(render_view(scene, cam_objects[i], seed_base + i, exr_path, log_path))
-                times.append(time.time() - t)
-                print(f"{label} view {i + 1}/{args.views}: {times[-1]:.1f} s", flush=True)
-            return images, times
-
-        images, times = render_all(args.seed * 100003, "photo", range(args.views))
-        twin_ids = list(range(args.views))
-        if args.twin_views and args.twin_views < args.views:
-            twin_ids = sorted(set(np.linspace(0, args.views - 1, args.twin_views).round().astype(int).tolist()))
-        twins, twin_times = (render_all(args.seed * 100003 + 50021, "twin", twin_ids) if args.noise_twin else ([], []))
+        images, times, twin_ids, twins, twin_times = rc.render_photos_and_twins(
+            lambda i, seed: render_view(scene, cam_objects[i], seed, exr_path, log_path), args)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
@@ -545,51 +533,17 @@ def main(argv):
           f"(view {int(fractions.argmin())}), mean {fractions.mean():.4f} over {args.views} views: "
           + ("ok" if coverage_ok else "FAIL (camera conventions wrong?)"), flush=True)
 
-    # From here on exactly render_capture.py's post-processing.
-    # One exposure per capture: the 99.7th percentile of the brightest channel over covered pixels -> 1.
-    covered = np.concatenate([img[..., :3][img[..., 3] > 0.999].max(axis=1) for img in images])
-    exposure = 1.0 / float(np.percentile(covered, 99.7))
-    clipped = float(np.mean(covered * exposure >= 1.0))
+    # From here on render_capture.py's post-processing.
+    exposure, clipped = rc.capture_exposure(images)
 
     def encode8(img):
         if args.tone == "filmic":
             return filmic_encode8(scene, img[..., :3], exposure, tmp)
         return rc.srgb_encode8(img[..., :3] * exposure)
 
-    names = [f"view_{i:03d}.png" for i in range(args.views)]
-    labels = [f"view_{i:03d}" for i in range(args.views)]
-    for img, name in zip(images, names):
-        write_png(os.path.join(out, "photos", name), encode8(img))
-        write_png(os.path.join(out, "masks", name), np.round(np.clip(img[..., 3], 0, 1) * 255).astype(np.uint8))
-    noise = None
-    if twins:
-        diffs = []
-        for img, twin, name in zip([images[i] for i in twin_ids], twins, [names[i] for i in twin_ids]):
-            a8, b8 = encode8(img), encode8(twin)
-            write_png(os.path.join(out, "photos_twin", name), b8)
-            both = (img[..., 3] > 0.999) & (twin[..., 3] > 0.999)
-            diffs.append((a8[both].astype(float) - b8[both].astype(float)).ravel())
-        d = np.concatenate(diffs)
-        noise = dict(rms_difference_srgb_levels=float(np.sqrt(np.mean(d ** 2))),
-                     per_photo_rms_noise_srgb_levels=float(np.sqrt(np.mean(d ** 2) / 2)),
-                     views=[labels[i] for i in twin_ids] if len(twin_ids) < args.views else "all",
-                     over="covered pixels (alpha = 1 in both renders), every twin view, every channel")
+    names, labels, noise = rc.write_photographs(out, images, twin_ids, twins, encode8, write_png)
 
-    rc.write_mlp(os.path.join(out, "project.mlp"), cameras, [f"photos/{n}" for n in names], labels)
-    rc.write_mlp(os.path.join(out, "project_with_mesh.mlp"), cameras, [f"photos/{n}" for n in names], labels,
-                 mesh_file="mesh.ply")
-    if args.noise_twin:
-        rc.write_mlp(os.path.join(out, "project_twin.mlp"), [cameras[i] for i in twin_ids],
-                     [f"photos_twin/{names[i]}" for i in twin_ids], [labels[i] for i in twin_ids])
-
-    with open(os.path.join(out, "cameras.json"), "w") as f:
-        json.dump(dict(
-            convention="OpenCV: x_cam = R X + t (x right, y down, z forward), u = fx x/z + cx, v = fy y/z + cy, "
-                       "pixel centres at integer (u, v), (0, 0) = centre of the top-left pixel; "
-                       "centre = camera centre in world coordinates = -R^T t",
-            views=[dict(image=f"photos/{n}", width=c["width"], height=c["height"], fx=c["fx"], fy=c["fy"],
-                        cx=c["cx"], cy=c["cy"], R=c["R"].tolist(), t=c["t"].tolist(), centre=c["centre"].tolist())
-                   for n, c in zip(names, cameras)]), f, indent=1)
+    rc.write_projects_and_cameras(out, cameras, names, labels, twin_ids if args.noise_twin else None)
 
     cyc = scene.cycles
     info = dict(
