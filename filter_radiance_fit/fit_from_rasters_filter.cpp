@@ -169,10 +169,8 @@ void logModelChoice(FilterContext& ctx, const rad::RadianceFromViewsOptions& opt
                            result.validationPerVertex, result.validationShared, result.validationConstant,
                            result.validationViewsSharedWins, result.validationViewsCompared,
                            result.validationWorstViewRatio,
-                           1.0 + std::max(options.maxViewLoss,
-                                          result.validationShared > 0.0
-                                              ? result.validationPerVertex / result.validationShared - 1.0
-                                              : 0.0),
+                           rad::sharedWorstViewBound(result.validationPerVertex, result.validationShared,
+                                                     options.maxViewLoss),
                            1.0 + options.maxViewLoss));
     if (result.modelUsed == rad::FitModel::Shared)
         ctx.log(formatLine("Shared fit (SH%d lobe of the reflected direction): %zu vertices diffuse + scaled "

@@ -532,16 +532,20 @@ std::string RadianceFromViewsOptions::validate() const {
     return why.str();
 }
 
-// About an eighth of the mesh, at least kChoiceVertices and at most kMostChoiceVertices vertices:
-// measured, the choice was the same on every capture (docs/fitting.md, "Choosing on part of the
-// surface"); the cap keeps the choice's share of the fit small on scans of several 100k vertices.
+double sharedWorstViewBound(double perVertexRms, double sharedRms, double maxViewLoss) {
+    const double pooledGain = sharedRms > 0.0 ? perVertexRms / sharedRms - 1.0 : 0.0;
+    return 1.0 + std::max(maxViewLoss, pooledGain);
+}
+
 bool sharedWinsOnLeftOutViews(double perVertexRms, double sharedRms, std::size_t sharedWins,
                               std::size_t viewsCompared, double worstViewRatio, double maxViewLoss) {
     if (!(sharedRms < perVertexRms) || 2 * sharedWins < viewsCompared) return false;
-    const double pooledGain = perVertexRms / sharedRms - 1.0;
-    return worstViewRatio <= 1.0 + std::max(maxViewLoss, pooledGain);
+    return worstViewRatio <= sharedWorstViewBound(perVertexRms, sharedRms, maxViewLoss);
 }
 
+// About an eighth of the mesh, at least kChoiceVertices and at most kMostChoiceVertices vertices:
+// measured, the choice was the same on every capture (docs/fitting.md, "Choosing on part of the
+// surface"); the cap keeps the choice's share of the fit small on scans of several 100k vertices.
 std::vector<std::uint8_t> automaticChoiceVertices(const TriangleMesh& mesh) {
     constexpr std::size_t kChoiceVertices = 8192, kShare = 8, kMostChoiceVertices = 16384;
     const std::size_t n = mesh.vertexCount();

@@ -163,5 +163,7 @@ std::vector<std::uint8_t> automaticChoiceVertices(const TriangleMesh& mesh);
 // rendered by Cycles, where it also won every held-out view: docs/design-notes.md).
 bool sharedWinsOnLeftOutViews(double perVertexRms, double sharedRms, std::size_t sharedWins,
                               std::size_t viewsCompared, double worstViewRatio, double maxViewLoss);
+// The largest worst-view ratio shared / per-vertex that rule accepts: 1 + max(maxViewLoss, pooled gain).
+double sharedWorstViewBound(double perVertexRms, double sharedRms, double maxViewLoss);
 
 }  // namespace rad

@@ -790,6 +790,10 @@ TEST(RadianceFromViews, OneLostViewVetoesTheSharedFitOnlyBeyondItsPooledGain) {
     EXPECT_FALSE(rad::sharedWinsOnLeftOutViews(10.0, 9.0, 5, 12, 1.0, 0.02));
     EXPECT_FALSE(rad::sharedWinsOnLeftOutViews(10.0, 10.0, 12, 12, 1.0, 0.02));
     EXPECT_FALSE(rad::sharedWinsOnLeftOutViews(10.0, 10.5, 12, 12, 1.0, 0.02));
+    // The bound the log prints: the pooled gain, or 1 + maxViewLoss when that is larger.
+    EXPECT_NEAR(rad::sharedWorstViewBound(17.565, 15.295, 0.02), 17.565 / 15.295, 1e-12);
+    EXPECT_DOUBLE_EQ(rad::sharedWorstViewBound(10.0, 9.9, 0.02), 1.02);
+    EXPECT_DOUBLE_EQ(rad::sharedWorstViewBound(10.0, 10.5, 0.02), 1.02);
 }
 
 TEST(RadianceFromViews, AutomaticChoiceComparesOnPatchesOfLargeMeshesOnly) {
