@@ -73,18 +73,21 @@ create_radiance_mlx() {
         lightIntensity=3 ambient=0.05 setColor=true "$@"
 }
 
-# fit_mlx FILE [BASIS(0=PB,1=SH)] [DEGREE] [REFLECTED] [QUALITY(0=count,1=residual)] [VALIDATION] [ROBUST]:
-# a script running "Fit Radiance Functions from Rasters". VALIDATION and ROBUST default to false:
-# these tests check that the least-squares fit reproduces the photographs it was fitted on (the
-# per-vertex validation keeps the constant where a single photograph shows a highlight;
-# tests/python/test_pymeshlab_fit.py checks the defaults).
+# fit_mlx FILE [BASIS(0=PB,1=SH)] [DEGREE] [REFLECTED] [QUALITY(0=count,1=residual)] [VALIDATION] [ROBUST]
+#         [MODEL(0=automatic,1=per vertex,2=shared)]:
+# a script running "Fit Radiance Functions from Rasters". VALIDATION and ROBUST default to false and
+# MODEL to the per-vertex fit: these tests check that the least-squares fit reproduces the
+# photographs it was fitted on (the per-vertex validation keeps the constant where a single
+# photograph shows a highlight, and the shared fit, which the automatic choice may take, predicts
+# unseen views at the cost of fitting the seen ones less closely; tests/python/test_pymeshlab_fit.py
+# checks the defaults).
 fit_mlx() {
     local file="$1" basis="${2:-0}" degree="${3:-4}" reflected="${4:-false}" quality="${5:-0}"
-    local validation="${6:-false}" robust="${7:-false}"
+    local validation="${6:-false}" robust="${7:-false}" model="${8:-1}"
     filter_script "$file" "Radiance: Fit Radiance Functions from Rasters" \
         visibleOnly=false basis="$basis" degree="$degree" regularization=0.001 depthTolerance=0.003 \
         reflected="$reflected" quality="$quality" validation="$validation" robust="$robust" \
-        exposureCompensation=true fitModel=0 sharedGuard=3 heldOutEvery=0
+        exposureCompensation=true fitModel="$model" sharedGuard=3 heldOutEvery=0
 }
 
 VIRTUAL_ACQUISITION="$RADIANCE_BUILD_DIR/tools/virtual_acquisition"

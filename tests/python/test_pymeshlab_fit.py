@@ -93,9 +93,11 @@ def photo_errors(fit, cameras, min_cos=0.5):
 def test_fit_reproduces_the_photographs(photos, tmp_path):
     ms = with_rasters(photos)
     assert ms.mesh_number() == 1 and ms.raster_number() == VIEWS, "load_project did not add the raster layers"
-    # The least-squares fit itself (no per-vertex validation, no robust weights): it must reproduce
-    # the photographs it was fitted on, highlights included.
-    ms.apply_filter(h.FIT, **fit_parameters(validation=False, robust=False))
+    # The per-vertex least-squares fit itself (no per-vertex validation, no robust weights): it must
+    # reproduce the photographs it was fitted on, highlights included. (The automatic choice may take
+    # the shared fit, which predicts unseen views and fits the seen ones less closely: on this sphere
+    # median 2.27, 90th percentile 7.05 levels.)
+    ms.apply_filter(h.FIT, **fit_parameters(validation=False, robust=False, fitmodel=1))
     ms.save_current_mesh(str(tmp_path / "fit_pb4.rply"))
     fit = rply.read_rply(str(tmp_path / "fit_pb4.rply"))
     assert fit.basis == "PB4" and not fit.reflected and fit.vertex_count == 2562
