@@ -12,12 +12,21 @@ CHECK_FIT="python3 $RADIANCE_SOURCE_DIR/tests/integration/check_fit_against_phot
 "$VIRTUAL_ACQUISITION" "$WORK/sphere.ply" -o "$WORK/photos" --views 16 --size 320x240 --no-variation \
     >"$WORK/acquisition.log" 2>&1 || { cat "$WORK/acquisition.log" >&2; fail "virtual acquisition failed"; }
 
+# fit_photos NAME: runs $WORK/fit_NAME.mlx on the photographs' project into $WORK/fit_NAME.rply
+# (log $WORK/NAME.log); fit_logged NAME GREP_ARGS...: the log has that line.
+fit_photos() {
+    run_meshlabserver "$WORK/$1.log" -i "$WORK/photos/mesh.ply" -p "$WORK/photos/project.mlp" \
+        -s "$WORK/fit_$1.mlx" -o "$WORK/fit_$1.rply" -m vc vq vn || { cat "$WORK/$1.log" >&2; fail "$1 fit failed"; }
+}
+fit_logged() {
+    local name="$1"
+    shift
+    grep -q "$@" "$WORK/$name.log" || { cat "$WORK/$name.log" >&2; fail "$name: no line matching $*"; }
+}
+
 fit_mlx "$WORK/fit_pb4.mlx" 0 4 false 0
-run_meshlabserver "$WORK/pb4.log" -i "$WORK/photos/mesh.ply" -p "$WORK/photos/project.mlp" \
-    -s "$WORK/fit_pb4.mlx" -o "$WORK/fit_pb4.rply" -m vc vq vn \
-    || { cat "$WORK/pb4.log" >&2; fail "fit failed"; }
-grep -qE "Fitted PB4 radiance functions on 2562 vertices from 16 of 16 rasters in [0-9.]+ s: [0-9]+ samples, median [0-9]+ per seen vertex" "$WORK/pb4.log" \
-    || { cat "$WORK/pb4.log" >&2; fail "no fit summary in the log"; }
+fit_photos pb4
+fit_logged pb4 -E "Fitted PB4 radiance functions on 2562 vertices from 16 of 16 rasters in [0-9.]+ s: [0-9]+ samples, median [0-9]+ per seen vertex"
 # Median and 90th percentile of |fitted - photo| in 8-bit sRGB levels over vertex-view pairs.
 $CHECK_FIT "$WORK/fit_pb4.rply" "$WORK/photos/project.mlp" 2 8 || fail "fitted functions do not reproduce the photographs"
 
@@ -39,17 +48,12 @@ PY
 # Without validation and Huber weights, as above: with them a highlight seen by one photograph
 # counts as an outlier, by design, and the 90th percentile measures those highlights instead.
 fit_mlx "$WORK/fit_auto.mlx" 0 4 false 0 false false 0
-run_meshlabserver "$WORK/auto.log" -i "$WORK/photos/mesh.ply" -p "$WORK/photos/project.mlp" \
-    -s "$WORK/fit_auto.mlx" -o "$WORK/fit_auto.rply" -m vc vq vn \
-    || { cat "$WORK/auto.log" >&2; fail "automatic fit failed"; }
-grep -qE "Fit model chosen on every 5-th raster left out .*: (shared|per vertex);" "$WORK/auto.log" \
-    || { cat "$WORK/auto.log" >&2; fail "no model choice in the log"; }
+fit_photos auto
+fit_logged auto -E "Fit model chosen on every 5-th raster left out .*: (shared|per vertex);"
 $CHECK_FIT "$WORK/fit_auto.rply" "$WORK/photos/project.mlp" 3 8 || fail "the automatic fit does not show the photographs"
 
-fit_mlx "$WORK/fit_sh_reflected.mlx" 1 3 true 1
-run_meshlabserver "$WORK/sh.log" -i "$WORK/photos/mesh.ply" -p "$WORK/photos/project.mlp" \
-    -s "$WORK/fit_sh_reflected.mlx" -o "$WORK/fit_sh.rply" -m vc vq vn \
-    || { cat "$WORK/sh.log" >&2; fail "SH fit failed"; }
-grep -qF "Fitted SH3 radiance functions (reflected)" "$WORK/sh.log" || { cat "$WORK/sh.log" >&2; fail "no SH summary"; }
+fit_mlx "$WORK/fit_sh.mlx" 1 3 true 1
+fit_photos sh
+fit_logged sh -F "Fitted SH3 radiance functions (reflected)"
 python3 "$PLY_READER" --summary "$WORK/fit_sh.rply" | grep "radiance_basis SH3" >/dev/null || fail "SH3 radiance not saved"
 note "ok"
