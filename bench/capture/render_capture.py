@@ -63,14 +63,18 @@ def read_off(path):
     pos += 3
     V = np.array(tokens[pos:pos + 3 * nv], dtype=np.float64).reshape(nv, 3)
     pos += 3 * nv
-    faces = []
+    polygons = []
     for _ in range(nf):
         k = int(tokens[pos])
-        idx = [int(t) for t in tokens[pos + 1:pos + 1 + k]]
+        polygons.append([int(t) for t in tokens[pos + 1:pos + 1 + k]])
         pos += 1 + k
-        for j in range(1, k - 1):  # fan triangulation
-            faces.append((idx[0], idx[j], idx[j + 1]))
-    return V, np.array(faces, dtype=np.int64)
+    return V, triangulate(polygons)
+
+
+def triangulate(polygons):
+    """Fan triangulation of a list of index lists: (n, 3) int64."""
+    return np.array([(p[0], p[j], p[j + 1]) for p in polygons for j in range(1, len(p) - 1)],
+                    dtype=np.int64).reshape(-1, 3)
 
 
 def read_mesh(path, mi):
@@ -150,6 +154,22 @@ MATERIALS = {
 # blendbsdf, weight = the gloss): a glossy object with matte regions, the case the shared fit's
 # per-vertex guard is there for.
 MIXED = ("matte", "plastic")
+
+
+# The "keyfill" lights, shared by both renderers: (name, direction as weights of (a, u, b) of
+# up_frame, distance / bounding radius, light radius / bounding radius, irradiance at the centre / pi),
+# and the faint sky's radiance. The studio setup uses the key alone.
+KEYFILL_LIGHTS = (("key", (0.55, 0.75, 0.35), 4.0, 0.25, 1.0),
+                  ("fill", (-0.6, 0.2, 0.75), 4.0, 0.4, 0.35))
+SKY_RADIANCE = (0.08, 0.08, 0.09)
+
+
+def light_direction(weights, up):
+    """Unit direction of a KEYFILL_LIGHTS entry for the mesh's up axis."""
+    u, a, b = up_frame(up)
+    wa, wu, wb = weights
+    direction = wa * a + wu * u + wb * b
+    return direction / np.linalg.norm(direction)
 
 
 def up_frame(up):
@@ -362,7 +382,6 @@ def write_png(mi, path, array_u8):
 # ---------------------------------------------------------------------------------------------------
 
 def build_scene(mi, args, render_ply, centre, radius, views, fov_x, hdr_path):
-    u, a, b = up_frame(args.up)
     def principled(material):
         return {"type": "principled", "base_color": {"type": "mesh_attribute", "name": "vertex_color"},
                 "roughness": material["roughness"], "specular": material["specular"],
@@ -378,23 +397,23 @@ def build_scene(mi, args, render_ply, centre, radius, views, fov_x, hdr_path):
         "object": {"type": "ply", "filename": render_ply, "face_normals": False, "bsdf": bsdf},
     }
     lights = []
-    key_dir = 0.55 * a + 0.75 * u + 0.35 * b
-    key_dir /= np.linalg.norm(key_dir)
-    fill_dir = -0.6 * a + 0.2 * u + 0.75 * b
-    fill_dir /= np.linalg.norm(fill_dir)
+
+    def add_sphere_light(name, weights, dist, rad, power):
+        r_light = rad * radius
+        # radiance such that the irradiance at the centre is ~ pi * power
+        L = power * (dist / rad) ** 2
+        pos = centre + dist * radius * light_direction(weights, args.up)
+        scene[name] = {"type": "sphere", "center": pos.tolist(), "radius": r_light,
+                       "emitter": {"type": "area", "radiance": {"type": "rgb", "value": [L, L, L]}}}
+        lights.append(dict(name=name, kind="sphere area light", position=pos.tolist(), radius=r_light,
+                           radiance=L))
+
     if args.lights == "keyfill":
         # Two small spherical area lights (soft-edged shadows, glossy highlights) and a faint sky.
-        for name, direction, dist, rad, power in (("key", key_dir, 4.0, 0.25, 1.0), ("fill", fill_dir, 4.0, 0.4, 0.35)):
-            r_light = rad * radius
-            # radiance such that the irradiance at the centre is ~ pi * power
-            L = power * (dist / rad) ** 2
-            pos = centre + dist * radius * direction
-            scene[name] = {"type": "sphere", "center": pos.tolist(), "radius": r_light,
-                           "emitter": {"type": "area", "radiance": {"type": "rgb", "value": [L, L, L]}}}
-            lights.append(dict(name=name, kind="sphere area light", position=pos.tolist(), radius=r_light,
-                               radiance=L))
-        scene["sky"] = {"type": "constant", "radiance": {"type": "rgb", "value": [0.08, 0.08, 0.09]}}
-        lights.append(dict(name="sky", kind="constant environment", radiance=[0.08, 0.08, 0.09]))
+        for light in KEYFILL_LIGHTS:
+            add_sphere_light(*light)
+        scene["sky"] = {"type": "constant", "radiance": {"type": "rgb", "value": list(SKY_RADIANCE)}}
+        lights.append(dict(name="sky", kind="constant environment", radiance=list(SKY_RADIANCE)))
     else:
         if hdr_path is None:
             raise SystemExit("--lights studio needs an environment map: --hdr PATH")
@@ -406,13 +425,7 @@ def build_scene(mi, args, render_ply, centre, radius, views, fov_x, hdr_path):
             to_world = mi.ScalarTransform4f().rotate([0, 0, 1], -90)
         scene["env"] = {"type": "envmap", "filename": hdr_path, "scale": 1.0, "to_world": to_world}
         lights.append(dict(name="env", kind="environment map", file=os.path.basename(hdr_path)))
-        r_light = 0.25 * radius
-        pos = centre + 4.0 * radius * key_dir
-        L = 1.0 * (4.0 / 0.25) ** 2
-        scene["key"] = {"type": "sphere", "center": pos.tolist(), "radius": r_light,
-                        "emitter": {"type": "area", "radiance": {"type": "rgb", "value": [L, L, L]}}}
-        lights.append(dict(name="key", kind="sphere area light", position=pos.tolist(), radius=r_light,
-                           radiance=L))
+        add_sphere_light(*KEYFILL_LIGHTS[0])
     for i, (origin, target, upv) in enumerate(views):
         scene[f"sensor_{i:03d}"] = {
             "type": "perspective", "fov": fov_x, "fov_axis": "x",

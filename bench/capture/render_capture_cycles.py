@@ -74,11 +74,6 @@ MATERIALS = {
     "matte": {"Roughness": 0.8, "Specular": 0.1, "Metallic": 0.0, "Clearcoat": 0.0, "Clearcoat Roughness": 0.03},
 }
 ALBEDO_ATTRIBUTE = "albedo"
-SKY_RADIANCE = (0.08, 0.08, 0.09)
-# (name, direction as (a, u, b) weights of rc.up_frame, distance / bounding radius,
-#  light radius / bounding radius, irradiance at the centre / pi): as rc.build_scene's "keyfill".
-LIGHTS = (("key", (0.55, 0.75, 0.35), 4.0, 0.25, 1.0),
-          ("fill", (-0.6, 0.2, 0.75), 4.0, 0.4, 0.35))
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -88,12 +83,6 @@ LIGHTS = (("key", (0.55, 0.75, 0.35), 4.0, 0.25, 1.0),
 PLY_TYPES = {"char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1", "short": "i2", "int16": "i2",
              "ushort": "u2", "uint16": "u2", "int": "i4", "int32": "i4", "uint": "u4", "uint32": "u4",
              "float": "f4", "float32": "f4", "double": "f8", "float64": "f8"}
-
-
-def triangulate(polygons):
-    """Fan triangulation of a list of index lists, as rc.read_off does."""
-    return np.array([(p[0], p[j], p[j + 1]) for p in polygons for j in range(1, len(p) - 1)],
-                    dtype=np.int64).reshape(-1, 3)
 
 
 def read_ply(path):
@@ -130,7 +119,7 @@ def read_ply(path):
         V = np.array([lines[i].split()[:len(vprops)] for i in range(nv)], dtype=np.float64)
         V = V[:, [vnames.index(k) for k in "xyz"]]
         polys = [[int(x) for x in lines[nv + i].split()[1:]] for i in range(nf)]
-        return V, triangulate(polys)
+        return V, rc.triangulate(polys)
     endian = {"binary_little_endian": "<", "binary_big_endian": ">"}.get(fmt)
     if endian is None:
         raise ValueError(f"{path}: unknown PLY format {fmt}")
@@ -150,7 +139,7 @@ def read_ply(path):
         k = int(np.frombuffer(body, cdt, 1, pos)[0])
         polys.append(np.frombuffer(body, idt, k, pos + cdt.itemsize).tolist())
         pos += cdt.itemsize + k * idt.itemsize
-    return V, triangulate(polys)
+    return V, rc.triangulate(polys)
 
 
 def read_obj(path):
@@ -166,7 +155,7 @@ def read_obj(path):
             elif t[0] == "f":
                 idx = [int(x.split("/")[0]) for x in t[1:]]
                 polys.append([i - 1 if i > 0 else len(V) + i for i in idx])  # 1-based, or relative
-    return np.array(V, dtype=np.float64), triangulate(polys)
+    return np.array(V, dtype=np.float64), rc.triangulate(polys)
 
 
 def read_mesh(path):
@@ -320,15 +309,13 @@ def add_material(obj, name):
 
 
 def add_lights(scene, centre, radius, up):
-    """Key and fill point lights with a radius (soft shadows), as rc.build_scene's keyfill spheres.
+    """Key and fill point lights with a radius (soft shadows) at rc.KEYFILL_LIGHTS, as
+    rc.build_scene's keyfill spheres.
     A Cycles point light of power P gives an irradiance P / (4 pi d^2) at distance d; P is chosen
     so that it is pi * weight at the centre, as the Mitsuba lights' radiance is."""
-    u, a, b = rc.up_frame(up)
     lights = []
-    for name, (wa, wu, wb), distance, size, weight in LIGHTS:
-        direction = wa * a + wu * u + wb * b
-        direction /= np.linalg.norm(direction)
-        position = centre + distance * radius * direction
+    for name, weights, distance, size, weight in rc.KEYFILL_LIGHTS:
+        position = centre + distance * radius * rc.light_direction(weights, up)
         d = distance * radius
         power = weight * math.pi * 4 * math.pi * d * d
         light = bpy.data.lights.new(name, "POINT")
@@ -344,11 +331,11 @@ def add_lights(scene, centre, radius, up):
     world = bpy.data.worlds.new("sky")
     world.use_nodes = True
     background = world.node_tree.nodes["Background"]
-    background.inputs["Color"].default_value = (*SKY_RADIANCE, 1.0)
+    background.inputs["Color"].default_value = (*rc.SKY_RADIANCE, 1.0)
     background.inputs["Strength"].default_value = 1.0
     scene.world = world
     lights.append(dict(name="sky", kind="constant world background, hidden from the camera (film_transparent)",
-                       radiance=list(SKY_RADIANCE)))
+                       radiance=list(rc.SKY_RADIANCE)))
     return lights
 
 
