@@ -23,8 +23,6 @@ constexpr double kEscalationBaseLambda = 1e-3;
 
 bool finite3(const float* v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
 
-using MatrixMap = Eigen::Map<Eigen::MatrixXd>;
-using ConstMatrixMap = Eigen::Map<const Eigen::MatrixXd>;
 
 // Dot product with four partial sums (independent dependency chains; SLP-vectorisable without
 // -ffast-math).
@@ -174,6 +172,7 @@ void FitScratch::reserveSamples(int k, std::size_t sampleCount) {
     capacity = newCapacity;
     local.resize(3 * newCapacity);
     sqrtWeight.resize(newCapacity);
+    inverseWeight.resize(newCapacity);
     baseWeight.resize(newCapacity);
     robustWeight.resize(newCapacity);
     values.resize(3 * newCapacity);
@@ -185,12 +184,13 @@ void FitScratch::reserveSamples(int k, std::size_t sampleCount) {
     zMatrix.resize(static_cast<std::size_t>(k) * newCapacity);
     hatP.resize(newCapacity);
     hatQ.resize(newCapacity);
+    fitted.resize(3 * newCapacity);
     residuals.resize(3 * newCapacity);
     sortBuffer.resize(newCapacity);
     forward.resize(static_cast<std::size_t>(k) * 3);
-    degreeSolutions.resize(static_cast<std::size_t>(k) * 3 * (std::max(kMaxPolynomialDegree, kMaxHarmonicDegree) + 1));
     virtualLeverage.resize(k);
     virtualSum.resize(k);
+    virtualGram.resize(static_cast<std::size_t>(k) * (k + 1) / 2);
     design.resize(static_cast<std::size_t>(k) * newCapacity);
     targets.resize(3 * newCapacity);
     gram.resize(static_cast<std::size_t>(k) * k);
@@ -211,6 +211,11 @@ RobustRadianceFitter::RobustRadianceFitter(const RobustFitOptions& options) : op
     cosCoverage_ = std::cos(options.coverageAngleDegrees * kPi / 180.0);
 
     coverage_ = fibonacciHemisphere(kCoverageDirections);
+    for (int i = 0; i < kCoverageDirections; ++i) {
+        coverageX_.push_back(coverage_[3 * i]);
+        coverageY_.push_back(coverage_[3 * i + 1]);
+        coverageZ_.push_back(coverage_[3 * i + 2]);
+    }
     // C: spirals turned away from D's (no point of C coincides with one of D), and rings on the border
     // z = 0, where the border extension takes every value of the lower hemisphere.
     const double goldenStep = kPi * (3.0 - std::sqrt(5.0));
@@ -232,6 +237,18 @@ RobustRadianceFitter::RobustRadianceFitter(const RobustFitOptions& options) : op
     for (int i = 0; i < kCoverageDirections; ++i)
         evaluateBasis(options_.basis, coverage_[3 * i], coverage_[3 * i + 1], coverage_[3 * i + 2],
                       coverageBasis_.data() + static_cast<std::size_t>(i) * K_);
+    const std::size_t packedSize = static_cast<std::size_t>(K_) * (K_ + 1) / 2;
+    coverageOuter_.assign(packedSize * kCoverageDirections, 0.0);
+    coverageGram_.assign(packedSize, 0.0);
+    coverageSum_.assign(K_, 0.0);
+    for (int i = 0; i < kCoverageDirections; ++i) {
+        const double* b = coverageBasis_.data() + static_cast<std::size_t>(i) * K_;
+        double* outer = coverageOuter_.data() + packedSize * i;
+        for (int r = 0, e = 0; r < K_; ++r)
+            for (int k = 0; k <= r; ++k, ++e) outer[e] = b[r] * b[k];
+        for (std::size_t e = 0; e < packedSize; ++e) coverageGram_[e] += outer[e];
+        for (int k = 0; k < K_; ++k) coverageSum_[k] += b[k];
+    }
     const int C = static_cast<int>(check_.size() / 3);
     checkBasis_.assign(static_cast<std::size_t>(K_) * C, 0.0);
     double values[kMaxCoefficientsPerChannel];
@@ -348,8 +365,10 @@ void RobustRadianceFitter::assemble(FitScratch& scratch, std::size_t n, Assembly
     double* design = scratch.design.data();
     double* targets = scratch.targets.data();
     for (std::size_t j = 0; j < n; ++j) {
-        const double sq = std::sqrt(scratch.baseWeight[j] * scratch.robustWeight[j]);
+        const double w = scratch.baseWeight[j] * scratch.robustWeight[j];
+        const double sq = std::sqrt(w);
         scratch.sqrtWeight[j] = sq;
+        scratch.inverseWeight[j] = w > 0.0 ? 1.0 / w : 0.0;
         const double* b = scratch.basisValues.data() + j * K;
         double* col = design + j * K;
         for (int k = 0; k < K; ++k) {
@@ -358,43 +377,76 @@ void RobustRadianceFitter::assemble(FitScratch& scratch, std::size_t n, Assembly
         }
         for (int c = 0; c < 3; ++c) targets[c * cap + j] = sq * scratch.values[c * cap + j];
     }
-    std::size_t rows = n;
     a.virtualWeight = options_.virtualSampleWeight * a.sumW / static_cast<double>(n);
-    std::fill(scratch.virtualSum.begin(), scratch.virtualSum.begin() + K, 0.0);
-    if (a.virtualWeight > 0.0) {
-        const double sq = std::sqrt(a.virtualWeight);
-        for (int i = 0; i < kCoverageDirections; ++i) {
-            if (scratch.covered[i]) continue;
-            const double* src = coverageBasis_.data() + static_cast<std::size_t>(i) * K;
-            double* col = design + rows * K;
-            for (int k = 0; k < K; ++k) {
-                col[k] = sq * src[k];
-                scratch.virtualSum[k] += src[k];
-            }
-            for (int c = 0; c < 3; ++c) targets[c * cap + rows] = sq * a.mean[c];
-            ++rows;
+    a.rows = n;
+    double* G = scratch.gram.data();  // row-major, lower triangle (what choleskyInPlace reads)
+    const double* virtualSum = scratch.virtualSum.data();
+    if (a.virtualWeight > 0.0 && scratch.virtualCount > 0) {
+        a.rows += scratch.virtualCount;
+        const double* packed = scratch.virtualGram.data();
+        for (int r = 0; r < K; ++r, packed += r) {
+            double* row = G + static_cast<std::size_t>(r) * K;
+            for (int k = 0; k <= r; ++k) row[k] = a.virtualWeight * packed[k];
         }
+        for (int c = 0; c < 3; ++c) {
+            double* rr = scratch.rhs.data() + c * K;
+            const double scaledMean = a.virtualWeight * a.mean[c];
+            for (int k = 0; k < K; ++k) rr[k] = scaledMean * virtualSum[k];
+        }
+    } else {
+        std::fill(G, G + static_cast<std::ptrdiff_t>(K) * K, 0.0);
+        std::fill(scratch.rhs.begin(), scratch.rhs.begin() + 3 * K, 0.0);
     }
-    a.rows = rows;
-    const ConstMatrixMap B(design, K, static_cast<Eigen::Index>(rows));
-    // G = B B^T. Eigen fills the upper triangle of the column-major G, which is the lower triangle
-    // of the same buffer read row-major, as choleskyInPlace reads it (G is symmetric).
-    MatrixMap G(scratch.gram.data(), K, K);
-    G.setZero();
-    G.selfadjointView<Eigen::Upper>().rankUpdate(B);
-    // r = B Y (K x 3), by hand: an Eigen GEMM here would go through its OpenMP-parallel product
-    // path, pointless inside our per-vertex parallel loop and costly at these sizes.
-    std::fill(scratch.rhs.begin(), scratch.rhs.begin() + 3 * K, 0.0);
-    for (std::size_t j = 0; j < rows; ++j) {
+    // The real samples' rows: G += B B^T, r += B Y, by hand (at K <= 121 and a few dozen rows
+    // Eigen's blocked products cost more in packing than they save).
+    for (std::size_t j = 0; j < n; ++j) {
         const double* col = design + j * K;
+        for (int i = 0; i < K; ++i) {
+            const double ci = col[i];
+            double* row = G + static_cast<std::size_t>(i) * K;
+            for (int k = 0; k <= i; ++k) row[k] += ci * col[k];
+        }
         for (int c = 0; c < 3; ++c) {
             const double y = targets[c * cap + j];
             double* r = scratch.rhs.data() + c * K;
             for (int k = 0; k < K; ++k) r[k] += y * col[k];
         }
     }
-    a.trace = G.trace();
+    a.trace = 0.0;
+    for (int k = 0; k < K; ++k) a.trace += G[static_cast<std::size_t>(k) * K + k];
     a.scale = a.trace / K;
+}
+
+// The virtual samples' unscaled sums, once per vertex (the IRLS only changes their weight): sum b b^T
+// (packed lower triangle) and sum b over the uncovered directions of D, or, when fewer are covered,
+// D's whole sums minus the covered directions' (the fewer terms either way; the terms are D's
+// precomputed packed outer products, so each is one contiguous vectorisable add).
+void RobustRadianceFitter::sumVirtualSamples(FitScratch& scratch) const {
+    const int K = K_;
+    const int D = kCoverageDirections;
+    const std::size_t T = static_cast<std::size_t>(K) * (K + 1) / 2;
+    int coveredCount = 0;
+    for (int i = 0; i < D; ++i) coveredCount += scratch.covered[i];
+    scratch.virtualCount = static_cast<std::size_t>(D - coveredCount);
+    const bool complement = coveredCount < D - coveredCount;
+    const unsigned char wanted = complement ? 1 : 0;
+    const double sign = complement ? -1.0 : 1.0;
+    double* gram = scratch.virtualGram.data();
+    double* sum = scratch.virtualSum.data();
+    if (complement) {
+        std::copy(coverageGram_.begin(), coverageGram_.end(), gram);
+        std::copy(coverageSum_.begin(), coverageSum_.end(), sum);
+    } else {
+        std::fill(gram, gram + T, 0.0);
+        std::fill(sum, sum + K, 0.0);
+    }
+    for (int i = 0; i < D; ++i) {
+        if (scratch.covered[i] != wanted) continue;
+        const double* outer = coverageOuter_.data() + static_cast<std::size_t>(i) * T;
+        for (std::size_t e = 0; e < T; ++e) gram[e] += sign * outer[e];
+        const double* b = coverageBasis_.data() + static_cast<std::size_t>(i) * K;
+        for (int k = 0; k < K; ++k) sum[k] += sign * b[k];
+    }
 }
 
 // Validation errors of the fits at `lambda` of every degree in [degreeLow, degreeHigh] (errors[d]),
@@ -403,7 +455,8 @@ void RobustRadianceFitter::assemble(FitScratch& scratch, std::size_t n, Assembly
 // smoother is approximately (f_j - y_j) / (1 - S_jj) (exact for plain ridge regression; here the
 // virtual samples' value, the mean colour, also depends on y_j, which the S_jj below includes:
 // S_jj = a_j B_j^T A^-1 (B_j + (v / W) sum_virtual B_i)). storeLooNorms: the per-sample
-// |leave-one-out residual| (RMS over channels) of degree d go to row d of scratch.looByDegree, for
+// squared |leave-one-out residual| (mean square over channels) of degree d go to row d of
+// scratch.looByDegree, for
 // the IRLS.
 bool RobustRadianceFitter::scoreModels(FitScratch& scratch, std::size_t n, const Assembly& a, double lambda,
                                        int degreeLow, int degreeHigh, double* errors, double* standardErrors,
@@ -418,13 +471,9 @@ bool RobustRadianceFitter::scoreModels(FitScratch& scratch, std::size_t n, const
     const double minPivot = (lambda > 0.0 ? kMinReciprocalCondition : 1e-12) * a.trace;
     if (!choleskyInPlace(A, K, minPivot, scratch.invDiag.data())) return false;
     const double* invDiag = scratch.invDiag.data();
-    std::copy(scratch.rhs.begin(), scratch.rhs.begin() + 3 * K, scratch.forward.begin());
-    forward3InPlace(A, invDiag, K, K, scratch.forward.data());
-    for (int d = degreeLow; d <= degreeHigh; ++d) {
-        double* x = scratch.degreeSolutions.data() + static_cast<std::size_t>(d) * 3 * K;
-        std::copy(scratch.forward.begin(), scratch.forward.begin() + 3 * K, x);
-        backward3InPlace(A, invDiag, K, degreeK_[d], x);
-    }
+    double* forward = scratch.forward.data();  // L^-1 r: its leading entries serve every lower degree
+    std::copy(scratch.rhs.begin(), scratch.rhs.begin() + 3 * K, forward);
+    forward3InPlace(A, invDiag, K, K, forward);
     double* u = scratch.virtualLeverage.data();
     std::copy(scratch.virtualSum.begin(), scratch.virtualSum.begin() + K, u);
     forward1InPlace(A, invDiag, K, u);
@@ -432,49 +481,50 @@ bool RobustRadianceFitter::scoreModels(FitScratch& scratch, std::size_t n, const
     double sums[kMaxPolynomialDegree + kMaxHarmonicDegree + 2] = {};
     double squares[kMaxPolynomialDegree + kMaxHarmonicDegree + 2] = {};
     // Sample-major loops (j contiguous, vectorisable) over the transposed design: Z = L^-1 B of all
-    // real samples by one forward substitution of whole rows, then per degree the self-influences
-    // (running sums of Z's rows) and the residuals of the degree's solution.
+    // real samples by a forward substitution of whole rows, each row folded as soon as it is known
+    // into the running sums over k that give every degree its self-influences and fitted values.
     const double* designT = scratch.designT.data();  // K rows of cap: sqrt(a_j) B_i(l_j)
     const double* targets = scratch.targets.data();
     double* Z = scratch.zMatrix.data();
-    for (int i = 0; i < K; ++i) {
-        double* zi = Z + static_cast<std::size_t>(i) * cap;
-        std::copy(designT + static_cast<std::size_t>(i) * cap, designT + static_cast<std::size_t>(i) * cap + n, zi);
-        const double* Li = A + static_cast<std::size_t>(i) * K;
-        for (int k = 0; k < i; ++k) {
-            const double lik = Li[k];
-            const double* zk = Z + static_cast<std::size_t>(k) * cap;
-            for (std::size_t jj = 0; jj < n; ++jj) zi[jj] -= lik * zk[jj];
-        }
-        const double inv = invDiag[i];
-        for (std::size_t jj = 0; jj < n; ++jj) zi[jj] *= inv;
-    }
     double* P = scratch.hatP.data();
     double* Q = scratch.hatQ.data();
+    double* F = scratch.fitted.data();     // 3 x cap
     double* R = scratch.residuals.data();  // 3 x cap
     std::fill(P, P + n, 0.0);
     std::fill(Q, Q + n, 0.0);
+    for (int c = 0; c < 3; ++c) std::fill(F + static_cast<std::size_t>(c) * cap, F + static_cast<std::size_t>(c) * cap + n, 0.0);
     int k = 0;
     for (int d = 0; d <= degreeHigh; ++d) {
+        // The degree-d fit's (weighted) values at the samples are Z_d^T (L^-1 r)_d, Z_d and (L^-1 r)_d
+        // the leading K_d rows: running sums over k, like the self-influences, so no degree needs a
+        // back substitution or a pass of its own over the design.
         for (; k < degreeK_[d]; ++k) {
-            const double* zk = Z + static_cast<std::size_t>(k) * cap;
+            double* zk = Z + static_cast<std::size_t>(k) * cap;
+            const double* Lk = A + static_cast<std::size_t>(k) * K;
+            std::copy(designT + static_cast<std::size_t>(k) * cap, designT + static_cast<std::size_t>(k) * cap + n, zk);
+            for (int i = 0; i < k; ++i) {
+                const double lki = Lk[i];
+                const double* zi = Z + static_cast<std::size_t>(i) * cap;
+                for (std::size_t jj = 0; jj < n; ++jj) zk[jj] -= lki * zi[jj];
+            }
             const double uk = u[k];
+            const double inv = invDiag[k];
+            const double f0 = forward[k], f1 = forward[K + k], f2 = forward[2 * K + k];
             for (std::size_t jj = 0; jj < n; ++jj) {
-                P[jj] += zk[jj] * zk[jj];
-                Q[jj] += zk[jj] * uk;
+                const double z = (zk[jj] *= inv);
+                P[jj] += z * z;
+                Q[jj] += z * uk;
+                F[jj] += z * f0;
+                F[cap + jj] += z * f1;
+                F[2 * cap + jj] += z * f2;
             }
         }
         if (d < degreeLow) continue;
-        const double* x = scratch.degreeSolutions.data() + static_cast<std::size_t>(d) * 3 * K;
         for (int c = 0; c < 3; ++c) {
-            double* rc = R + static_cast<std::size_t>(c) * cap;
+            const double* fc = F + static_cast<std::size_t>(c) * cap;
             const double* tc = targets + static_cast<std::size_t>(c) * cap;
-            for (std::size_t jj = 0; jj < n; ++jj) rc[jj] = -tc[jj];
-            for (int i = 0; i < degreeK_[d]; ++i) {
-                const double xi = x[c * K + i];
-                const double* bi = designT + static_cast<std::size_t>(i) * cap;
-                for (std::size_t jj = 0; jj < n; ++jj) rc[jj] += xi * bi[jj];
-            }
+            double* rc = R + static_cast<std::size_t>(c) * cap;
+            for (std::size_t jj = 0; jj < n; ++jj) rc[jj] = fc[jj] - tc[jj];
         }
         for (std::size_t jj = 0; jj < n; ++jj) {
             const double h = P[jj] + leak * scratch.sqrtWeight[jj] * Q[jj];
@@ -491,13 +541,13 @@ bool RobustRadianceFitter::scoreModels(FitScratch& scratch, std::size_t n, const
                 if (storeLooNorms) scratch.looByDegree[d * cap + jj] = std::numeric_limits<double>::infinity();
                 continue;
             }
-            const double term = e / (denominator * denominator);
+            const double inverse = 1.0 / denominator;
+            const double term = e * inverse * inverse;
             sums[d] += term;
             squares[d] += term * term;
-            if (storeLooNorms) {
-                const double sq = scratch.sqrtWeight[jj];
-                scratch.looByDegree[d * cap + jj] = sq > 0.0 ? std::sqrt(plain / 3.0) / (sq * denominator) : 0.0;
-            }
+            // Squared, and unweighted by 1 / a_j: the root is only taken for the winner (takeLooNorms).
+            if (storeLooNorms)
+                scratch.looByDegree[d * cap + jj] = (plain / 3.0) * inverse * inverse * scratch.inverseWeight[jj];
         }
     }
     for (int d = degreeLow; d <= degreeHigh; ++d) {
@@ -535,6 +585,12 @@ double RobustRadianceFitter::scoreConstant(FitScratch& scratch, std::size_t n, c
     return sum / a.sumW;
 }
 
+// scratch.looNorm := the leave-one-out residual norms of degree d that scoreModels left squared.
+void RobustRadianceFitter::takeLooNorms(FitScratch& scratch, int d, std::size_t n) const {
+    const double* squared = scratch.looByDegree.data() + static_cast<std::size_t>(d) * scratch.capacity;
+    for (std::size_t j = 0; j < n; ++j) scratch.looNorm[j] = std::sqrt(squared[j]);
+}
+
 RobustRadianceFitter::Choice RobustRadianceFitter::choose(FitScratch& scratch, std::size_t n, const Assembly& a,
                                                           const double* onlyLambda) const {
     Choice best;
@@ -552,7 +608,6 @@ RobustRadianceFitter::Choice RobustRadianceFitter::choose(FitScratch& scratch, s
     // strictly better to replace an earlier one.
     // The best candidate's per-sample leave-one-out residuals are kept in scratch.looNorm (the
     // IRLS's first reference, without scoring it again).
-    const std::size_t cap = scratch.capacity;
     for (std::size_t l = 0; l < (onlyLambda ? 1 : lambdaGrid_.size()); ++l) {
         const double lambda = onlyLambda ? *onlyLambda : lambdaGrid_[l];
         if (!scoreModels(scratch, n, a, lambda, low, high, errors, standardErrors, true)) continue;
@@ -562,8 +617,7 @@ RobustRadianceFitter::Choice RobustRadianceFitter::choose(FitScratch& scratch, s
                 bestStandardError = standardErrors[d];
                 best.lambda = lambda;
                 best.degree = d;
-                std::copy(scratch.looByDegree.begin() + static_cast<std::ptrdiff_t>(d * cap),
-                          scratch.looByDegree.begin() + static_cast<std::ptrdiff_t>(d * cap + n), scratch.looNorm.begin());
+                takeLooNorms(scratch, d, n);
             }
     }
     // The least validation error among 4 x (degree) candidates is biased low (the best of several
@@ -690,17 +744,22 @@ VertexFitResult RobustRadianceFitter::finishConstant(const VertexProblem& p, con
 
 // How many directions of D the samples cover; returns whether the vertex is poorly sampled.
 bool RobustRadianceFitter::measureCoverage(const VertexProblem& p, VertexFitResult& result) const {
+    // Sample by sample, the largest cosine to each direction of D (a vectorisable max over D's
+    // coordinate arrays), then the threshold.
     const int D = kCoverageDirections;
     const double* local = p.scratch.local.data();
+    double nearest[kCoverageDirections];
+    std::fill(nearest, nearest + D, -2.0);
+    const double* dx = coverageX_.data();
+    const double* dy = coverageY_.data();
+    const double* dz = coverageZ_.data();
+    for (std::size_t j = 0; j < p.n; ++j) {
+        const double lx = local[3 * j], ly = local[3 * j + 1], lz = local[3 * j + 2];
+        for (int i = 0; i < D; ++i) nearest[i] = std::max(nearest[i], dx[i] * lx + dy[i] * ly + dz[i] * lz);
+    }
     int coveredCount = 0;
     for (int i = 0; i < D; ++i) {
-        const double dx = coverage_[3 * i], dy = coverage_[3 * i + 1], dz = coverage_[3 * i + 2];
-        unsigned char hit = 0;
-        for (std::size_t j = 0; j < p.n; ++j)
-            if (dx * local[3 * j] + dy * local[3 * j + 1] + dz * local[3 * j + 2] >= cosCoverage_) {
-                hit = 1;
-                break;
-            }
+        const unsigned char hit = nearest[i] >= cosCoverage_ ? 1 : 0;
         p.scratch.covered[i] = hit;
         coveredCount += hit;
     }
@@ -740,9 +799,7 @@ bool RobustRadianceFitter::referenceResiduals(FitScratch& scratch, std::size_t n
         double errors[kMaxPolynomialDegree + kMaxHarmonicDegree + 2];
         if (!scoreModels(scratch, n, a, choice.lambda, choice.degree, choice.degree, errors, nullptr, true))
             return false;
-        const std::size_t row = static_cast<std::size_t>(choice.degree) * scratch.capacity;
-        std::copy(scratch.looByDegree.begin() + static_cast<std::ptrdiff_t>(row),
-                  scratch.looByDegree.begin() + static_cast<std::ptrdiff_t>(row + n), scratch.looNorm.begin());
+        takeLooNorms(scratch, choice.degree, n);
     }
     return true;
 }
@@ -919,6 +976,7 @@ VertexFitResult RobustRadianceFitter::fit(const Frame& frame, const DirectionalS
     }
     const bool poorly = measureCoverage(p, result);
     result.status = poorly ? FitStatus::PoorlySampled : FitStatus::Fitted;
+    sumVirtualSamples(scratch);
     evaluateSampleBasis(scratch, p.n);
     Assembly assembly;
     assemble(scratch, p.n, assembly);

@@ -129,22 +129,25 @@ private:
 
     std::vector<double> local;      // 3 per real sample: local direction
     std::vector<double> sqrtWeight; // per real sample: sqrt of the effective weight
+    std::vector<double> inverseWeight;  // per real sample: 1 / the effective weight (0 for weight 0)
     std::vector<double> baseWeight; // per real sample: the sample's weight a_j
     std::vector<double> robustWeight;  // per real sample: the Huber weight (1 without IRLS)
     std::vector<double> values;     // rows x 3, column-major: y (unweighted)
     std::vector<double> basisValues;  // K x real samples, column-major: B(l_j)
     std::vector<double> looNorm;    // per real sample: |leave-one-out residual| (IRLS)
-    std::vector<double> looByDegree;  // (max degree + 1) x capacity: the same, per degree of one lambda
+    std::vector<double> looByDegree;  // (max degree + 1) x capacity: the same squared, per degree of one lambda
     std::vector<double> errorScale; // rows x 3, column-major: (d sRGB / d linear)^2 at y (validation)
     std::vector<double> sortBuffer; // per real sample: for the median
     std::vector<double> forward;    // K x 3: L^-1 r
-    std::vector<double> degreeSolutions;  // (degree + 1) x K x 3: the solution at each degree
     std::vector<double> designT;    // K x capacity, row-major: sqrt(a_j) B(l_j) of the real samples
     std::vector<double> zMatrix;    // K x capacity, row-major: L^-1 designT
     std::vector<double> hatP, hatQ; // per real sample: the self-influence's two running sums
+    std::vector<double> fitted;     // 3 x capacity: weighted fitted values of one candidate
     std::vector<double> residuals;  // 3 x capacity: weighted residuals of one candidate
     std::vector<double> virtualLeverage;  // K: L^-1 (sum of B over the virtual samples' directions)
-    std::vector<double> virtualSum; // K
+    std::vector<double> virtualSum; // K: sum of the basis over the uncovered directions of D
+    std::vector<double> virtualGram;  // K(K+1)/2, packed lower triangle: sum of b b^T over them
+    std::size_t virtualCount = 0;     // uncovered directions of D
     std::vector<double> design;     // K x rows, column-major: sqrt(a) B(l)
     std::vector<double> targets;    // rows x 3, column-major: sqrt(a) y
     std::vector<double> gram;       // K x K (lower triangle)
@@ -192,6 +195,8 @@ private:
     struct Assembly;
     struct Choice;
     void assemble(FitScratch& scratch, std::size_t n, Assembly& a) const;
+    void sumVirtualSamples(FitScratch& scratch) const;
+    void takeLooNorms(FitScratch& scratch, int d, std::size_t n) const;
     bool scoreModels(FitScratch& scratch, std::size_t n, const Assembly& a, double lambda, int degreeLow,
                      int degreeHigh, double* errors, double* standardErrors, bool storeLooNorms) const;
     double scoreConstant(FitScratch& scratch, std::size_t n, const Assembly& a, bool storeLooNorms) const;
@@ -224,8 +229,12 @@ private:
     double cosCoverage_ = 0.0;
     double constantValue_ = 1.0;         // B_0, the constant basis function's value
     std::vector<double> coverage_;       // 3 x |D|
+    std::vector<double> coverageX_, coverageY_, coverageZ_;  // the same, one array per coordinate
     std::vector<double> check_;          // 3 x |C|
     std::vector<double> coverageBasis_;  // K x |D|, column-major, basis at D (local frame)
+    std::vector<double> coverageOuter_;  // |D| x K(K+1)/2: b b^T of each direction of D, packed lower triangle
+    std::vector<double> coverageGram_;   // K(K+1)/2, packed lower triangle: sum over D of b b^T
+    std::vector<double> coverageSum_;    // K: sum over D of b
     std::vector<double> checkBasis_;     // |C| x K, k-major: checkBasis_[k * |C| + i] (vectorises over i)
     std::vector<double> reflectSign_;    // K: +-1, the local-frame reflection (x, y, z) -> (-x, -y, z)
     std::vector<int> degreeK_;           // coefficients of the basis of degree 0..d (a prefix of the K)
