@@ -501,14 +501,26 @@ bool RobustRadianceFitter::scoreModels(FitScratch& scratch, std::size_t n, const
         for (; k < degreeK_[d]; ++k) {
             double* zk = Z + static_cast<std::size_t>(k) * cap;
             const double* Lk = A + static_cast<std::size_t>(k) * K;
-            std::copy(designT + static_cast<std::size_t>(k) * cap, designT + static_cast<std::size_t>(k) * cap + n, zk);
-            for (int i = 0; i < k; ++i) {
-                const double lki = Lk[i];
-                const double* zi = Z + static_cast<std::size_t>(i) * cap;
-                for (std::size_t jj = 0; jj < n; ++jj) zk[jj] -= lki * zi[jj];
+            const double inv = invDiag[k];
+            const double* bk = designT + static_cast<std::size_t>(k) * cap;
+            // Four samples at a time, the sum over the earlier rows kept in registers (rows are
+            // padded: cap >= n + kCoverageDirections, and the lanes past n are never read back).
+            for (std::size_t jj = 0; jj < n; jj += 4) {
+                double a0 = bk[jj], a1 = bk[jj + 1], a2 = bk[jj + 2], a3 = bk[jj + 3];
+                for (int i = 0; i < k; ++i) {
+                    const double lki = Lk[i];
+                    const double* zi = Z + static_cast<std::size_t>(i) * cap + jj;
+                    a0 -= lki * zi[0];
+                    a1 -= lki * zi[1];
+                    a2 -= lki * zi[2];
+                    a3 -= lki * zi[3];
+                }
+                zk[jj] = a0;
+                zk[jj + 1] = a1;
+                zk[jj + 2] = a2;
+                zk[jj + 3] = a3;
             }
             const double uk = u[k];
-            const double inv = invDiag[k];
             const double f0 = forward[k], f1 = forward[K + k], f2 = forward[2 * K + k];
             for (std::size_t jj = 0; jj < n; ++jj) {
                 const double z = (zk[jj] *= inv);
