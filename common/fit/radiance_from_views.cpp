@@ -777,34 +777,45 @@ void streamPerVertexFit(const TriangleMesh& mesh, const ViewSampler& sampler, co
     RadianceField& field = result.field;
     const ProgressCallback range = percentRange(progress, kFitStart, kFitEnd);
     LoopProgress loop(range, kStageFitting, n);
-    const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(n);
+    // Blocks of neighbouring vertices: their rays toward one camera are cast as one packet.
+    constexpr int kBlock = ViewSampler::kBlock;
+    const std::ptrdiff_t blocks = static_cast<std::ptrdiff_t>((n + kBlock - 1) / kBlock);
 #pragma omp parallel
     {
-        // Per-thread buffers, allocated once: the samples of one vertex, and the fit's scratch.
-        std::vector<DirectionalSample> samples(viewCount);
-        std::vector<int> viewOf(viewCount);
+        // Per-thread buffers, allocated once: the samples of one block of vertices, and the fit's scratch.
+        std::vector<DirectionalSample> samples(kBlock * viewCount);
+        std::vector<int> viewOf(kBlock * viewCount);
+        std::size_t counts[kBlock];
         FitScratch scratch = fitter.makeScratch();
         SampleFitCounters local;
         local.reset(viewCount);
         const bool reporter = omp_get_thread_num() == 0;
-#pragma omp for schedule(dynamic, 256) nowait
-        for (std::ptrdiff_t iv = 0; iv < count; ++iv)
+#pragma omp for schedule(dynamic, 16) nowait
+        for (std::ptrdiff_t block = 0; block < blocks; ++block) {
+            const std::size_t first = static_cast<std::size_t>(block) * kBlock;
+            const int size = static_cast<int>(std::min<std::size_t>(kBlock, n - first));
             loop.runItem(reporter, [&] {
-                const std::size_t v = static_cast<std::size_t>(iv);
-                const float* nv = mesh.normals.data() + 3 * v;
-                storeFrame(frameFromNormal(Eigen::Vector3d(nv[0], nv[1], nv[2])), field.frame(v));
-                // The frame as evaluation will read it back (float storage, re-orthonormalised).
-                const Frame frame = frameFromStored(field.frame(v));
-                const std::size_t m = sampler.sampleVertex(v, samples.data(), nullptr, viewOf.data());
-                for (std::size_t j = 0; j < m; ++j) {
-                    ++local.perView[viewOf[j]];
-                    local.saturated += weighSaturation(samples[j], options) ? 1 : 0;
-                    divideByGain(samples[j], gains.data() + 3 * viewOf[j]);
+                sampler.sampleVertexBlock(first, size, samples.data(), counts, nullptr, viewOf.data());
+                for (int k = 0; k < size; ++k) {
+                    const std::size_t v = first + static_cast<std::size_t>(k);
+                    const float* nv = mesh.normals.data() + 3 * v;
+                    storeFrame(frameFromNormal(Eigen::Vector3d(nv[0], nv[1], nv[2])), field.frame(v));
+                    // The frame as evaluation will read it back (float storage, re-orthonormalised).
+                    const Frame frame = frameFromStored(field.frame(v));
+                    DirectionalSample* mine = samples.data() + static_cast<std::size_t>(k) * viewCount;
+                    const int* views = viewOf.data() + static_cast<std::size_t>(k) * viewCount;
+                    const std::size_t m = counts[k];
+                    for (std::size_t j = 0; j < m; ++j) {
+                        ++local.perView[views[j]];
+                        local.saturated += weighSaturation(mine[j], options) ? 1 : 0;
+                        divideByGain(mine[j], gains.data() + 3 * views[j]);
+                    }
+                    const VertexFitResult r = fitter.fit(frame, mine, m, scratch, field.vertexCoefficients(v));
+                    local.count(r, options.fit.minSamples);
+                    storeVertexFit(r, v, result.meanColor, result.sampleCount, result.residual, result.status);
                 }
-                const VertexFitResult r = fitter.fit(frame, samples.data(), m, scratch, field.vertexCoefficients(v));
-                local.count(r, options.fit.minSamples);
-                storeVertexFit(r, v, result.meanColor, result.sampleCount, result.residual, result.status);
-            });
+            }, static_cast<std::size_t>(size));
+        }
 #pragma omp critical(radiance_from_views_merge)
         counters.merge(local);
     }
