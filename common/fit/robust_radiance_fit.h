@@ -140,6 +140,7 @@ private:
     std::vector<double> sortBuffer; // per real sample: for the median
     std::vector<double> forward;    // K x 3: L^-1 r
     std::vector<double> designT;    // K x capacity, row-major: sqrt(a_j) B(l_j) of the real samples
+                                    // (capacity >= real samples + |D|: rows are read 4 at a time)
     std::vector<double> zMatrix;    // K x capacity, row-major: L^-1 designT
     std::vector<double> hatP, hatQ; // per real sample: the self-influence's two running sums
     std::vector<double> fitted;     // 3 x capacity: weighted fitted values of one candidate
@@ -148,8 +149,8 @@ private:
     std::vector<double> virtualSum; // K: sum of the basis over the uncovered directions of D
     std::vector<double> virtualGram;  // K(K+1)/2, packed lower triangle: sum of b b^T over them
     std::size_t virtualCount = 0;     // uncovered directions of D
-    std::vector<double> design;     // K x rows, column-major: sqrt(a) B(l)
-    std::vector<double> targets;    // rows x 3, column-major: sqrt(a) y
+    std::vector<double> design;     // K x real samples, column-major: sqrt(a) B(l)
+    std::vector<double> targets;    // real samples x 3, column-major: sqrt(a) y
     std::vector<double> gram;       // K x K (lower triangle)
     std::vector<double> system;     // K x K, factorised in place
     std::vector<double> invDiag;    // K: 1 / L_kk of the factor
