@@ -310,27 +310,46 @@ void RobustRadianceFitter::writeSolution(const Frame& frame, const double* solut
     }
 }
 
-bool RobustRadianceFitter::insideBand(const double* x, double lo, double hi) const {
-    // Values of one channel (coefficients x[0..K)) at the points of C, block by block (k outer,
-    // points inner: the inner loop is a vectorisable axpy), stopping at the first block with a value
-    // outside [lo, hi]. The coarse part of C comes first, so most failing fits are rejected after
-    // kGuardCoarse* points.
+void RobustRadianceFitter::insideBands(const double* X, int Ka, const bool* test, const double* lo, const double* hi,
+                                       bool* inside) const {
+    // Values at the points of C, block by block, of the three channels at once (each row of the
+    // basis table is read once for the three; k outer, points inner: vectorisable axpys), over the
+    // Ka coefficients in use (the others are 0). A channel leaves the test at its first block with
+    // a value outside [lo, hi]; the coarse part of C comes first, so most failing fits are rejected
+    // after kGuardCoarse* points.
     constexpr int kBlock = 96;
     const int C = kGuardDirections;
-    const int K = K_;
-    double acc[kBlock];
-    for (int begin = 0; begin < C; begin += kBlock) {
-        const int size = std::min(kBlock, C - begin);
-        for (int i = 0; i < size; ++i) acc[i] = x[0] * checkBasis_[begin + i];
-        for (int k = 1; k < K; ++k) {
-            const double* row = checkBasis_.data() + static_cast<std::size_t>(k) * C + begin;
-            const double xk = x[k];
-            for (int i = 0; i < size; ++i) acc[i] += xk * row[i];
-        }
-        for (int i = 0; i < size; ++i)
-            if (!(acc[i] >= lo && acc[i] <= hi)) return false;  // also catches NaN
+    int testing = 0;
+    for (int c = 0; c < 3; ++c) {
+        inside[c] = test[c];
+        testing += test[c];
     }
-    return true;
+    double acc[3][kBlock];
+    for (int begin = 0; begin < C && testing > 0; begin += kBlock) {
+        const int size = std::min(kBlock, C - begin);
+        for (int c = 0; c < 3; ++c) {
+            const double x0 = X[c * K_];
+            for (int i = 0; i < size; ++i) acc[c][i] = x0 * checkBasis_[begin + i];
+        }
+        for (int k = 1; k < Ka; ++k) {
+            const double* row = checkBasis_.data() + static_cast<std::size_t>(k) * C + begin;
+            const double x0 = X[k], x1 = X[K_ + k], x2 = X[2 * K_ + k];
+            for (int i = 0; i < size; ++i) {
+                acc[0][i] += x0 * row[i];
+                acc[1][i] += x1 * row[i];
+                acc[2][i] += x2 * row[i];
+            }
+        }
+        for (int c = 0; c < 3; ++c) {
+            if (!inside[c]) continue;
+            for (int i = 0; i < size; ++i)
+                if (!(acc[c][i] >= lo[c] && acc[c][i] <= hi[c])) {  // also catches NaN
+                    inside[c] = false;
+                    --testing;
+                    break;
+                }
+        }
+    }
 }
 
 // The weighted system of the current effective weights (a_j times the Huber weight).
@@ -918,14 +937,23 @@ bool RobustRadianceFitter::guardAttempt(FitScratch& scratch, const Assembly& a, 
     forward3InPlace(A, scratch.invDiag.data(), K, Ka, X);
     backward3InPlace(A, scratch.invDiag.data(), K, Ka, X);
     for (int c = 0; c < 3; ++c) std::fill(X + c * K + Ka, X + (c + 1) * K, 0.0);
+    // Accepted: a pending channel whose solution is finite and, under the guard, inside its band.
+    bool accept[3], test[3];
+    for (int c = 0; c < 3; ++c) {
+        const double* xc = X + c * K;
+        bool finite = true;
+        for (int k = 0; k < K; ++k) finite = finite && std::isfinite(xc[k]);
+        accept[c] = g.pending[c] && finite;
+        test[c] = accept[c] && g.guard;
+    }
+    bool inside[3] = {true, true, true};
+    if (test[0] || test[1] || test[2]) insideBands(X, Ka, test, g.bandLo, g.bandHi, inside);
     bool escalate = false;
     double* final = scratch.solution.data();
     for (int c = 0; c < 3; ++c) {
         if (!g.pending[c]) continue;
-        const double* xc = X + c * K;
-        bool finite = true;
-        for (int k = 0; k < K; ++k) finite = finite && std::isfinite(xc[k]);
-        if (finite && (!g.guard || insideBand(xc, g.bandLo[c], g.bandHi[c]))) {
+        if (accept[c] && (!test[c] || inside[c])) {
+            const double* xc = X + c * K;
             std::copy(xc, xc + K, final + c * K);
             g.pending[c] = false;
             --g.pendingCount;

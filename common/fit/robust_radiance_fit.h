@@ -192,7 +192,7 @@ public:
 private:
     void writeConstant(const Frame& frame, const double mean[3], float* out) const;
     void writeSolution(const Frame& frame, const double* solution, FitScratch& scratch, float* out) const;
-    bool insideBand(const double* channelCoefficients, double lo, double hi) const;
+    void insideBands(const double* X, int Ka, const bool* test, const double* lo, const double* hi, bool* inside) const;
     struct Assembly;
     struct Choice;
     void assemble(FitScratch& scratch, std::size_t n, Assembly& a) const;
