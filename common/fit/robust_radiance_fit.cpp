@@ -185,7 +185,6 @@ void FitScratch::reserveSamples(int k, std::size_t sampleCount) {
     hatP.resize(newCapacity);
     hatQ.resize(newCapacity);
     fitted.resize(3 * newCapacity);
-    residuals.resize(3 * newCapacity);
     sortBuffer.resize(newCapacity);
     forward.resize(static_cast<std::size_t>(k) * 3);
     virtualLeverage.resize(k);
@@ -356,7 +355,6 @@ void RobustRadianceFitter::insideBands(const double* X, int Ka, const bool* test
 struct RobustRadianceFitter::Assembly {
     double sumW = 0.0;          // sum of the effective weights
     double mean[3] = {0.0, 0.0, 0.0};
-    std::size_t rows = 0;       // real + virtual
     double virtualWeight = 0.0; // weight of each virtual sample (0: none)
     double trace = 0.0, scale = 0.0;
 };
@@ -397,11 +395,9 @@ void RobustRadianceFitter::assemble(FitScratch& scratch, std::size_t n, Assembly
         for (int c = 0; c < 3; ++c) targets[c * cap + j] = sq * scratch.values[c * cap + j];
     }
     a.virtualWeight = options_.virtualSampleWeight * a.sumW / static_cast<double>(n);
-    a.rows = n;
     double* G = scratch.gram.data();  // row-major, lower triangle (what choleskyInPlace reads)
     const double* virtualSum = scratch.virtualSum.data();
     if (a.virtualWeight > 0.0 && scratch.virtualCount > 0) {
-        a.rows += scratch.virtualCount;
         const double* packed = scratch.virtualGram.data();
         for (int r = 0; r < K; ++r, packed += r) {
             double* row = G + static_cast<std::size_t>(r) * K;
@@ -507,8 +503,7 @@ bool RobustRadianceFitter::scoreModels(FitScratch& scratch, std::size_t n, const
     double* Z = scratch.zMatrix.data();
     double* P = scratch.hatP.data();
     double* Q = scratch.hatQ.data();
-    double* F = scratch.fitted.data();     // 3 x cap
-    double* R = scratch.residuals.data();  // 3 x cap
+    double* F = scratch.fitted.data();  // 3 x cap
     std::fill(P, P + n, 0.0);
     std::fill(Q, Q + n, 0.0);
     for (int c = 0; c < 3; ++c) std::fill(F + static_cast<std::size_t>(c) * cap, F + static_cast<std::size_t>(c) * cap + n, 0.0);
@@ -551,19 +546,13 @@ bool RobustRadianceFitter::scoreModels(FitScratch& scratch, std::size_t n, const
             }
         }
         if (d < degreeLow) continue;
-        for (int c = 0; c < 3; ++c) {
-            const double* fc = F + static_cast<std::size_t>(c) * cap;
-            const double* tc = targets + static_cast<std::size_t>(c) * cap;
-            double* rc = R + static_cast<std::size_t>(c) * cap;
-            for (std::size_t jj = 0; jj < n; ++jj) rc[jj] = fc[jj] - tc[jj];
-        }
         for (std::size_t jj = 0; jj < n; ++jj) {
             const double h = P[jj] + leak * scratch.sqrtWeight[jj] * Q[jj];
             const double denominator = 1.0 - h;
             // a_j |f_j - y_j|^2 (the rows are sqrt(a_j)-scaled), in sRGB units and plain.
             double e = 0.0, plain = 0.0;
             for (int c = 0; c < 3; ++c) {
-                const double r = R[static_cast<std::size_t>(c) * cap + jj];
+                const double r = F[static_cast<std::size_t>(c) * cap + jj] - targets[static_cast<std::size_t>(c) * cap + jj];
                 e += scratch.errorScale[c * cap + jj] * r * r;
                 plain += r * r;
             }
@@ -622,8 +611,7 @@ void RobustRadianceFitter::takeLooNorms(FitScratch& scratch, int d, std::size_t 
     for (std::size_t j = 0; j < n; ++j) scratch.looNorm[j] = std::sqrt(squared[j]);
 }
 
-RobustRadianceFitter::Choice RobustRadianceFitter::choose(FitScratch& scratch, std::size_t n, const Assembly& a,
-                                                          const double* onlyLambda) const {
+RobustRadianceFitter::Choice RobustRadianceFitter::choose(FitScratch& scratch, std::size_t n, const Assembly& a) const {
     Choice best;
     best.lambda = options_.lambda;
     best.degree = options_.basis.degree;
@@ -639,8 +627,7 @@ RobustRadianceFitter::Choice RobustRadianceFitter::choose(FitScratch& scratch, s
     // strictly better to replace an earlier one.
     // The best candidate's per-sample leave-one-out residuals are kept in scratch.looNorm (the
     // IRLS's first reference, without scoring it again).
-    for (std::size_t l = 0; l < (onlyLambda ? 1 : lambdaGrid_.size()); ++l) {
-        const double lambda = onlyLambda ? *onlyLambda : lambdaGrid_[l];
+    for (const double lambda : lambdaGrid_) {
         if (!scoreModels(scratch, n, a, lambda, low, high, errors, standardErrors, true)) continue;
         for (int d = high; d >= low; --d)
             if (errors[d] < best.error) {

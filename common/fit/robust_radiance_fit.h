@@ -144,7 +144,6 @@ private:
     std::vector<double> zMatrix;    // K x capacity, row-major: L^-1 designT
     std::vector<double> hatP, hatQ; // per real sample: the self-influence's two running sums
     std::vector<double> fitted;     // 3 x capacity: weighted fitted values of one candidate
-    std::vector<double> residuals;  // 3 x capacity: weighted residuals of one candidate
     std::vector<double> virtualLeverage;  // K: L^-1 (sum of B over the virtual samples' directions)
     std::vector<double> virtualSum; // K: sum of the basis over the uncovered directions of D
     std::vector<double> virtualGram;  // K(K+1)/2, packed lower triangle: sum of b b^T over them
@@ -201,7 +200,7 @@ private:
     bool scoreModels(FitScratch& scratch, std::size_t n, const Assembly& a, double lambda, int degreeLow,
                      int degreeHigh, double* errors, double* standardErrors, bool storeLooNorms) const;
     double scoreConstant(FitScratch& scratch, std::size_t n, const Assembly& a, bool storeLooNorms) const;
-    Choice choose(FitScratch& scratch, std::size_t n, const Assembly& a, const double* onlyLambda = nullptr) const;
+    Choice choose(FitScratch& scratch, std::size_t n, const Assembly& a) const;
     // The steps of fit().
     struct ObservedRange;
     struct VertexProblem;
