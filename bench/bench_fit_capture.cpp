@@ -52,10 +52,35 @@ std::vector<std::string> split(const std::string& s) {
 
 }  // namespace
 
+// Wall time between the progress callback's stage changes: where the fit's time goes, by the stages
+// the filter's progress bar names (a stage the fit enters twice is listed twice).
+class StageClock {
+public:
+    ProgressCallback callback() {
+        return [this](double, const char* stage) {
+            const double t = now();
+            if (current_ != stage) {
+                if (!current_.empty()) spans_.push_back({current_, t - since_});
+                current_ = stage;
+                since_ = t;
+            }
+            return true;
+        };
+    }
+    void print() const {
+        for (const auto& [stage, seconds] : spans_) std::printf("  stage %-36s %.3f s\n", stage.c_str(), seconds);
+    }
+
+private:
+    std::string current_;
+    double since_ = 0.0;
+    std::vector<std::pair<std::string, double>> spans_;
+};
+
 int main(int argc, char** argv) {
     if (argc < 2) {
         std::fprintf(stderr, "usage: %s CAPTURE [--held-out-every K] [--basis PB4] [--models per-vertex,shared,auto] "
-                             "[--meshlab-colors COLORS.ply]\n", argv[0]);
+                             "[--meshlab-colors COLORS.ply] [--phases 1]\n", argv[0]);
         return 2;
     }
     const std::filesystem::path dir = argv[1];
@@ -63,6 +88,7 @@ int main(int argc, char** argv) {
     std::string basisName = "PB4", models = "per-vertex,shared,auto", meshlabColors;
     SharedFitOptions sharedOptions;
     bool inSample = false;
+    bool phases = false;     // --phases 1: the wall time of each stage the fit reports through its progress callback
     int diagnoseView = -1;  // --diagnose-view J: where the J-th held-out view (0-based) loses to the constant
     int rejectedConstant = -1;  // --rejected-constant 0|1: the shared fit's rejected vertices get the per-vertex fit (0) or the constant (1, the default)  // --in-sample 1: fit on ALL rasters (held-out ones included): the model's capacity
     for (int i = 2; i + 1 < argc; i += 2) {
@@ -82,6 +108,7 @@ int main(int argc, char** argv) {
         else if (!std::strcmp(argv[i], "--basis")) basisName = argv[i + 1];
         else if (!std::strcmp(argv[i], "--guard")) sharedOptions.guardStandardErrors = std::atof(argv[i + 1]);
         else if (!std::strcmp(argv[i], "--models")) models = argv[i + 1];
+        else if (!std::strcmp(argv[i], "--phases")) phases = std::atoi(argv[i + 1]) != 0;
         else if (!std::strcmp(argv[i], "--meshlab-colors")) meshlabColors = argv[i + 1];
         else {
             std::fprintf(stderr, "unknown option %s\n", argv[i]);
@@ -151,8 +178,11 @@ int main(int argc, char** argv) {
             const double t0 = now();
             std::vector<CalibratedView> fitted = training;
             if (inSample) fitted.insert(fitted.end(), heldOut.begin(), heldOut.end());
-            const RadianceFromViewsResult r = fitRadianceFromViews(mesh, fitted, options);
+            StageClock stages;
+            const RadianceFromViewsResult r =
+                phases ? fitRadianceFromViews(mesh, fitted, options, stages.callback()) : fitRadianceFromViews(mesh, fitted, options);
             const double seconds = now() - t0;
+            if (phases) stages.print();
             const HeldOutEvaluation e = evaluateHeldOutViews(mesh, r.field, r.meanColor, training, heldOut, options.sampling);
             std::printf("%-10s fit %.2f s (median %.0f samples/vertex)", name.c_str(), seconds, r.medianSamples);
             if (r.modelValidated)
