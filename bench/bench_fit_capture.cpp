@@ -183,7 +183,9 @@ int main(int argc, char** argv) {
                 phases ? fitRadianceFromViews(mesh, fitted, options, stages.callback()) : fitRadianceFromViews(mesh, fitted, options);
             const double seconds = now() - t0;
             if (phases) stages.print();
+            const double evaluationStart = now();
             const HeldOutEvaluation e = evaluateHeldOutViews(mesh, r.field, r.meanColor, training, heldOut, options.sampling);
+            const double evaluationSeconds = now() - evaluationStart;
             std::printf("%-10s fit %.2f s (median %.0f samples/vertex)", name.c_str(), seconds, r.medianSamples);
             if (r.modelValidated)
                 std::printf(", chose %s (left-out RMS per-vertex %.3f, shared %.3f, constant %.3f on %zu samples)",
@@ -196,6 +198,7 @@ int main(int argc, char** argv) {
                         " fitted/constant %.3f\n",
                         e.meanFitted, e.meanConstant, e.meanProjection, e.fittedNotWorseThanConstant, e.viewsCompared,
                         e.meanConstant > 0 ? e.meanFitted / e.meanConstant : 0.0);
+            std::printf("  held-out evaluation %.2f s\n", evaluationSeconds);
             std::printf("  per view (fitted/constant):");
             for (const HeldOutViewError& v : e.views) std::printf(" %.2f/%.2f", v.fitted, v.constant);
             std::printf("\n");

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <omp.h>
 #include <stdexcept>
 
@@ -21,6 +22,16 @@ double srgbLevelToLinear(double level) {
     return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
 }
 constexpr int kPredictions = 3;  // fitted, constant, projection
+
+// The plain average, in sRGB levels, of a vertex's `count` training samples (MeshLab's projection
+// blends the photographs' values so); left NaN when there are none.
+void averageTrainingLevels(const DirectionalSample* samples, std::size_t count, double* levels) {
+    if (count == 0) return;
+    double sum[3] = {0.0, 0.0, 0.0};
+    for (std::size_t j = 0; j < count; ++j)
+        for (int c = 0; c < 3; ++c) sum[c] += srgbLevel(samples[j].rgb[c]) / static_cast<double>(count);
+    for (int c = 0; c < 3; ++c) levels[c] = sum[c];
+}
 }  // namespace
 
 HeldOutEvaluation evaluateHeldOutViews(const TriangleMesh& mesh, const RadianceField& field,
@@ -43,46 +54,61 @@ HeldOutEvaluation evaluateHeldOutViews(const TriangleMesh& mesh, const RadianceF
     const std::size_t slots = H * kPredictions * 3;
     std::vector<double> py(slots, 0.0), pp(slots, 0.0), gain(slots, 1.0), raw(slots, 0.0), matched(slots, 0.0);
     std::vector<std::size_t> counts(H, 0);
-    const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(n);
+    // The training views' plain average at each vertex (MeshLab's projection, in sRGB levels), found
+    // in the first pass and kept for the second; NaN where no training view saw the vertex.
+    std::vector<double> projectionLevels(3 * n, std::numeric_limits<double>::quiet_NaN());
+    // Blocks of neighbouring vertices: their rays toward one camera are cast as one packet.
+    constexpr int kBlock = ViewSampler::kBlock;
+    const std::ptrdiff_t blocks = static_cast<std::ptrdiff_t>((n + kBlock - 1) / kBlock);
     for (int pass = 0; pass < 2; ++pass) {
 #pragma omp parallel
         {
-            std::vector<DirectionalSample> train(training.size()), test(H);
-            std::vector<int> testView(H);
+            std::vector<DirectionalSample> train(kBlock * training.size()), test(kBlock * H);
+            std::vector<int> testView(kBlock * H);
+            std::size_t testCounts[kBlock], trainCounts[kBlock];
             std::vector<double> localA(slots, 0.0), localB(slots, 0.0);
             std::vector<std::size_t> localCounts(H, 0);
-#pragma omp for schedule(dynamic, 256) nowait
-            for (std::ptrdiff_t iv = 0; iv < count; ++iv) {
-                const std::size_t v = static_cast<std::size_t>(iv);
-                const std::size_t m = testSampler.sampleVertex(v, test.data(), nullptr, testView.data());
-                if (m == 0) continue;
-                const std::size_t t = trainSampler.sampleVertex(v, train.data());
-                if (t == 0) continue;  // no training view saw it: nothing but a guess to compare
-                double projection[3] = {0.0, 0.0, 0.0};
-                for (std::size_t j = 0; j < t; ++j)
-                    for (int c = 0; c < 3; ++c) projection[c] += srgbLevel(train[j].rgb[c]) / static_cast<double>(t);
-                for (std::size_t j = 0; j < m; ++j) {
-                    const DirectionalSample& s = test[j];
-                    const Eigen::Vector3d w(s.direction[0], s.direction[1], s.direction[2]);
-                    const Eigen::Vector3d fitted = evaluateRadiance(field, v, w);
-                    const std::size_t view = static_cast<std::size_t>(testView[j]);
-                    for (int c = 0; c < 3; ++c) {
-                        const double p[kPredictions] = {std::max(0.0, fitted[c]), double(meanColor[3 * v + c]),
-                                                        srgbLevelToLinear(projection[c])};
-                        const double y = s.rgb[c], seen = srgbLevel(y);
-                        for (int k = 0; k < kPredictions; ++k) {
-                            const std::size_t slot = (view * kPredictions + k) * 3 + c;
-                            if (pass == 0) {
-                                localA[slot] += p[k] * y;
-                                localB[slot] += p[k] * p[k];
-                            } else {
-                                const double e = srgbLevel(p[k]) - seen, f = srgbLevel(gain[slot] * p[k]) - seen;
-                                localA[slot] += e * e;
-                                localB[slot] += f * f;
+#pragma omp for schedule(dynamic, 16) nowait
+            for (std::ptrdiff_t block = 0; block < blocks; ++block) {
+                const std::size_t first = static_cast<std::size_t>(block) * kBlock;
+                const int size = static_cast<int>(std::min<std::size_t>(kBlock, n - first));
+                testSampler.sampleVertexBlock(first, size, test.data(), testCounts, nullptr, testView.data());
+                if (pass == 0) {
+                    trainSampler.sampleVertexBlock(first, size, train.data(), trainCounts);
+                    for (int k = 0; k < size; ++k)
+                        averageTrainingLevels(train.data() + std::size_t(k) * training.size(), trainCounts[k],
+                                              projectionLevels.data() + 3 * (first + std::size_t(k)));
+                }
+                for (int k = 0; k < size; ++k) {
+                    const std::size_t v = first + static_cast<std::size_t>(k);
+                    const double* projection = projectionLevels.data() + 3 * v;
+                    // No training view saw it: nothing but a guess to compare.
+                    if (testCounts[k] == 0 || std::isnan(projection[0])) continue;
+                    const DirectionalSample* mine = test.data() + std::size_t(k) * H;
+                    const int* views = testView.data() + std::size_t(k) * H;
+                    for (std::size_t j = 0; j < testCounts[k]; ++j) {
+                        const DirectionalSample& s = mine[j];
+                        const Eigen::Vector3d w(s.direction[0], s.direction[1], s.direction[2]);
+                        const Eigen::Vector3d fitted = evaluateRadiance(field, v, w);
+                        const std::size_t view = static_cast<std::size_t>(views[j]);
+                        for (int c = 0; c < 3; ++c) {
+                            const double p[kPredictions] = {std::max(0.0, fitted[c]), double(meanColor[3 * v + c]),
+                                                            srgbLevelToLinear(projection[c])};
+                            const double y = s.rgb[c], seen = srgbLevel(y);
+                            for (int q = 0; q < kPredictions; ++q) {
+                                const std::size_t slot = (view * kPredictions + q) * 3 + c;
+                                if (pass == 0) {
+                                    localA[slot] += p[q] * y;
+                                    localB[slot] += p[q] * p[q];
+                                } else {
+                                    const double e = srgbLevel(p[q]) - seen, f = srgbLevel(gain[slot] * p[q]) - seen;
+                                    localA[slot] += e * e;
+                                    localB[slot] += f * f;
+                                }
                             }
                         }
+                        ++localCounts[view];
                     }
-                    ++localCounts[view];
                 }
             }
 #pragma omp critical(held_out_evaluation_merge)
