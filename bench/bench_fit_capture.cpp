@@ -52,6 +52,69 @@ std::vector<std::string> split(const std::string& s) {
 
 }  // namespace
 
+// Whether the object covers all four pixels a bilinear sample at (u, v) reads, by the capture's mask
+// of that view (255: covered; less: the object covers the pixel in part, and the photograph mixes it
+// with what lies behind, which no function of the direction at the vertex can predict).
+bool fullyCovered(const Image8& mask, double u, double v) {
+    const int x0 = std::clamp(static_cast<int>(std::floor(u - 0.5)), 0, mask.width - 1);
+    const int y0 = std::clamp(static_cast<int>(std::floor(v - 0.5)), 0, mask.height - 1);
+    for (int dy = 0; dy <= 1; ++dy)
+        for (int dx = 0; dx <= 1; ++dx)
+            if (mask.view().pixel(std::min(x0 + dx, mask.width - 1), std::min(y0 + dy, mask.height - 1))[0] < 255)
+                return false;
+    return true;
+}
+
+// --by-cosine: where the held-out error sits. Over every held-out view, the RMS error (8-bit sRGB
+// levels) of the constant and of the fit by tenths of n.w (the cosine of the view to the normal), and,
+// with the capture's masks, both overall at the vertices whose sample reads only fully covered pixels.
+// Pooled over samples (not the mean over views of the main figures).
+void printErrorByCosine(const TriangleMesh& mesh, const RadianceFromViewsResult& r, const std::vector<float>& constant,
+                        const std::vector<CalibratedView>& heldOut, const std::vector<Image8>& masks) {
+    double squaredConstant[10] = {0}, squaredFitted[10] = {0}, count[10] = {0};
+    double coveredConstant = 0.0, coveredFitted = 0.0, covered = 0.0, all = 0.0;
+    for (std::size_t i = 0; i < heldOut.size(); ++i) {
+        const ViewSampler one(mesh, {heldOut[i]});
+        DirectionalSample a;
+        for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
+            if (r.sampleCount[v] < 1 || !one.sampleVertex(v, &a)) continue;
+            const Eigen::Vector3d w(a.direction[0], a.direction[1], a.direction[2]);
+            const Eigen::Vector3d n = Eigen::Vector3d(mesh.normals[3 * v], mesh.normals[3 * v + 1], mesh.normals[3 * v + 2]).normalized();
+            const Eigen::Vector3d f = evaluateRadiance(r.field, v, w);
+            double ec2 = 0.0, ef2 = 0.0;
+            for (int c = 0; c < 3; ++c) {
+                const double y = srgbLevel(a.rgb[c]);
+                ec2 += std::pow(srgbLevel(constant[3 * v + c]) - y, 2) / 3.0;
+                ef2 += std::pow(srgbLevel(f[c]) - y, 2) / 3.0;
+            }
+            const int q = std::clamp(static_cast<int>(w.dot(n) * 10.0), 0, 9);
+            squaredConstant[q] += ec2;
+            squaredFitted[q] += ef2;
+            ++count[q];
+            ++all;
+            if (i < masks.size() && masks[i].width > 0) {
+                const Eigen::Vector3d X(mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]);
+                double u = 0.0, t = 0.0;
+                if (heldOut[i].camera.project(X, u, t) && fullyCovered(masks[i], u, t)) {
+                    coveredConstant += ec2;
+                    coveredFitted += ef2;
+                    ++covered;
+                }
+            }
+        }
+    }
+    std::printf("  held-out RMS by n.w (constant / fitted, samples):");
+    for (int q = 0; q < 10; ++q)
+        if (count[q] > 0)
+            std::printf(" %.1f-%.1f: %.2f / %.2f (%.0f)", q / 10.0, (q + 1) / 10.0, std::sqrt(squaredConstant[q] / count[q]),
+                        std::sqrt(squaredFitted[q] / count[q]), count[q]);
+    std::printf("\n");
+    if (covered > 0)
+        std::printf("  held-out RMS at samples on fully covered pixels (%.1f %% of them): constant %.3f, fitted %.3f, "
+                    "fitted/constant %.3f\n", 100.0 * covered / all, std::sqrt(coveredConstant / covered),
+                    std::sqrt(coveredFitted / covered), std::sqrt(coveredFitted / coveredConstant));
+}
+
 // Wall time between the progress callback's stage changes: where the fit's time goes, by the stages
 // the filter's progress bar names (a stage the fit enters twice is listed twice).
 class StageClock {
@@ -80,7 +143,7 @@ private:
 int main(int argc, char** argv) {
     if (argc < 2) {
         std::fprintf(stderr, "usage: %s CAPTURE [--held-out-every K] [--basis PB4] [--models per-vertex,shared,auto] "
-                             "[--meshlab-colors COLORS.ply] [--phases 1]\n", argv[0]);
+                             "[--meshlab-colors COLORS.ply] [--phases 1] [--by-cosine 1]\n", argv[0]);
         return 2;
     }
     const std::filesystem::path dir = argv[1];
@@ -89,12 +152,14 @@ int main(int argc, char** argv) {
     SharedFitOptions sharedOptions;
     bool inSample = false;
     bool phases = false;     // --phases 1: the wall time of each stage the fit reports through its progress callback
+    bool byCosine = false;  // --by-cosine 1: the held-out errors by n.w, and without the pixels the object only partly covers
     int diagnoseView = -1;  // --diagnose-view J: where the J-th held-out view (0-based) loses to the constant
     int rejectedConstant = -1;  // --rejected-constant 0|1: the shared fit's rejected vertices get the per-vertex fit (0) or the constant (1, the default)  // --in-sample 1: fit on ALL rasters (held-out ones included): the model's capacity
     for (int i = 2; i + 1 < argc; i += 2) {
         if (!std::strcmp(argv[i], "--held-out-every")) every = std::atoi(argv[i + 1]);
         else if (!std::strcmp(argv[i], "--rejected-constant")) rejectedConstant = std::atoi(argv[i + 1]);
         else if (!std::strcmp(argv[i], "--diagnose-view")) diagnoseView = std::atoi(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--by-cosine")) byCosine = std::atoi(argv[i + 1]) != 0;
         else if (!std::strcmp(argv[i], "--in-sample")) inSample = std::atoi(argv[i + 1]) != 0;
         else if (!std::strcmp(argv[i], "--cosine")) sharedOptions.cosineFactor = std::atoi(argv[i + 1]) != 0;
         else if (!std::strcmp(argv[i], "--factor-curve")) sharedOptions.fitFactorCurve = std::atoi(argv[i + 1]) != 0;
@@ -122,7 +187,7 @@ int main(int argc, char** argv) {
         mesh.normals = plain.normals;
         mesh.faces = plain.faces;
         const MeshLabProject project = readMeshLabProject((dir / "project.mlp").string());
-        std::vector<Image8> images, twins;
+        std::vector<Image8> images, twins, heldOutMasks;
         images.reserve(project.rasters.size());
         twins.reserve(project.rasters.size());
         for (const ProjectRaster& r : project.rasters) {
@@ -133,7 +198,11 @@ int main(int argc, char** argv) {
         std::vector<CalibratedView> training, heldOut, photoOfTwin, twinViews;
         for (std::size_t i = 0; i < project.rasters.size(); ++i) {
             const CalibratedView view{fromVcgCamera(project.rasters[i].camera), images[i].view()};
-            if ((i + 1) % static_cast<std::size_t>(every) == 0) heldOut.push_back(view);
+            if ((i + 1) % static_cast<std::size_t>(every) == 0) {
+                heldOut.push_back(view);
+                const std::filesystem::path mask = dir / "masks" / std::filesystem::path(project.rasters[i].imagePath).filename();
+                heldOutMasks.push_back(byCosine && std::filesystem::exists(mask) ? readImage8(mask.string()) : Image8());
+            }
             else training.push_back(view);
             if (twins[i].width > 0) {
                 photoOfTwin.push_back(view);
@@ -218,6 +287,7 @@ int main(int argc, char** argv) {
                             " %zu/%zu views, worst view ratio %.3f\n",
                             ref.meanConstant, e.meanFitted / ref.meanConstant, notWorse, e.views.size(), worst);
             }
+            if (byCosine) printErrorByCosine(mesh, r, referenceMean.empty() ? r.meanColor : referenceMean, heldOut, heldOutMasks);
             if (diagnoseView >= 0 && diagnoseView < int(heldOut.size())) {
                 // Excess squared error (fitted - constant, sRGB levels^2, summed over channels) of the
                 // vertices the view sees, by the angle between the view's direction and the vertex's
