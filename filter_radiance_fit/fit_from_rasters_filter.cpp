@@ -242,7 +242,11 @@ public:
         par.addParam(RichBool("visibleOnly", false, "Only visible rasters",
                               "Use only the raster layers that are visible in the raster list (the eye icon); "
                               "otherwise every raster of the document."));
-        addBasisParameters(par, "PB(4) (15 coefficients) suits a few dozen photographs.");
+        addBasisParameters(par, "PB(4) (15 coefficients) suits a few dozen photographs. For a glossy object (a sharp "
+                                "highlight: glaze, clear coat, polished metal) a higher degree holds more of the "
+                                "highlight: on path-traced captures of 40 and 80 photographs, SH(6) predicted held-out "
+                                "photographs 1.5-6 % better than PB(4) (PB(6) 1.2-5.5 %), at 49 (28) coefficients per "
+                                "channel instead of 15.");
         par.addParam(RichFloat("regularization", float(fitDefaults.lambda), "Regularisation",
                                "Tikhonov weight toward the vertex's mean colour, relative to the data term "
                                "(0 = plain least squares; 1e-3 .. 1e-1 sensible). Larger values give smoother, "
