@@ -24,13 +24,13 @@ double srgbLevelToLinear(double level) {
 constexpr int kPredictions = 3;  // fitted, constant, projection
 
 // The plain average, in sRGB levels, of a vertex's `count` training samples (MeshLab's projection
-// blends the photographs' values so); left NaN when there are none.
-void averageTrainingLevels(const DirectionalSample* samples, std::size_t count, double* levels) {
+// blends the photographs' values so), stored as a linear value; left NaN when there are none.
+void averageTrainingColour(const DirectionalSample* samples, std::size_t count, double* linear) {
     if (count == 0) return;
     double sum[3] = {0.0, 0.0, 0.0};
     for (std::size_t j = 0; j < count; ++j)
         for (int c = 0; c < 3; ++c) sum[c] += srgbLevel(samples[j].rgb[c]) / static_cast<double>(count);
-    for (int c = 0; c < 3; ++c) levels[c] = sum[c];
+    for (int c = 0; c < 3; ++c) linear[c] = srgbLevelToLinear(sum[c]);
 }
 }  // namespace
 
@@ -54,9 +54,9 @@ HeldOutEvaluation evaluateHeldOutViews(const TriangleMesh& mesh, const RadianceF
     const std::size_t slots = H * kPredictions * 3;
     std::vector<double> py(slots, 0.0), pp(slots, 0.0), gain(slots, 1.0), raw(slots, 0.0), matched(slots, 0.0);
     std::vector<std::size_t> counts(H, 0);
-    // The training views' plain average at each vertex (MeshLab's projection, in sRGB levels), found
-    // in the first pass and kept for the second; NaN where no training view saw the vertex.
-    std::vector<double> projectionLevels(3 * n, std::numeric_limits<double>::quiet_NaN());
+    // The training views' plain average at each vertex (MeshLab's projection, linear), found in the
+    // first pass and kept for the second; NaN where no training view saw the vertex.
+    std::vector<double> projectionColour(3 * n, std::numeric_limits<double>::quiet_NaN());
     // Blocks of neighbouring vertices: their rays toward one camera are cast as one packet.
     constexpr int kBlock = ViewSampler::kBlock;
     const std::ptrdiff_t blocks = static_cast<std::ptrdiff_t>((n + kBlock - 1) / kBlock);
@@ -76,12 +76,12 @@ HeldOutEvaluation evaluateHeldOutViews(const TriangleMesh& mesh, const RadianceF
                 if (pass == 0) {
                     trainSampler.sampleVertexBlock(first, size, train.data(), trainCounts);
                     for (int k = 0; k < size; ++k)
-                        averageTrainingLevels(train.data() + std::size_t(k) * training.size(), trainCounts[k],
-                                              projectionLevels.data() + 3 * (first + std::size_t(k)));
+                        averageTrainingColour(train.data() + std::size_t(k) * training.size(), trainCounts[k],
+                                              projectionColour.data() + 3 * (first + std::size_t(k)));
                 }
                 for (int k = 0; k < size; ++k) {
                     const std::size_t v = first + static_cast<std::size_t>(k);
-                    const double* projection = projectionLevels.data() + 3 * v;
+                    const double* projection = projectionColour.data() + 3 * v;
                     // No training view saw it: nothing but a guess to compare.
                     if (testCounts[k] == 0 || std::isnan(projection[0])) continue;
                     const DirectionalSample* mine = test.data() + std::size_t(k) * H;
@@ -93,7 +93,7 @@ HeldOutEvaluation evaluateHeldOutViews(const TriangleMesh& mesh, const RadianceF
                         const std::size_t view = static_cast<std::size_t>(views[j]);
                         for (int c = 0; c < 3; ++c) {
                             const double p[kPredictions] = {std::max(0.0, fitted[c]), double(meanColor[3 * v + c]),
-                                                            srgbLevelToLinear(projection[c])};
+                                                            projection[c]};
                             const double y = s.rgb[c], seen = srgbLevel(y);
                             for (int q = 0; q < kPredictions; ++q) {
                                 const std::size_t slot = (view * kPredictions + q) * 3 + c;
