@@ -50,8 +50,6 @@ std::vector<std::string> split(const std::string& s) {
     return out;
 }
 
-}  // namespace
-
 // Whether the object covers all four pixels a bilinear sample at (u, v) reads, by the capture's mask
 // of that view (255: covered; less: the object covers the pixel in part, and the photograph mixes it
 // with what lies behind, which no function of the direction at the vertex can predict).
@@ -139,6 +137,8 @@ private:
     double since_ = 0.0;
     std::vector<std::pair<std::string, double>> spans_;
 };
+
+}  // namespace
 
 int main(int argc, char** argv) {
     if (argc < 2) {
