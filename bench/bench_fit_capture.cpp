@@ -175,6 +175,7 @@ int main(int argc, char** argv) {
         else if (!std::strcmp(argv[i], "--models")) models = argv[i + 1];
         else if (!std::strcmp(argv[i], "--phases")) phases = std::atoi(argv[i + 1]) != 0;
         else if (!std::strcmp(argv[i], "--meshlab-colors")) meshlabColors = argv[i + 1];
+        else if (!std::strcmp(argv[i], "--light-distance")) sharedOptions.lightDistance = std::strtod(argv[i + 1], nullptr);
         else {
             std::fprintf(stderr, "unknown option %s\n", argv[i]);
             return 2;
@@ -263,6 +264,7 @@ int main(int argc, char** argv) {
             if (r.modelValidated)
                 std::printf("; shared won %zu/%zu left-out views, worst view ratio shared/per-vertex %.3f",
                             r.validationViewsSharedWins, r.validationViewsCompared, r.validationWorstViewRatio);
+            if (r.modelUsed == FitModel::Shared) std::printf("; lights at %.3g bounding radii", r.lightDistance);
             std::printf("\n  held-out mean RMS: fitted %.3f  constant %.3f  projection-estimate %.3f  fitted<=constant in %zu/%zu views;"
                         " fitted/constant %.3f\n",
                         e.meanFitted, e.meanConstant, e.meanProjection, e.fittedNotWorseThanConstant, e.viewsCompared,

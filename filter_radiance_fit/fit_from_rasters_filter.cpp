@@ -41,6 +41,7 @@ rad::RadianceFromViewsOptions fitOptionsFromParameters(const RichParameterList& 
                   : model == 2 ? rad::FitModel::Shared
                                : rad::FitModel::Automatic;
     options.shared.guardStandardErrors = par.getFloat("sharedGuard");
+    options.shared.lightDistance = par.getFloat("lightDistance");
     return options;
 }
 
@@ -153,6 +154,14 @@ void logFitSummary(FilterContext& ctx, const rad::RadianceFromViewsOptions& opti
 }
 
 // The automatic choice between the shared and the per-vertex fit, and the robust weights.
+// How far the shared lobe takes the lights to be (Vanhoey et al.'s reflected parametrisation assumes
+// them distant; the fit chooses a distance unless the user fixed one).
+std::string lightDistanceText(double distance, const rad::SharedFitOptions& options) {
+    if (!std::isfinite(distance) || distance >= 1e6)
+        return options.lightDistance == 0.0 ? "distant lights, chosen" : "distant lights";
+    return formatLine("lights at %.2g bounding radii%s", distance, options.lightDistance == 0.0 ? ", chosen" : "");
+}
+
 void logModelChoice(FilterContext& ctx, const rad::RadianceFromViewsOptions& options,
                     const rad::RadianceFromViewsResult& result) {
     if (result.modelValidated)
@@ -173,10 +182,11 @@ void logModelChoice(FilterContext& ctx, const rad::RadianceFromViewsOptions& opt
                                                      options.maxViewLoss),
                            1.0 + options.maxViewLoss));
     if (result.modelUsed == rad::FitModel::Shared)
-        ctx.log(formatLine("Shared fit (SH%d lobe of the reflected direction): %zu vertices diffuse + scaled "
+        ctx.log(formatLine("Shared fit (SH%d lobe of the reflected direction, %s): %zu vertices diffuse + scaled "
                            "lobe; the others (too few photographs, or where the constant predicted their own "
                            "left-out photographs better by more than %g standard errors) %s.",
-                           result.lobeDegree, result.sharedVertices, options.shared.guardStandardErrors,
+                           result.lobeDegree, lightDistanceText(result.lightDistance, options.shared).c_str(),
+                           result.sharedVertices, options.shared.guardStandardErrors,
                            options.sharedRejectedPerVertex ? "the per-vertex fit" : "their constant mean colour"));
     if (options.fit.robustIterations > 0 || result.saturatedSamples > 0)
         ctx.log(formatLine("Robust weights: %zu samples down-weighted as outliers, %zu samples at saturation "
@@ -314,6 +324,13 @@ public:
                                "at all (never worse than the constant on the vertex's own left-out photographs, but "
                                "a vertex whose few photographs missed its highlight then loses the highlight the "
                                "lobe predicts for it in other views)."));
+        par.addParam(RichFloat("lightDistance", 0.0f, "Shared fit: distance of the lights (bounding radii)",
+                               "How far the lights are from the centre of the mesh's bounding box, in bounding radii "
+                               "(the largest distance of a vertex from that centre). The shared lobe is read at the "
+                               "reflected direction shifted by the vertex's offset from the centre over that "
+                               "distance, so that a near light's highlight is one lobe for the whole object. 0: "
+                               "chosen from the photographs (distant, or 10 down to 2 radii; the log says which). "
+                               "A value > 0 fixes it; a very large one (1e9) treats the lights as distant."));
         par.addParam(RichInt("heldOutEvery", 0, "Hold out every k-th raster",
                              "0: fit on every raster. k >= 2: rasters k, 2k, 3k... (in the order of the raster "
                              "list) are left out of the fit, and the log compares, on each of them, the fitted "

@@ -276,6 +276,7 @@ struct SharedFitLinks {
     SharedModel* model = nullptr;
     std::vector<std::uint8_t>* keptShared = nullptr;
     bool choiceCandidate = false;  // the automatic choice's candidate: SharedFitOptions::choiceIterations
+    double* lightDistance = nullptr;  // the fitted model's (SharedModel::lightDistance)
 };
 
 // The shared fit of fit/shared_radiance_fit.h, written into field / meanColor / ... (samples with use[i]).
@@ -299,7 +300,7 @@ void sharedFromSet(const TriangleMesh& mesh, const VertexAdjacency& adj, const S
         shared.robustIterations = std::min(shared.robustIterations, shared.iterations);
     }
     SharedModel model = fitSharedModel(normals, adj.offsets, adj.neighbours, set, use, shared,
-                                       percentRange(progress, percentFrom, mid), links.warmStart);
+                                       percentRange(progress, percentFrom, mid), links.warmStart, &mesh.positions);
     std::vector<std::uint8_t> kept;
     const int convertTo = rejectedFitter ? (mid + percentTo) / 2 : percentTo;
     const SharedConversionStats stats = writeSharedRadiance(model, set, use, adj.offsets, adj.neighbours, options.fit,
@@ -339,6 +340,7 @@ void sharedFromSet(const TriangleMesh& mesh, const VertexAdjacency& adj, const S
         counters.fallbacks = stats.constant + stats.tooFew;
         counters.downweighted = stats.downweighted;
     }
+    if (links.lightDistance) *links.lightDistance = model.lightDistance;
     if (links.model) *links.model = std::move(model);
 }
 
@@ -504,7 +506,8 @@ void fitFromSampleSet(const TriangleMesh& mesh, const SampleSet& set, std::size_
         sharedFromSet(mesh, adj, set, nullptr, viewCount, options, result.field, result.meanColor, result.sampleCount,
                       result.residual, result.status, counters, progress, 65, kFitEnd,
                       options.sharedRejectedPerVertex ? &fitter : nullptr,
-                      {result.modelValidated ? &sharedCandidate : nullptr, nullptr, nullptr});
+                      {result.modelValidated ? &sharedCandidate : nullptr, nullptr, nullptr, false,
+                       &result.lightDistance});
         result.sharedVertices = counters.sharedKept;
     } else {
         perVertexFromSet(fitter, set, nullptr, viewCount, result.field, result.meanColor, result.sampleCount,

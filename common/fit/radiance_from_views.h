@@ -23,6 +23,7 @@
 #include <functional>
 #include <stdexcept>
 #include <string>
+#include <limits>
 #include <vector>
 
 namespace rad {
@@ -127,6 +128,9 @@ struct RadianceFromViewsResult {
     double validationWorstViewRatio = 0.0;
     std::size_t sharedVertices = 0;   // Shared: vertices given diffuse + scaled lobe (the others: constant)
     int lobeDegree = 0;               // Shared: SH degree of the reflected lobe
+    // Shared: the lights' distance the lobe assumes, in bounding radii (SharedFitOptions::lightDistance;
+    // infinity: distant lights).
+    double lightDistance = std::numeric_limits<double>::infinity();
 };
 
 // mesh: positions, unit (or at least non-zero finite) per-vertex normals, faces (may be empty: a

@@ -25,9 +25,9 @@ constexpr double kHuberScale = 1.4826;  // MAD -> standard deviation of a normal
 // onto the corners): a table of G with bilinear lookup costs a few multiplications instead of the
 // ~(degree+1)^2 of an SH evaluation.
 void octEncode(double x, double y, double z, double& u, double& v) {
-    const double s = std::abs(x) + std::abs(y) + std::abs(z);
-    u = x / s;
-    v = y / s;
+    const double inverse = 1.0 / (std::abs(x) + std::abs(y) + std::abs(z));
+    u = x * inverse;
+    v = y * inverse;
     if (z < 0.0) {
         const double pu = u, pv = v;
         u = (1.0 - std::abs(pv)) * (pu >= 0.0 ? 1.0 : -1.0);
@@ -95,9 +95,16 @@ private:
 
 // r = 2 (n.w) n - w; returns the factor the lobe is multiplied by: max(n.w, 0) with the cosine
 // factor, 1 without.
-inline double reflected(const float* n, const float* w, double* r, const SharedModel& model) {
+// The direction the lobe is read at is r shifted for the lights' distance (SharedModel::lobeShift):
+// unit with `unit`, otherwise only its direction is meaningful (enough for the octahedral table).
+template <bool unit = true>
+inline double reflected(std::size_t v, const float* n, const float* w, double* r, const SharedModel& model) {
     const double nw = double(n[0]) * w[0] + double(n[1]) * w[1] + double(n[2]) * w[2];
     for (int k = 0; k < 3; ++k) r[k] = 2.0 * nw * n[k] - w[k];
+    if (unit)
+        model.shiftLobeDirection(v, r);
+    else
+        model.addLobeShift(v, r);
     return model.factor(nw);
 }
 
@@ -187,6 +194,9 @@ std::string SharedFitOptions::validate() const {
         why << "the shared lobe's sample budget must be at least 1000 (got " << lobeSampleBudget << ")";
     else if (octahedralResolution < 16 || octahedralResolution > 1024)
         why << "the shared lobe's table resolution must be in 16..1024 (got " << octahedralResolution << ")";
+    else if (!(lightDistance >= 0.0))
+        why << "the distance of the lights must be 0 (automatic), a number of bounding radii > 0 or infinity (got "
+            << lightDistance << ")";
     return why.str();
 }
 
@@ -203,7 +213,9 @@ void SharedModel::evaluate(std::size_t v, const float* n, const double* w, doubl
     const int M = (lobeDegree + 1) * (lobeDegree + 1);
     double Y[(kMaxHarmonicDegree + 1) * (kMaxHarmonicDegree + 1)];
     const double nw = n[0] * w[0] + n[1] * w[1] + n[2] * w[2], d = 2.0 * nw;
-    evaluateSphericalHarmonics(lobeDegree, d * n[0] - w[0], d * n[1] - w[1], d * n[2] - w[2], Y);
+    double r[3] = {d * n[0] - w[0], d * n[1] - w[1], d * n[2] - w[2]};
+    shiftLobeDirection(v, r);
+    evaluateSphericalHarmonics(lobeDegree, r[0], r[1], r[2], Y);
     const double f = factor(nw);
     for (int c = 0; c < 3; ++c) {
         double g = 0.0;
@@ -229,6 +241,9 @@ struct SharedFitInput {
     const std::uint8_t* use;
     const SharedFitOptions& options;
     int degree = 0, M = 0;  // lobe degree, its SH coefficient count
+    // (x_v - c) / radius per vertex (c the centre of the bounding box, radius the largest |x_v - c|);
+    // empty without positions.
+    const std::vector<float>& unitShift;
     bool usable(std::size_t i) const { return !use || use[i]; }
 };
 
@@ -330,7 +345,7 @@ void accumulateLobeChunk(const SharedFitInput& in, const LobeSubset& subset, con
     forEachWeightedLobeSample(in, subset, model, chunk,
                               [&](std::size_t v, const float* nv, const DirectionalSample& s, double w) {
         double r[3];
-        const double cf = reflected(nv, s.direction, r, model);
+        const double cf = reflected(v, nv, s.direction, r, model);
         evaluateSphericalHarmonics(in.degree, r[0], r[1], r[2], Y.data());
         const double sw = std::sqrt(w);
         for (int c = 0; c < 3; ++c) {
@@ -394,7 +409,7 @@ void measureLobeEnergy(const SharedFitInput& in, const LobeSubset& subset, Share
                 if (!in.usable(i)) continue;
                 const DirectionalSample& s = in.set.samples[i];
                 double r[3];
-                const double cf = reflected(nv, s.direction, r, model);
+                const double cf = reflected(v, nv, s.direction, r, model);
                 evaluateSphericalHarmonics(in.degree, r[0], r[1], r[2], Y.data());
                 for (int c = 0; c < 3; ++c) {
                     double g = 0;
@@ -415,10 +430,10 @@ void measureLobeEnergy(const SharedFitInput& in, const LobeSubset& subset, Share
 }
 
 // The lobe at the reflected direction of sample s, times the factor: g (3 channels).
-inline void lobeAtSample(const LobeTable& table, const SharedModel& model, const float* nv,
+inline void lobeAtSample(const LobeTable& table, const SharedModel& model, std::size_t v, const float* nv,
                          const DirectionalSample& s, double g[3]) {
     double r[3];
-    const double cf = reflected(nv, s.direction, r, model);
+    const double cf = reflected<false>(v, nv, s.direction, r, model);
     table.lookup(r[0], r[1], r[2], g);
     for (int c = 0; c < 3; ++c) g[c] *= cf;
 }
@@ -435,7 +450,7 @@ void fitVertexPair(const SharedFitInput& in, const LobeTable& table, const std::
         const DirectionalSample& s = set.samples[i];
         const double w = double(s.weight) * model.robustWeight[i];
         double g[3];
-        lobeAtSample(table, model, nv, s, g);
+        lobeAtSample(table, model, v, nv, s, g);
         for (int c = 0; c < 3; ++c) {
             PairSums& p = sums[c];
             p.W += w;
@@ -456,7 +471,7 @@ void fitVertexPair(const SharedFitInput& in, const LobeTable& table, const std::
         if (!in.usable(i)) continue;
         const DirectionalSample& s = set.samples[i];
         double g[3];
-        lobeAtSample(table, model, nv, s, g);
+        lobeAtSample(table, model, v, nv, s, g);
         double e2 = 0.0;
         for (int c = 0; c < 3; ++c) {
             const double e = s.rgb[c] - d[c] - sc[c] * g[c];
@@ -496,7 +511,7 @@ void accumulateCurveChunk(const SharedFitInput& in, const LobeSubset& subset, co
     forEachWeightedLobeSample(in, subset, model, chunk,
                               [&](std::size_t v, const float* nv, const DirectionalSample& s, double w) {
         double r[3], g[3];
-        reflected(nv, s.direction, r, model);
+        reflected<false>(v, nv, s.direction, r, model);
         const double nw = std::min(std::max(double(nv[0]) * s.direction[0] + double(nv[1]) * s.direction[1] +
                                                 double(nv[2]) * s.direction[2], 0.0), 1.0);
         table.lookup(r[0], r[1], r[2], g);
@@ -576,6 +591,175 @@ void takeWarmStart(const SharedModel& warm, SharedModel& model) {
     if (model.cosineFactor && warm.cosineFactor) model.curve = warm.curve;
     model.specular = warm.specular;
     model.robustWeight = warm.robustWeight;
+    model.lobeShift = warm.lobeShift;
+    model.lightDistance = warm.lightDistance;
+}
+
+// (x_v - c) / radius of every vertex: c the centre of the bounding box, radius the largest |x_v - c|.
+std::vector<float> unitShifts(const std::vector<float>& positions) {
+    const std::size_t n = positions.size() / 3;
+    double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    for (std::size_t v = 0; v < n; ++v)
+        for (int c = 0; c < 3; ++c) {
+            const double x = positions[3 * v + c];
+            lo[c] = v == 0 ? x : std::min(lo[c], x);
+            hi[c] = v == 0 ? x : std::max(hi[c], x);
+        }
+    const double centre[3] = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
+    double radius2 = 0.0;
+    for (std::size_t v = 0; v < n; ++v) {
+        double d2 = 0.0;
+        for (int c = 0; c < 3; ++c) d2 += (positions[3 * v + c] - centre[c]) * (positions[3 * v + c] - centre[c]);
+        radius2 = std::max(radius2, d2);
+    }
+    std::vector<float> unit(3 * n, 0.0f);
+    if (!(radius2 > 0.0) || !std::isfinite(radius2)) return unit;
+    const double inverse = 1.0 / std::sqrt(radius2);
+    for (std::size_t v = 0; v < n; ++v)
+        for (int c = 0; c < 3; ++c) unit[3 * v + c] = static_cast<float>((positions[3 * v + c] - centre[c]) * inverse);
+    return unit;
+}
+
+// The lights at `distance` bounding radii (infinity: distant lights, no shift).
+void placeLights(const SharedFitInput& in, double distance, SharedModel& model) {
+    model.lightDistance = distance;
+    if (!std::isfinite(distance) || in.unitShift.empty()) {
+        model.lobeShift.clear();
+        model.lightDistance = std::numeric_limits<double>::infinity();
+        return;
+    }
+    model.lobeShift.resize(in.unitShift.size());
+    const float scale = static_cast<float>(1.0 / distance);
+    for (std::size_t i = 0; i < in.unitShift.size(); ++i) model.lobeShift[i] = scale * in.unitShift[i];
+}
+
+// The weighted squared residual of the model over the G step's samples (robust weights included;
+// exact SH evaluation of the lobe), summed chunk by chunk in chunk order.
+double lobeSubsetResidual(const SharedFitInput& in, const LobeSubset& subset, const SharedModel& model) {
+    std::vector<double> part(kChunks, 0.0);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (std::ptrdiff_t chunk = 0; chunk < kChunks; ++chunk) {
+        std::vector<double> Y(in.M);
+        double sum = 0.0;
+        forEachWeightedLobeSample(in, subset, model, chunk,
+                                  [&](std::size_t v, const float* nv, const DirectionalSample& s, double w) {
+            double r[3];
+            const double cf = reflected(v, nv, s.direction, r, model);
+            evaluateSphericalHarmonics(in.degree, r[0], r[1], r[2], Y.data());
+            for (int c = 0; c < 3; ++c) {
+                double g = 0.0;
+                for (int k = 0; k < in.M; ++k) g += model.lobe[c * in.M + k] * Y[k];
+                const double e = s.rgb[c] - model.diffuse[3 * v + c] - model.specular[3 * v + c] * cf * g;
+                sum += w * e * e;
+            }
+        });
+        part[chunk] = sum;
+    }
+    double total = 0.0;
+    for (const double p : part) total += p;
+    return total;
+}
+
+constexpr int kSearchDegree = 6;
+
+// The search's own lobe degree and G-step vertices: a lobe of degree at most kSearchDegree on half of
+// the G step's samples (each candidate costs two G steps).
+struct DistanceSearch {
+    SharedFitInput in;
+    LobeSubset subset;
+    std::vector<double> prior;
+    DistanceSearch(const SharedFitInput& full, const LobeSubset& fullSubset) : in(full), subset(fullSubset) {
+        in.degree = std::min(full.degree, kSearchDegree);
+        in.M = (in.degree + 1) * (in.degree + 1);
+        subset.stride *= 2;
+        subset.count = static_cast<std::ptrdiff_t>((in.set.vertexCount() + subset.stride - 1) / subset.stride);
+        prior.assign(3 * in.set.vertexCount(), 1.0);
+    }
+};
+
+// The model's residual on the search's samples with the lights at `distance`: the lobe fitted, the
+// diffuse colours and scales of the search's vertices refitted against it, the lobe again.
+double residualAtDistance(DistanceSearch& search, const std::vector<std::uint8_t>& seen, double distance,
+                          SharedModel& model, std::vector<float>& residualScratch) {
+    const SharedFitInput& in = search.in;
+    placeLights(in, distance, model);
+    fitLobe(in, search.subset, model);
+    measureLobeEnergy(in, search.subset, model);
+    const LobeTable table(model, in.options.octahedralResolution);
+    const std::ptrdiff_t count = search.subset.count;
+    const std::size_t stride = search.subset.stride;
+#pragma omp parallel for schedule(dynamic, 64)
+    for (std::ptrdiff_t p = 0; p < count; ++p) {
+        const std::size_t v = static_cast<std::size_t>(p) * stride;
+        if (seen[v]) neighbourPrior(in.off, in.adj, model.specular, seen, v, search.prior.data() + 3 * v);
+    }
+#pragma omp parallel for schedule(dynamic, 64)
+    for (std::ptrdiff_t p = 0; p < count; ++p) {
+        const std::size_t v = static_cast<std::size_t>(p) * stride;
+        if (seen[v]) fitVertexPair(in, table, search.prior, v, model, residualScratch);
+    }
+    fitLobe(in, search.subset, model);
+    return lobeSubsetResidual(in, search.subset, model);
+}
+
+// The vertex of the parabola through three (u, residual) points, if it lies strictly between the outer
+// two; otherwise u[1].
+double parabolaMinimum(const double u[3], const double r[3]) {
+    const double num = (u[1] - u[0]) * (u[1] - u[0]) * (r[1] - r[2]) - (u[1] - u[2]) * (u[1] - u[2]) * (r[1] - r[0]);
+    const double den = (u[1] - u[0]) * (r[1] - r[2]) - (u[1] - u[2]) * (r[1] - r[0]);
+    const double m = den != 0.0 ? u[1] - 0.5 * num / den : u[1];
+    return m > u[0] && m < u[2] ? m : u[1];
+}
+
+// The lights' distance: each of kLightDistanceCandidates is scored by residualAtDistance, then the
+// vertex of the parabola through the best one and its neighbours (in radius / distance, the
+// candidates' spacing) when the best is not at an end; the distance with the least residual is kept
+// and the lobe of the full degree fitted there. The vertices' colours and scales are restored after
+// each candidate (the alternation refits them); refitting them within each candidate matters: with
+// those of the distant-light model every near distance starts behind. No robust weights in the
+// search: those of a distant-light model mark the samples it could not fit, a near light's
+// highlights among them, which are what tells the distances apart. One global parameter chosen on
+// tens of thousands of samples: the training residual does not reward it for fitting noise, as it
+// would a per-vertex one.
+void chooseLightDistance(const SharedFitInput& full, const LobeSubset& fullSubset, const std::vector<std::uint8_t>& seen,
+                         SharedModel& model, std::vector<float>& residualScratch) {
+    DistanceSearch search(full, fullSubset);
+    const std::vector<double> fullLobe = model.lobe;
+    const std::vector<float> diffuse = model.diffuse, specular = model.specular;
+    const double energy[3] = {model.lobeEnergy[0], model.lobeEnergy[1], model.lobeEnergy[2]};
+    std::vector<float> robustWeight(model.robustWeight.size(), 1.0f);
+    robustWeight.swap(model.robustWeight);
+    model.lobeDegree = search.in.degree;
+    model.lobe.assign(3 * search.in.M, 0.0);
+
+    double bestResidual = std::numeric_limits<double>::infinity(), bestDistance = kLightDistanceCandidates[0];
+    auto score = [&](double distance) {
+        const double residual = residualAtDistance(search, seen, distance, model, residualScratch);
+        model.diffuse = diffuse;
+        model.specular = specular;
+        if (residual < bestResidual) {
+            bestResidual = residual;
+            bestDistance = distance;
+        }
+        return residual;
+    };
+    constexpr int kCandidates = int(std::size(kLightDistanceCandidates));
+    double residuals[kCandidates];
+    for (int i = 0; i < kCandidates; ++i) residuals[i] = score(kLightDistanceCandidates[i]);
+    const int b = int(std::min_element(residuals, residuals + kCandidates) - residuals);
+    if (b > 0 && b + 1 < kCandidates) {
+        const double u[3] = {1.0 / kLightDistanceCandidates[b - 1], 1.0 / kLightDistanceCandidates[b],
+                             1.0 / kLightDistanceCandidates[b + 1]};
+        const double between = parabolaMinimum(u, residuals + b - 1);
+        if (std::abs(between - u[1]) > 1e-3) score(1.0 / between);
+    }
+
+    placeLights(full, bestDistance, model);
+    robustWeight.swap(model.robustWeight);
+    model.lobeDegree = full.degree;
+    model.lobe = fullLobe;
+    fitLobe(full, fullSubset, model);
+    for (int c = 0; c < 3; ++c) model.lobeEnergy[c] = energy[c];
 }
 
 }  // namespace
@@ -583,12 +767,15 @@ void takeWarmStart(const SharedModel& warm, SharedModel& model) {
 SharedModel fitSharedModel(const std::vector<float>& normals, const std::vector<std::size_t>& off,
                            const std::vector<std::uint32_t>& adj, const SampleSet& set, const std::uint8_t* use,
                            const SharedFitOptions& options, const ProgressCallback& progress,
-                           const SharedModel* warmStart) {
+                           const SharedModel* warmStart, const std::vector<float>* positions) {
     validateSharedFitInput(normals, off, set, options);
     if (warmStart && !warmStartMatches(*warmStart, set, options))
         throw std::invalid_argument("fitSharedModel: the warm start was fitted with another lobe degree or sample set");
     const int degree = options.lobeDegree;
-    const SharedFitInput in{normals, off, adj, set, use, options, degree, (degree + 1) * (degree + 1)};
+    if (positions && positions->size() != normals.size())
+        throw std::invalid_argument("fitSharedModel: inconsistent sizes");
+    const std::vector<float> unitShift = positions ? unitShifts(*positions) : std::vector<float>();
+    const SharedFitInput in{normals, off, adj, set, use, options, degree, (degree + 1) * (degree + 1), unitShift};
     const std::size_t n = set.vertexCount();
     SharedModel model;
     std::vector<std::uint8_t> seen;
@@ -599,13 +786,20 @@ SharedModel fitSharedModel(const std::vector<float>& normals, const std::vector<
     subset.count = static_cast<std::ptrdiff_t>((n + subset.stride - 1) / subset.stride);
     std::vector<float> residualNorm(set.samples.size(), 0.0f);
     if (warmStart) takeWarmStart(*warmStart, model);
+    const bool chooseDistance = !warmStart && options.lightDistance == 0.0 && !in.unitShift.empty();
+    if (!warmStart && !chooseDistance) placeLights(in, options.lightDistance, model);  // 0 without positions: distant
     const int iterations = warmStart ? options.refitIterations : options.iterations;
+    // The distance is chosen at the second G step (the first with fitted diffuse colours and scales).
+    const int distanceIteration = std::min(1, iterations - 1);
     const int robustStart = std::max(1, iterations - options.robustIterations);
     std::vector<double> prior(3 * n, 1.0);
 
     for (int it = 0; it < iterations; ++it) {
         if (progress && !progress(double(it) / iterations, kStageLobe)) throw OperationCancelled();
-        if (!(warmStart && it == 0)) fitLobe(in, subset, model);  // a warm start enters at the vertex step
+        if (chooseDistance && it == distanceIteration)
+            chooseLightDistance(in, subset, seen, model, residualNorm);
+        else if (!(warmStart && it == 0))  // a warm start enters at the vertex step
+            fitLobe(in, subset, model);
         measureLobeEnergy(in, subset, model);
         const LobeTable table(model, options.octahedralResolution);
         fitVertexPairs(in, table, seen, prior, model, residualNorm);
@@ -714,14 +908,16 @@ struct VertexSampleSums {
 };
 
 // C: the lobe times the factor, seen from the vertex, projected onto the basis (local frame).
-void projectLobe(const ConversionInput& in, const Frame& frame, ConversionScratch& scratch) {
+void projectLobe(const ConversionInput& in, std::size_t v, const Frame& frame, ConversionScratch& scratch) {
     const std::vector<double>& dirs = in.proj.dirs;
     const double nv[3] = {frame.n.x(), frame.n.y(), frame.n.z()};
     for (int i = 0; i < in.proj.Nd; ++i) {
         const Eigen::Vector3d w = frame.toWorld(Eigen::Vector3d(dirs[3 * i], dirs[3 * i + 1], dirs[3 * i + 2]));
         const double d2 = 2.0 * (nv[0] * w.x() + nv[1] * w.y() + nv[2] * w.z());
         double gv[3];
-        in.table.lookup(d2 * nv[0] - w.x(), d2 * nv[1] - w.y(), d2 * nv[2] - w.z(), gv);
+        double r[3] = {d2 * nv[0] - w.x(), d2 * nv[1] - w.y(), d2 * nv[2] - w.z()};
+        in.model.addLobeShift(v, r);
+        in.table.lookup(r[0], r[1], r[2], gv);
         for (int c = 0; c < 3; ++c) scratch.V(i, c) = gv[c];
     }
     // A coefficient-wise product: at K x 136 x 3 the general product's packing costs more than it saves.
@@ -870,7 +1066,7 @@ Conversion convertVertex(const ConversionInput& in, const ConversionOutputs& out
                          ConversionScratch& scratch, std::size_t& downweighted) {
     const int K = in.proj.K;
     const Frame frame = frameFromStored(outputs.field.frame(v));
-    projectLobe(in, frame, scratch);
+    projectLobe(in, v, frame, scratch);
     VertexSampleSums vs = sumVertexSamples(in, frame, v, scratch);
     downweighted += vs.downweighted;
     if (!(vs.W > 0.0) || !(vs.meanW > 0.0)) fallBackToPlainMean(in, v, vs, scratch);

@@ -14,7 +14,9 @@
 #include "progress/progress_callback.h"
 #include "radiance/radiance_field.h"
 
+#include <cmath>
 #include <cstddef>
+#include <limits>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -29,6 +31,11 @@ struct SampleSet {
     std::vector<std::uint32_t> view;
     std::size_t vertexCount() const { return offsets.empty() ? 0 : offsets.size() - 1; }
 };
+
+// The light distances the fit chooses from (SharedFitOptions::lightDistance = 0), in bounding radii:
+// distant lights, then steps of 0.1 in radius / distance.
+inline constexpr double kLightDistanceCandidates[] = {std::numeric_limits<double>::infinity(), 10.0, 5.0,
+                                                      10.0 / 3.0, 2.5, 2.0};
 
 struct SharedFitOptions {
     int lobeDegree = 8;              // SH degree of G, 1..kMaxHarmonicDegree
@@ -59,6 +66,12 @@ struct SharedFitOptions {
     // (docs/design-notes.md, "The per-vertex guard of the shared fit"). 0: whenever the constant is
     // better at all (the rule until 2026-11-29). >= 0.
     double guardStandardErrors = 3.0;
+    // Lights at a finite distance (SharedModel::lobeShift), in bounding radii of the mesh (the largest
+    // distance of a vertex from the centre of its bounding box): 0 chooses it (the default: the
+    // candidates kLightDistanceCandidates, by the fit's weighted residual; infinity among them),
+    // infinity keeps the plain reflected direction (distant lights), a finite value > 0 fixes it.
+    // Only with vertex positions (fitSharedModel's `positions`); without them, distant lights.
+    double lightDistance = 0.0;
     std::string validate() const;
 };
 
@@ -75,6 +88,29 @@ struct SharedModel {
     std::vector<float> specular;     // 3 per vertex: s_v
     std::vector<float> robustWeight; // per sample of the SampleSet (1 when not down-weighted or not used)
     double lobeEnergy[3] = {0, 0, 0};  // q_c: mean of G_c^2 over the G step's samples
+    // Lights at a finite distance D from the centre c of the bounding box: 3 per vertex, (x_v - c) / D
+    // (empty: distant lights). The lobe is read at normalize(r + shift_v) instead of the reflected
+    // direction r: a light at c + D l puts a vertex's highlight where r points from x_v to the light,
+    // r = normalize(D l - (x_v - c)), so r + shift_v is parallel to l at every vertex to first order
+    // in |x_v - c| / D, and one lobe holds the highlight of the whole object. With distant lights,
+    // vertices far apart see a near light's highlight at reflected directions up to
+    // 2 atan(radius / D) apart, and one lobe of r blurs it over that spread.
+    std::vector<float> lobeShift;
+    double lightDistance = std::numeric_limits<double>::infinity();  // D in bounding radii (log)
+    // r + shift_v (the octahedral table reads any non-zero vector's direction).
+    void addLobeShift(std::size_t v, double* r) const {
+        if (lobeShift.empty()) return;
+        const float* t = lobeShift.data() + 3 * v;
+        for (int k = 0; k < 3; ++k) r[k] += t[k];
+    }
+    // normalize(r + shift_v) (for the SH evaluation, which needs a unit vector).
+    void shiftLobeDirection(std::size_t v, double* r) const {
+        if (lobeShift.empty()) return;
+        addLobeShift(v, r);
+        const double len2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+        const double inverse = len2 > 0.0 ? 1.0 / std::sqrt(len2) : 0.0;
+        for (int k = 0; k < 3; ++k) r[k] *= inverse;
+    }
     // Value of the model for vertex v (unit normal n) toward unit direction w (exact SH evaluation).
     void evaluate(std::size_t v, const float* n, const double* w, double* rgb) const;
 };
@@ -86,10 +122,13 @@ struct SharedModel {
 // e.g. the automatic choice's fit without its left-out views); the fit starts from its lobe, curve,
 // scales and robust weights at the per-vertex step and makes refitIterations alternations.
 // Throws std::invalid_argument on invalid options or sizes, OperationCancelled when progress asks.
+// positions (optional, 3 per vertex): for the distance of the lights (SharedFitOptions::lightDistance);
+// nullptr: distant lights. A warm start keeps its model's light distance.
 SharedModel fitSharedModel(const std::vector<float>& normals, const std::vector<std::size_t>& adjacencyOffsets,
                            const std::vector<std::uint32_t>& adjacency, const SampleSet& set,
                            const std::uint8_t* use, const SharedFitOptions& options,
-                           const ProgressCallback& progress = {}, const SharedModel* warmStart = nullptr);
+                           const ProgressCallback& progress = {}, const SharedModel* warmStart = nullptr,
+                           const std::vector<float>* positions = nullptr);
 
 struct SharedConversionStats {
     std::size_t shared = 0;      // vertices given d + s * lobe

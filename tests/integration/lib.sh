@@ -87,7 +87,7 @@ fit_mlx() {
     filter_script "$file" "Radiance: Fit Radiance Functions from Rasters" \
         visibleOnly=false basis="$basis" degree="$degree" regularization=0.001 depthTolerance=0.003 \
         reflected="$reflected" quality="$quality" validation="$validation" robust="$robust" \
-        exposureCompensation=true fitModel="$model" sharedGuard=3 heldOutEvery=0
+        exposureCompensation=true fitModel="$model" sharedGuard=3 lightDistance=0 heldOutEvery=0
 }
 
 VIRTUAL_ACQUISITION="$RADIANCE_BUILD_DIR/tools/virtual_acquisition"

@@ -30,7 +30,7 @@ EXPECTED_PARAMETERS = {
     h.EXPORT_GLTF: ["outputFile"],
     h.FIT: ["visibleOnly", "basis", "degree", "regularization", "depthTolerance", "grazingAngle", "borderMargin",
             "minSamples", "reflected", "quality", "setColor", "validation", "robust", "exposureCompensation",
-            "fitModel", "sharedGuard", "heldOutEvery"],
+            "fitModel", "sharedGuard", "lightDistance", "heldOutEvery"],
     h.SIMPLIFY: ["metric", "collapse", "targetFaces", "targetPercentage", "lodLevels", "geometryWeight",
                  "attributeWeight", "preserveBoundary", "collapseAlongBoundary", "minValence", "maxValence", "maxNormalChange", "lazy",
                  "progressiveFile"],
