@@ -181,6 +181,10 @@ int main(int argc, char** argv) {
             return 2;
         }
     }
+    if (every < 2) {
+        std::fprintf(stderr, "--held-out-every must be at least 2 (every k-th raster is held out and evaluated)\n");
+        return 2;
+    }
     try {
         const RadianceMesh plain = readRadiancePly((dir / "mesh.ply").string());
         TriangleMesh mesh;
