@@ -330,7 +330,7 @@ public:
                                "reflected direction shifted by the vertex's offset from the centre over that "
                                "distance, so that a near light's highlight is one lobe for the whole object. 0: "
                                "chosen from the photographs (distant, or 10 down to 2 radii; the log says which). "
-                               "A value > 0 fixes it; a very large one (1e9) treats the lights as distant."));
+                               "A value of 1.5 or more fixes it; a very large one (1e9) treats the lights as distant."));
         par.addParam(RichInt("heldOutEvery", 0, "Hold out every k-th raster",
                              "0: fit on every raster. k >= 2: rasters k, 2k, 3k... (in the order of the raster "
                              "list) are left out of the fit, and the log compares, on each of them, the fitted "

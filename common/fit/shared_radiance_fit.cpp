@@ -194,9 +194,9 @@ std::string SharedFitOptions::validate() const {
         why << "the shared lobe's sample budget must be at least 1000 (got " << lobeSampleBudget << ")";
     else if (octahedralResolution < 16 || octahedralResolution > 1024)
         why << "the shared lobe's table resolution must be in 16..1024 (got " << octahedralResolution << ")";
-    else if (!(lightDistance >= 0.0))
-        why << "the distance of the lights must be 0 (automatic), a number of bounding radii > 0 or infinity (got "
-            << lightDistance << ")";
+    else if (!(lightDistance == 0.0 || lightDistance >= kMinLightDistance))
+        why << "the distance of the lights must be 0 (chosen by the fit) or at least " << kMinLightDistance
+            << " bounding radii, infinity for distant lights (got " << lightDistance << ")";
     return why.str();
 }
 

@@ -37,6 +37,10 @@ struct SampleSet {
 inline constexpr double kLightDistanceCandidates[] = {std::numeric_limits<double>::infinity(), 10.0, 5.0,
                                                       10.0 / 3.0, 2.5, 2.0};
 
+// The nearest lights the model takes: the shifted direction r + (x_v - c) / D stays at least 1/3 long
+// (a light nearer than that nearly touches the object, where one lobe cannot describe it anyway).
+inline constexpr double kMinLightDistance = 1.5;
+
 struct SharedFitOptions {
     int lobeDegree = 8;              // SH degree of G, 1..kMaxHarmonicDegree
     double specularPrior = 3.0;      // >= 0: weight of the neighbours' scale, in the vertex's sample mass
@@ -69,7 +73,8 @@ struct SharedFitOptions {
     // Lights at a finite distance (SharedModel::lobeShift), in bounding radii of the mesh (the largest
     // distance of a vertex from the centre of its bounding box): 0 chooses it (the default: the
     // candidates kLightDistanceCandidates, by the fit's weighted residual; infinity among them),
-    // infinity keeps the plain reflected direction (distant lights), a finite value > 0 fixes it.
+    // infinity keeps the plain reflected direction (distant lights), a finite value >= kMinLightDistance
+    // fixes it.
     // Only with vertex positions (fitSharedModel's `positions`); without them, distant lights.
     double lightDistance = 0.0;
     std::string validate() const;

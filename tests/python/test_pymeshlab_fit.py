@@ -165,6 +165,24 @@ def test_shared_guard_keeps_the_lobe_unless_the_constant_is_clearly_better(photo
                      **fit_parameters(fitmodel=2, sharedguard=-1.0))
 
 
+def test_light_distance_reaches_the_fit_and_a_light_inside_the_object_is_refused(photos, tmp_path):
+    """lightdistance: the shared lobe takes the lights this many bounding radii away (0: chosen by the
+    fit). Lights at 3 radii and distant ones (1e9) give different functions; a light nearer than 1.5
+    radii is refused and leaves the layer as it was."""
+    coefficients = {}
+    for distance in (3.0, 1e9):
+        ms = with_rasters(photos)
+        ms.apply_filter(h.FIT, **fit_parameters(fitmodel=2, lightdistance=distance))
+        path = tmp_path / f"fit_light{distance:g}.rply"
+        ms.save_current_mesh(str(path))
+        coefficients[distance] = rply.read_rply(str(path)).coefficients
+    difference = float(np.abs(coefficients[3.0] - coefficients[1e9]).max())
+    assert difference > 1e-3, "the light distance did not reach the fit"
+    ms = with_rasters(photos)
+    h.expect_refusal(ms, h.FIT, "the distance of the lights must be 0 (chosen by the fit) or at least 1.5 bounding radii",
+                     **fit_parameters(fitmodel=2, lightdistance=1.0))
+
+
 def test_fit_is_a_real_fit_not_a_copy_of_any_one_photograph(photos, tmp_path):
     """Against a wrong camera (the photographs shuffled by one) the same check fails: the comparison
     is discriminating."""

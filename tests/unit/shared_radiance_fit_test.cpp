@@ -457,7 +457,7 @@ TEST(SharedRadianceFit, InvalidOptionsAreRefused) {
     options = {};
     options.refitIterations = 0;
     EXPECT_FALSE(options.validate().empty());
-    for (const double distance : {-1.0, std::nan("")}) {
+    for (const double distance : {-1.0, std::nan(""), 1.0}) {
         options = {};
         options.lightDistance = distance;
         EXPECT_FALSE(options.validate().empty()) << distance;
