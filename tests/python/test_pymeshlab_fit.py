@@ -123,6 +123,14 @@ def test_fit_reproduces_the_photographs(photos, tmp_path):
     assert quality.mean() > 3
 
 
+def fit_and_read(photos, path, **parameters):
+    """The fit filter on the photographs' rasters with `parameters`, saved to `path` and read back."""
+    ms = with_rasters(photos)
+    ms.apply_filter(h.FIT, **fit_parameters(**parameters))
+    ms.save_current_mesh(str(path))
+    return rply.read_rply(str(path))
+
+
 def test_shared_lobe_model_reproduces_a_uniform_glossy_material(photos, tmp_path):
     """fitmodel: 0 automatic, 1 per vertex, 2 shared diffuse + one reflected lobe. The sphere's
     material is the same everywhere (--no-variation), which is what the shared model assumes: forced,
@@ -132,11 +140,7 @@ def test_shared_lobe_model_reproduces_a_uniform_glossy_material(photos, tmp_path
     cameras = read_cameras(photos / "project.mlp")
     fits, p90 = {}, {}
     for model in (1, 2):
-        ms = with_rasters(photos)
-        ms.apply_filter(h.FIT, **fit_parameters(fitmodel=model))
-        path = tmp_path / f"fit_model{model}.rply"
-        ms.save_current_mesh(str(path))
-        fits[model] = rply.read_rply(str(path))
+        fits[model] = fit_and_read(photos, tmp_path / f"fit_model{model}.rply", fitmodel=model)
         errors = np.sort(photo_errors(fits[model], cameras))
         p90[model] = errors[int(0.9 * errors.size)]
         assert errors[errors.size // 2] <= 3.0, f"fitModel={model}: median {errors[errors.size // 2]:.2f} sRGB levels"
@@ -152,11 +156,7 @@ def test_shared_guard_keeps_the_lobe_unless_the_constant_is_clearly_better(photo
     has no coefficient beyond the first). A negative margin is refused."""
     constant = {}
     for guard in (0.0, 3.0):
-        ms = with_rasters(photos)
-        ms.apply_filter(h.FIT, **fit_parameters(fitmodel=2, sharedguard=guard))
-        path = tmp_path / f"fit_guard{guard}.rply"
-        ms.save_current_mesh(str(path))
-        coefficients = rply.read_rply(str(path)).coefficients
+        coefficients = fit_and_read(photos, tmp_path / f"fit_guard{guard}.rply", fitmodel=2, sharedguard=guard).coefficients
         constant[guard] = int(np.count_nonzero(np.abs(coefficients[:, :, 1:]).max(axis=(1, 2)) == 0.0))
     assert constant[3.0] < constant[0.0], constant
     assert constant[0.0] > 0, constant
@@ -171,11 +171,8 @@ def test_light_distance_reaches_the_fit_and_a_light_inside_the_object_is_refused
     radii is refused and leaves the layer as it was."""
     coefficients = {}
     for distance in (3.0, 1e9):
-        ms = with_rasters(photos)
-        ms.apply_filter(h.FIT, **fit_parameters(fitmodel=2, lightdistance=distance))
         path = tmp_path / f"fit_light{distance:g}.rply"
-        ms.save_current_mesh(str(path))
-        coefficients[distance] = rply.read_rply(str(path)).coefficients
+        coefficients[distance] = fit_and_read(photos, path, fitmodel=2, lightdistance=distance).coefficients
     difference = float(np.abs(coefficients[3.0] - coefficients[1e9]).max())
     assert difference > 1e-3, "the light distance did not reach the fit"
     ms = with_rasters(photos)
