@@ -153,7 +153,6 @@ void logFitSummary(FilterContext& ctx, const rad::RadianceFromViewsOptions& opti
                        result.unseenLeft));
 }
 
-// The automatic choice between the shared and the per-vertex fit, and the robust weights.
 // How far the shared lobe takes the lights to be (Vanhoey et al.'s reflected parametrisation assumes
 // them distant; the fit chooses a distance unless the user fixed one).
 std::string lightDistanceText(double distance, const rad::SharedFitOptions& options) {
@@ -162,6 +161,7 @@ std::string lightDistanceText(double distance, const rad::SharedFitOptions& opti
     return formatLine("lights at %.2g bounding radii%s", distance, options.lightDistance == 0.0 ? ", chosen" : "");
 }
 
+// The automatic choice between the shared and the per-vertex fit, and the robust weights.
 void logModelChoice(FilterContext& ctx, const rad::RadianceFromViewsOptions& options,
                     const rad::RadianceFromViewsResult& result) {
     if (result.modelValidated)

@@ -1,6 +1,7 @@
 #include "acquisition/sample_scene_radiance_mesh.h"
 
 #include "acquisition/scene_radiance_field.h"
+#include "geometry/mesh_bounds.h"
 #include "geometry/mesh_normals.h"
 
 #include <algorithm>
@@ -8,18 +9,9 @@
 namespace rad {
 
 void sampleSceneBounds(const TriangleMesh& mesh, SampleLightRadius kind, Eigen::AlignedBox3d& box, double& radius) {
-    box.setEmpty();
-    const std::size_t n = mesh.vertexCount();
-    const auto position = [&](std::size_t v) {
-        return Eigen::Vector3d(mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]);
-    };
-    for (std::size_t v = 0; v < n; ++v) box.extend(position(v));
-    radius = 0.0;
-    if (kind == SampleLightRadius::HalfBoxDiagonal) {
-        radius = 0.5 * box.diagonal().norm();
-        return;
-    }
-    for (std::size_t v = 0; v < n; ++v) radius = std::max(radius, (position(v) - box.center()).norm());
+    const MeshBounds bounds = meshBounds(mesh.positions);
+    box = bounds.box;
+    radius = kind == SampleLightRadius::HalfBoxDiagonal ? 0.5 * box.diagonal().norm() : bounds.farthestFromCentre;
 }
 
 RadianceMesh sampleSceneRadianceMesh(TriangleMesh mesh, const BasisSpec& basis, const SampleSceneRadianceOptions& options,

@@ -21,9 +21,9 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <stdexcept>
 #include <string>
-#include <limits>
 #include <vector>
 
 namespace rad {

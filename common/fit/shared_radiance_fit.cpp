@@ -1,5 +1,6 @@
 #include "fit/shared_radiance_fit.h"
 
+#include "geometry/mesh_bounds.h"
 #include "radiance/radiance_evaluation.h"
 #include "radiance/radiance_frame.h"
 #include "radiance/sh_rotation.h"
@@ -252,6 +253,10 @@ struct SharedFitInput {
 struct LobeSubset {
     std::size_t stride = 1;
     std::ptrdiff_t count = 0;
+    // Every stride-th of n vertices.
+    static LobeSubset everyNth(std::size_t n, std::size_t stride) {
+        return {stride, static_cast<std::ptrdiff_t>((n + stride - 1) / stride)};
+    }
     std::ptrdiff_t begin(std::ptrdiff_t chunk) const { return count * chunk / kChunks; }
     std::ptrdiff_t end(std::ptrdiff_t chunk) const { return count * (chunk + 1) / kChunks; }
 };
@@ -482,18 +487,19 @@ void fitVertexPair(const SharedFitInput& in, const LobeTable& table, const std::
 }
 
 // Per-vertex step, Jacobi in the neighbour prior: every prior is taken from the previous iteration's
-// s before any vertex is updated.
+// s before any vertex is updated. Every stride-th vertex (1: all).
 void fitVertexPairs(const SharedFitInput& in, const LobeTable& table, const std::vector<std::uint8_t>& seen,
-                    std::vector<double>& prior, SharedModel& model, std::vector<float>& residualNorm) {
-    const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(in.set.vertexCount());
+                    std::vector<double>& prior, SharedModel& model, std::vector<float>& residualNorm,
+                    std::size_t stride = 1) {
+    const std::ptrdiff_t count = static_cast<std::ptrdiff_t>((in.set.vertexCount() + stride - 1) / stride);
 #pragma omp parallel for schedule(dynamic, 256)
-    for (std::ptrdiff_t iv = 0; iv < count; ++iv) {
-        const std::size_t v = static_cast<std::size_t>(iv);
+    for (std::ptrdiff_t p = 0; p < count; ++p) {
+        const std::size_t v = static_cast<std::size_t>(p) * stride;
         if (seen[v]) neighbourPrior(in.off, in.adj, model.specular, seen, v, prior.data() + 3 * v);
     }
 #pragma omp parallel for schedule(dynamic, 256)
-    for (std::ptrdiff_t iv = 0; iv < count; ++iv) {
-        const std::size_t v = static_cast<std::size_t>(iv);
+    for (std::ptrdiff_t p = 0; p < count; ++p) {
+        const std::size_t v = static_cast<std::size_t>(p) * stride;
         if (seen[v]) fitVertexPair(in, table, prior, v, model, residualNorm);
     }
 }
@@ -597,26 +603,14 @@ void takeWarmStart(const SharedModel& warm, SharedModel& model) {
 
 // (x_v - c) / radius of every vertex: c the centre of the bounding box, radius the largest |x_v - c|.
 std::vector<float> unitShifts(const std::vector<float>& positions) {
+    const MeshBounds bounds = meshBounds(positions);
     const std::size_t n = positions.size() / 3;
-    double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
-    for (std::size_t v = 0; v < n; ++v)
-        for (int c = 0; c < 3; ++c) {
-            const double x = positions[3 * v + c];
-            lo[c] = v == 0 ? x : std::min(lo[c], x);
-            hi[c] = v == 0 ? x : std::max(hi[c], x);
-        }
-    const double centre[3] = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
-    double radius2 = 0.0;
-    for (std::size_t v = 0; v < n; ++v) {
-        double d2 = 0.0;
-        for (int c = 0; c < 3; ++c) d2 += (positions[3 * v + c] - centre[c]) * (positions[3 * v + c] - centre[c]);
-        radius2 = std::max(radius2, d2);
-    }
     std::vector<float> unit(3 * n, 0.0f);
-    if (!(radius2 > 0.0) || !std::isfinite(radius2)) return unit;
-    const double inverse = 1.0 / std::sqrt(radius2);
+    const double radius = bounds.farthestFromCentre;
+    if (!(radius > 0.0) || !std::isfinite(radius)) return unit;
+    const Eigen::Vector3d centre = bounds.box.center();
     for (std::size_t v = 0; v < n; ++v)
-        for (int c = 0; c < 3; ++c) unit[3 * v + c] = static_cast<float>((positions[3 * v + c] - centre[c]) * inverse);
+        for (int c = 0; c < 3; ++c) unit[3 * v + c] = static_cast<float>((positions[3 * v + c] - centre[c]) / radius);
     return unit;
 }
 
@@ -668,11 +662,10 @@ struct DistanceSearch {
     SharedFitInput in;
     LobeSubset subset;
     std::vector<double> prior;
-    DistanceSearch(const SharedFitInput& full, const LobeSubset& fullSubset) : in(full), subset(fullSubset) {
+    DistanceSearch(const SharedFitInput& full, const LobeSubset& fullSubset)
+        : in(full), subset(LobeSubset::everyNth(full.set.vertexCount(), 2 * fullSubset.stride)) {
         in.degree = std::min(full.degree, kSearchDegree);
         in.M = (in.degree + 1) * (in.degree + 1);
-        subset.stride *= 2;
-        subset.count = static_cast<std::ptrdiff_t>((in.set.vertexCount() + subset.stride - 1) / subset.stride);
         prior.assign(3 * in.set.vertexCount(), 1.0);
     }
 };
@@ -686,18 +679,7 @@ double residualAtDistance(DistanceSearch& search, const std::vector<std::uint8_t
     fitLobe(in, search.subset, model);
     measureLobeEnergy(in, search.subset, model);
     const LobeTable table(model, in.options.octahedralResolution);
-    const std::ptrdiff_t count = search.subset.count;
-    const std::size_t stride = search.subset.stride;
-#pragma omp parallel for schedule(dynamic, 64)
-    for (std::ptrdiff_t p = 0; p < count; ++p) {
-        const std::size_t v = static_cast<std::size_t>(p) * stride;
-        if (seen[v]) neighbourPrior(in.off, in.adj, model.specular, seen, v, search.prior.data() + 3 * v);
-    }
-#pragma omp parallel for schedule(dynamic, 64)
-    for (std::ptrdiff_t p = 0; p < count; ++p) {
-        const std::size_t v = static_cast<std::size_t>(p) * stride;
-        if (seen[v]) fitVertexPair(in, table, search.prior, v, model, residualScratch);
-    }
+    fitVertexPairs(in, table, seen, search.prior, model, residualScratch, search.subset.stride);
     fitLobe(in, search.subset, model);
     return lobeSubsetResidual(in, search.subset, model);
 }
@@ -781,9 +763,8 @@ SharedModel fitSharedModel(const std::vector<float>& normals, const std::vector<
     std::vector<std::uint8_t> seen;
     const std::size_t usedSamples = initialModel(in, model, seen);
     if (usedSamples == 0) return model;
-    LobeSubset subset;
-    subset.stride = std::max<std::size_t>(1, (usedSamples + options.lobeSampleBudget - 1) / options.lobeSampleBudget);
-    subset.count = static_cast<std::ptrdiff_t>((n + subset.stride - 1) / subset.stride);
+    const LobeSubset subset = LobeSubset::everyNth(
+        n, std::max<std::size_t>(1, (usedSamples + options.lobeSampleBudget - 1) / options.lobeSampleBudget));
     std::vector<float> residualNorm(set.samples.size(), 0.0f);
     if (warmStart) takeWarmStart(*warmStart, model);
     const bool chooseDistance = !warmStart && options.lightDistance == 0.0 && !in.unitShift.empty();
