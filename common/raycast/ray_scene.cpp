@@ -127,26 +127,33 @@ bool traceable(float ox, float oy, float oz, float dx, float dy, float dz) {
 // Copies `rays` into Embree's packet layout and sets the valid lanes: those in activeMask whose
 // interval is not empty or NaN (the rule of occluded(): such an interval holds nothing, and Embree
 // would leave its tfar as given, read as a hit when tFar = -inf). Returns the mask of valid lanes.
+//
+// The lanes left out are written as an empty ray (tnear 0 > tfar -1), not left as they came: on a
+// CPU without AVX-512, Embree 3 traces a 16-wide packet through its ray-stream path, which ignores
+// the `valid` array and takes every lane with tnear <= tfar as live, asserting (and aborting the
+// process) on a live lane whose tnear is negative or whose origin is not finite. A valid lane's
+// tnear is clamped to 0 for the same reason (Embree defines no interval behind the origin).
 std::uint32_t fillRayPacket(const RayPacket16& rays, std::uint32_t activeMask, RTCRay16& packet, int valid[16]) {
     static_assert(RayPacket16::kSize == 16, "one RTCRay16 per packet");
     std::uint32_t live = 0;
     for (int i = 0; i < 16; ++i) {
         // A lane Embree would assert on (an origin or direction beyond its limit or not finite, a
         // NaN interval) is left out rather than passed on: such a ray holds nothing.
-        const bool on = ((activeMask >> i) & 1u) && rays.tNear[i] <= rays.tFar[i] &&
+        const float tNear = std::max(rays.tNear[i], 0.0f);
+        const bool on = ((activeMask >> i) & 1u) && tNear <= rays.tFar[i] &&
                         traceable(rays.originX[i], rays.originY[i], rays.originZ[i], rays.directionX[i],
                                   rays.directionY[i], rays.directionZ[i]);
         valid[i] = on ? -1 : 0;
         live |= std::uint32_t(on) << i;
-        packet.org_x[i] = rays.originX[i];
-        packet.org_y[i] = rays.originY[i];
-        packet.org_z[i] = rays.originZ[i];
-        packet.tnear[i] = rays.tNear[i];
-        packet.dir_x[i] = rays.directionX[i];
-        packet.dir_y[i] = rays.directionY[i];
-        packet.dir_z[i] = rays.directionZ[i];
+        packet.org_x[i] = on ? rays.originX[i] : 0.0f;
+        packet.org_y[i] = on ? rays.originY[i] : 0.0f;
+        packet.org_z[i] = on ? rays.originZ[i] : 0.0f;
+        packet.tnear[i] = on ? tNear : 0.0f;
+        packet.dir_x[i] = on ? rays.directionX[i] : 0.0f;
+        packet.dir_y[i] = on ? rays.directionY[i] : 0.0f;
+        packet.dir_z[i] = on ? rays.directionZ[i] : 1.0f;
         packet.time[i] = 0.0f;
-        packet.tfar[i] = rays.tFar[i];
+        packet.tfar[i] = on ? rays.tFar[i] : -1.0f;
         packet.mask[i] = std::numeric_limits<unsigned>::max();
         packet.id[i] = static_cast<unsigned>(i);
         packet.flags[i] = 0;
@@ -193,6 +200,7 @@ RayScene::~RayScene() {
 
 RayHit RayScene::intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, float tNear,
                            float tFar) const {
+    tNear = std::max(tNear, 0.0f);  // Embree asserts on a negative tnear (fillRayPacket)
     if (!(tNear <= tFar) || !traceable(origin.x(), origin.y(), origin.z(), direction.x(), direction.y(), direction.z()))
         return RayHit();
     RTCIntersectContext context;
@@ -229,6 +237,7 @@ bool RayScene::occluded(const Eigen::Vector3f& origin, const Eigen::Vector3f& di
                         float tFar) const {
     // An empty (or NaN) interval holds nothing. Embree leaves such a ray's tfar as given, which
     // the test at the end would read as a hit whenever tFar < 0.
+    tNear = std::max(tNear, 0.0f);  // Embree asserts on a negative tnear (fillRayPacket)
     if (!(tNear <= tFar)) return false;
     if (!traceable(origin.x(), origin.y(), origin.z(), direction.x(), direction.y(), direction.z())) return false;
     RTCIntersectContext context;

@@ -379,6 +379,35 @@ TEST(RayScene, PacketQueryOnTheHandMadeScene) {
     EXPECT_EQ(nothing.occluded16(packet, 0xffffu), 0u);
 }
 
+// Lanes outside the mask holding a negative tNear under a wide interval (what Embree 3's ray-stream
+// path, taken for 16-wide packets on CPUs without AVX-512, would read as live and abort on), and an
+// active lane with a negative tNear (read as 0, as the single-ray query reads it).
+TEST(RayScene, NegativeNearLimitsNeitherAbortNorCountOutsideTheMask) {
+    HandScene s;
+    rad::RayPacket16 packet;
+    for (int i = 0; i < 16; ++i) {
+        packet.originX[i] = 0.2f;
+        packet.originY[i] = 0.3f;
+        packet.originZ[i] = 1.0f;
+        packet.directionX[i] = 0.0f;
+        packet.directionY[i] = 0.0f;
+        packet.directionZ[i] = -1.0f;
+        packet.tNear[i] = -1.0f;
+        packet.tFar[i] = kInf;
+    }
+    EXPECT_EQ(s.scene.occluded16(packet, 0x0001u), 0x0001u);
+    EXPECT_EQ(s.scene.occluded({0.2f, 0.3f, 1.0f}, {0.0f, 0.0f, -1.0f}, -1.0f, kInf), true);
+    rad::RayHit hits[16];
+    s.scene.intersect16(packet, 0x0002u, hits);
+    EXPECT_TRUE(hits[1].hit);
+    EXPECT_NEAR(hits[1].distance, 1.0f, 1e-5f);
+    for (int i = 0; i < 16; ++i)
+        if (i != 1) EXPECT_FALSE(hits[i].hit) << "lane " << i;
+    // Only up to 0.5: nothing between the origin and the triangle at t = 1.
+    packet.tFar[0] = 0.5f;
+    EXPECT_EQ(s.scene.occluded16(packet, 0x0001u), 0u);
+}
+
 
 }  // namespace
 
