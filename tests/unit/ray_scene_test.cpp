@@ -350,21 +350,28 @@ TEST(RayScene, PacketIntersectAgreesWithSingleRaysUnderRandomMasks) {
     EXPECT_LT(hitLanes, activeLanes * 4 / 5);
 }
 
-TEST(RayScene, PacketQueryOnTheHandMadeScene) {
-    HandScene s;
+// Every lane straight down from above (0.2, 0.3, 1) of the hand-made scene, i.e. through the
+// triangle (t = 1) and the quad (t = 3), over [tNear, tFar].
+rad::RayPacket16 packetDownThroughTheHandScene(float tNear, float tFar) {
     rad::RayPacket16 packet;
     for (int i = 0; i < 16; ++i) {
-        // Lane i: straight down from above (0.2, 0.3), i.e. through the triangle (t = 1) and the
-        // quad (t = 3), with tFar = 0.25 i + 0.1: occluded from lane 4 on (tFar > 1).
         packet.originX[i] = 0.2f;
         packet.originY[i] = 0.3f;
         packet.originZ[i] = 1.0f;
         packet.directionX[i] = 0.0f;
         packet.directionY[i] = 0.0f;
         packet.directionZ[i] = -1.0f;
-        packet.tNear[i] = 0.0f;
-        packet.tFar[i] = 0.25f * i + 0.1f;
+        packet.tNear[i] = tNear;
+        packet.tFar[i] = tFar;
     }
+    return packet;
+}
+
+TEST(RayScene, PacketQueryOnTheHandMadeScene) {
+    HandScene s;
+    // Lane i with tFar = 0.25 i + 0.1: occluded from lane 4 on (tFar > 1).
+    rad::RayPacket16 packet = packetDownThroughTheHandScene(0.0f, 0.0f);
+    for (int i = 0; i < 16; ++i) packet.tFar[i] = 0.25f * i + 0.1f;
     EXPECT_EQ(s.scene.occluded16(packet, 0xffffu), 0xfff0u);
     EXPECT_EQ(s.scene.occluded16(packet, 0x00ffu), 0x00f0u);
     EXPECT_EQ(s.scene.occluded16(packet, 0x000fu), 0u);
@@ -384,17 +391,7 @@ TEST(RayScene, PacketQueryOnTheHandMadeScene) {
 // active lane with a negative tNear (read as 0, as the single-ray query reads it).
 TEST(RayScene, NegativeNearLimitsNeitherAbortNorCountOutsideTheMask) {
     HandScene s;
-    rad::RayPacket16 packet;
-    for (int i = 0; i < 16; ++i) {
-        packet.originX[i] = 0.2f;
-        packet.originY[i] = 0.3f;
-        packet.originZ[i] = 1.0f;
-        packet.directionX[i] = 0.0f;
-        packet.directionY[i] = 0.0f;
-        packet.directionZ[i] = -1.0f;
-        packet.tNear[i] = -1.0f;
-        packet.tFar[i] = kInf;
-    }
+    rad::RayPacket16 packet = packetDownThroughTheHandScene(-1.0f, kInf);
     EXPECT_EQ(s.scene.occluded16(packet, 0x0001u), 0x0001u);
     EXPECT_EQ(s.scene.occluded({0.2f, 0.3f, 1.0f}, {0.0f, 0.0f, -1.0f}, -1.0f, kInf), true);
     rad::RayHit hits[16];
